@@ -1,0 +1,137 @@
+#include "engine/blocks.h"
+
+#include <algorithm>
+#include <limits>
+
+namespace odec {
+
+// Every per-block array, so that adding and removing blocks cannot forget one.
+template <class F>
+static void for_each_array(BlockSet& s, F&& f) {
+    f(s.id); f(s.shape); f(s.centroid); f(s.orientation); f(s.vel); f(s.ang_vel);
+    f(s.accel); f(s.ang_accel); f(s.force); f(s.moment); f(s.applied_force); f(s.force_scale);
+    f(s.disp); f(s.rotation); f(s.volume); f(s.mass); f(s.inertia_body); f(s.inertia_unit);
+    f(s.material); f(s.region); f(s.group); f(s.flags); f(s.vel_bc); f(s.vel_bc_value);
+    f(s.vel_bc_table); f(s.half_kick);
+}
+
+int add_block(Model& m, const Polyhedron& world, int region, int group, int material) {
+    const MassProperties mp = mass_properties(world);
+    Polyhedron local = world;
+    local.translate(-mp.centroid);
+    BlockSet& s = m.blocks;
+    s.id.push_back(m.next_block_id++);
+    s.shape.push_back(std::move(local));
+    s.centroid.push_back(mp.centroid);
+    s.orientation.push_back(Quat::Identity());
+    s.vel.push_back(Vec3::Zero());
+    s.ang_vel.push_back(Vec3::Zero());
+    s.accel.push_back(Vec3::Zero());
+    s.ang_accel.push_back(Vec3::Zero());
+    s.force.push_back(Vec3::Zero());
+    s.moment.push_back(Vec3::Zero());
+    s.applied_force.push_back(Vec3::Zero());
+    s.force_scale.push_back(0);
+    s.disp.push_back(Vec3::Zero());
+    s.rotation.push_back(Vec3::Zero());
+    s.volume.push_back(mp.volume);
+    s.mass.push_back(0);
+    s.inertia_body.push_back(Mat3::Zero());
+    s.inertia_unit.push_back(mp.inertia);
+    s.material.push_back(material);
+    s.region.push_back(region);
+    s.group.push_back(group);
+    s.flags.push_back(0);
+    s.vel_bc.push_back(0);
+    s.vel_bc_value.push_back(Vec3::Zero());
+    s.vel_bc_table.push_back(0);
+    s.half_kick.push_back(1);
+    const int b = s.size() - 1;
+    const int mat = material;
+    const double rho = (mat > 0 && mat < static_cast<int>(m.materials.size())) ? m.materials[mat].density : 0.0;
+    s.mass[b] = rho * mp.volume;
+    s.inertia_body[b] = rho * mp.inertia;
+    m.geometry_changed = true;
+    return b;
+}
+
+void remove_blocks(Model& m, std::vector<int> idx) {
+    std::sort(idx.begin(), idx.end());
+    idx.erase(std::unique(idx.begin(), idx.end()), idx.end());
+    if (idx.empty()) return;
+    const int n = m.blocks.size();
+    std::vector<char> gone(n, 0);
+    for (int b : idx) gone[b] = 1;
+    for_each_array(m.blocks, [&](auto& v) {
+        int w = 0;
+        for (int r = 0; r < n; ++r) {
+            if (!gone[r]) {
+                if (w != r) v[w] = std::move(v[r]);
+                ++w;
+            }
+        }
+        v.resize(w);
+    });
+    m.contacts.clear();
+    m.geometry_changed = true;
+}
+
+void update_masses(Model& m) {
+    BlockSet& s = m.blocks;
+    for (int b = 0; b < s.size(); ++b) {
+        const int mat = s.material[b];
+        const double rho = (mat > 0 && mat < static_cast<int>(m.materials.size())) ? m.materials[mat].density : 0.0;
+        s.mass[b] = rho * s.volume[b];
+        s.inertia_body[b] = rho * s.inertia_unit[b];
+    }
+    m.geometry_changed = true;
+}
+
+void refresh_world_vertices(Model& m) {
+    BlockSet& s = m.blocks;
+    const int n = s.size();
+    s.vertex_offset.resize(n + 1);
+    int total = 0;
+    for (int b = 0; b < n; ++b) {
+        s.vertex_offset[b] = total;
+        total += s.shape[b].n_vertices();
+    }
+    s.vertex_offset[n] = total;
+    s.world_vertices.resize(total);
+    for (int b = 0; b < n; ++b) {
+        const Mat3 r = s.orientation[b].toRotationMatrix();
+        const Vec3& c = s.centroid[b];
+        Vec3* out = s.world_vertices.data() + s.vertex_offset[b];
+        for (const Vec3& v : s.shape[b].vertices) *out++ = c + r * v;
+    }
+}
+
+Polyhedron world_shape(const Model& m, int b) {
+    Polyhedron p = m.blocks.shape[b];
+    const Mat3 r = m.blocks.orientation[b].toRotationMatrix();
+    for (Vec3& v : p.vertices) v = m.blocks.centroid[b] + r * v;
+    return p;
+}
+
+Vec3 velocity_at_t(const Model& m, int b) {
+    if (m.blocks.flags[b] & kFixed) return Vec3::Zero();
+    if (m.blocks.half_kick[b]) return m.blocks.vel[b];
+    return m.blocks.vel[b] + 0.5 * m.dt * m.blocks.accel[b];
+}
+
+int find_block_at(const Model& m, const Vec3& x) {
+    int best = -1;
+    double best_d = std::numeric_limits<double>::infinity();
+    for (int b = 0; b < m.blocks.size(); ++b) {
+        const Vec3 local = m.blocks.orientation[b].conjugate() * (x - m.blocks.centroid[b]);
+        if (contains_point(m.blocks.shape[b], local, 1e-9)) return b;
+        const double d = (m.blocks.centroid[b] - x).squaredNorm();
+        if (d < best_d) {
+            best_d = d;
+            best = b;
+        }
+    }
+    return best;
+}
+
+} // namespace odec

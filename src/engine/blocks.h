@@ -1,0 +1,32 @@
+// Creating, removing and looking up rigid blocks.
+#pragma once
+
+#include <vector>
+
+#include "engine/model.h"
+
+namespace odec {
+
+// Add a rigid block whose vertices are given in world coordinates. Its mass comes from
+// its material's density (0 until `prop mat=n dens=...`). Returns the new block's index.
+int add_block(Model& m, const Polyhedron& world_shape, int region, int group, int material);
+
+// Remove the blocks with these indices for good (their ids are not reused).
+void remove_blocks(Model& m, std::vector<int> block_indices);
+
+// Recompute mass and inertia of every block from its material's density.
+void update_masses(Model& m);
+
+// World positions of all block vertices into blocks.world_vertices.
+void refresh_world_vertices(Model& m);
+
+// World shape of one block.
+Polyhedron world_shape(const Model& m, int block_index);
+
+// Velocity of a block at the time of its position (the integrator stores it half a step back).
+Vec3 velocity_at_t(const Model& m, int block_index);
+
+// The block containing point x, or the one whose centroid is nearest; -1 when there are none.
+int find_block_at(const Model& m, const Vec3& x);
+
+} // namespace odec

@@ -1,0 +1,60 @@
+// The explicit cycle.
+//
+// Each step runs named stages in a fixed order, each timed into Model::profile:
+//   apply_loads      gravity and applied forces into each block's force
+//   detect_contacts  new and lost contacts (only when blocks moved far enough)
+//   update_contacts  relative motion -> joint stresses -> forces on both blocks
+//   integrate        central differences: velocity at t+dt/2, position at t+dt
+//   record           histories every ncyc steps
+//
+// Central differences store velocity half a step behind position. When a block's
+// velocity is given at a time (creation, `ini xvel`, `reset vel`), its first kick is
+// half a step, so that constant acceleration is integrated exactly:
+//   z(n dt) = z0 + v0 n dt - g (n dt)^2 / 2   (free fall, round-off aside).
+//
+// Local damping (Cundall): each component of force and moment is reduced by
+// alpha |f| in the direction opposing that component of velocity; alpha = 0.8 by default.
+// A freely falling block under it accelerates at (1 - alpha) g.
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <string>
+
+#include "engine/model.h"
+
+namespace odec {
+
+// Why cycling stopped.
+enum class StopReason { Steps, Ratio, Time, Interrupted, BlowUp, Error };
+
+struct CycleLimits {
+    long max_steps = 0;       // > 0: stop after this many steps
+    double max_time = 0;      // > 0: stop once this much model time has passed
+    double ratio = 0;         // > 0: stop when the mean unbalanced-force ratio falls below it
+};
+
+struct CycleResult {
+    StopReason reason = StopReason::Steps;
+    long steps = 0;           // steps taken in this call
+    std::string message;      // for BlowUp and Error: what and where
+};
+
+// Called every `every` steps with the model, to print progress.
+using ProgressFn = std::function<void(const Model&)>;
+
+// Check that the model can cycle and choose the timestep. Returns an empty string
+// when ready, else what is missing (a block with no mass, no timestep, ...).
+std::string prepare_cycle(Model& m);
+
+// Cycle until a limit is reached, the interrupt flag is raised (checked between steps,
+// so the model is always left consistent) or the numbers blow up.
+CycleResult cycle(Model& m, const CycleLimits& limits, const std::atomic<bool>* interrupt = nullptr,
+                  const ProgressFn& progress = nullptr, long progress_every = 0);
+
+// Largest unbalanced force over the free blocks, N.
+double max_unbalanced_force(const Model& m);
+// Mean unbalanced-force ratio: sum |unbalanced| / sum of the magnitudes of all forces acting.
+double unbalanced_ratio(const Model& m);
+
+} // namespace odec

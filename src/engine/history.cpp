@@ -1,0 +1,69 @@
+#include "engine/history.h"
+
+#include <cstdio>
+
+#include "engine/blocks.h"
+#include "engine/cycle.h"
+#include "engine/model.h"
+
+namespace odec {
+
+double history_value(const Model& m, const History& h) {
+    switch (h.kind) {
+    case HistoryKind::Unbalanced: return max_unbalanced_force(m);
+    case HistoryKind::Time: return m.time;
+    case HistoryKind::Step: return static_cast<double>(m.step);
+    case HistoryKind::Ratio: return unbalanced_ratio(m);
+    default: break;
+    }
+    const int b = m.block_index(h.block_id);
+    if (b < 0) return 0.0; // the block was deleted
+    switch (h.kind) {
+    case HistoryKind::XDis: return m.blocks.disp[b].x();
+    case HistoryKind::YDis: return m.blocks.disp[b].y();
+    case HistoryKind::ZDis: return m.blocks.disp[b].z();
+    case HistoryKind::XVel: return velocity_at_t(m, b).x();
+    case HistoryKind::YVel: return velocity_at_t(m, b).y();
+    case HistoryKind::ZVel: return velocity_at_t(m, b).z();
+    default: return 0.0;
+    }
+}
+
+static const char* kind_word(HistoryKind k) {
+    switch (k) {
+    case HistoryKind::Unbalanced: return "unbal";
+    case HistoryKind::Time: return "time";
+    case HistoryKind::Step: return "step";
+    case HistoryKind::Ratio: return "ratio";
+    case HistoryKind::XDis: return "xdis";
+    case HistoryKind::YDis: return "ydis";
+    case HistoryKind::ZDis: return "zdis";
+    case HistoryKind::XVel: return "xvel";
+    case HistoryKind::YVel: return "yvel";
+    case HistoryKind::ZVel: return "zvel";
+    }
+    return "?";
+}
+
+std::string history_default_label(const History& h) {
+    std::string s = kind_word(h.kind);
+    if (h.block_id > 0) {
+        char buf[160];
+        std::snprintf(buf, sizeof buf, " (%g,%g,%g) block %d", h.point.x(), h.point.y(), h.point.z(), h.block_id);
+        s += buf;
+    }
+    return s;
+}
+
+void HistorySet::sample(const Model& m) {
+    if (items.empty()) return;
+    sample_steps.push_back(m.step);
+    for (History& h : items) h.values.push_back(history_value(m, h));
+}
+
+void HistorySet::clear_values() {
+    sample_steps.clear();
+    for (History& h : items) h.values.clear();
+}
+
+} // namespace odec

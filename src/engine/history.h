@@ -1,0 +1,44 @@
+// Histories: quantities sampled every `ncyc` steps while the model cycles.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+
+namespace odec {
+
+struct Model;
+
+enum class HistoryKind {
+    Unbalanced, // largest unbalanced force over the blocks, N
+    Time,       // model time, s
+    Step,       // step number
+    XDis, YDis, ZDis,   // block displacement, m
+    XVel, YVel, ZVel,   // block velocity at t, m/s
+    Ratio,      // mean unbalanced-force ratio
+};
+
+struct History {
+    HistoryKind kind = HistoryKind::Unbalanced;
+    Eigen::Vector3d point = Eigen::Vector3d::Zero(); // where the user asked (block quantities)
+    int block_id = 0;                                // block sampled (block quantities)
+    std::string label;                               // column title
+    std::vector<double> values;                      // (n_samples)
+};
+
+struct HistorySet {
+    int ncyc = 10;                  // sampling interval in steps
+    std::vector<History> items;     // history n is items[n-1]
+    std::vector<long> sample_steps; // (n_samples) step of each sample
+    // Record one sample of every history.
+    void sample(const Model& m);
+    void clear_values();
+};
+
+// Current value of one history's quantity.
+double history_value(const Model& m, const History& h);
+// Default label, e.g. "zdis (0,0,5) block 1".
+std::string history_default_label(const History& h);
+
+} // namespace odec

@@ -1,0 +1,35 @@
+#include "engine/model.h"
+
+#include <algorithm>
+
+namespace odec {
+
+const char* stage_name(Stage s) {
+    switch (s) {
+    case Stage::ApplyLoads: return "apply_loads";
+    case Stage::DetectContacts: return "detect_contacts";
+    case Stage::UpdateContacts: return "update_contacts";
+    case Stage::Integrate: return "integrate";
+    case Stage::Record: return "record";
+    case Stage::Count: break;
+    }
+    return "?";
+}
+
+int Model::block_index(int block_id) const {
+    const auto& ids = blocks.id;
+    auto it = std::lower_bound(ids.begin(), ids.end(), block_id);
+    if (it == ids.end() || *it != block_id) return -1;
+    return static_cast<int>(it - ids.begin());
+}
+
+int Model::group_index(const std::string& name, bool create) {
+    for (size_t g = 0; g < group_names.size(); ++g) {
+        if (group_names[g] == name) return static_cast<int>(g);
+    }
+    if (!create) return -1;
+    group_names.push_back(name);
+    return static_cast<int>(group_names.size()) - 1;
+}
+
+} // namespace odec

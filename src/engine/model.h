@@ -1,0 +1,152 @@
+// The model: everything the cycle runs on, and nothing about how it was typed.
+//
+// Blocks are held as a structure of arrays indexed by block_index (0..n_blocks-1);
+// each block also has a user-visible id that never changes and is never reused,
+// so that `range id 7` means the same block after others were deleted.
+//
+// A rigid block keeps its shape in its own body frame, relative to its centroid;
+// the world position of each vertex is centroid + R * local, refreshed once per
+// step into the flat array `world_vertices` that contact detection reads.
+//
+// Deformable blocks (zones and gridpoints) will live beside BlockSet in a
+// ZoneSet/GridpointSet of their own; a block then refers to its zones by range.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+#include <Eigen/Geometry>
+
+#include "engine/contact.h"
+#include "engine/history.h"
+#include "engine/polyhedron.h"
+#include "engine/table.h"
+
+namespace odec {
+
+using Quat = Eigen::Quaterniond;
+
+// Block material (`prop mat=n`).
+struct Material {
+    bool defined = false;
+    double density = 0;   // kg/m^3
+    double bulk = 0;      // Pa (deformable blocks)
+    double shear = 0;     // Pa
+    double cohesion = 0;  // Pa
+    double friction = 0;  // deg
+    double tension = 0;   // Pa
+    double dilation = 0;  // deg
+};
+
+// Joint material (`prop jmat=n`).
+struct JointMaterial {
+    bool defined = false;
+    double kn = 0;            // Pa/m
+    double ks = 0;            // Pa/m
+    double friction = 0;      // deg
+    double cohesion = 0;      // Pa
+    double tension = 0;       // Pa
+    double dilation = 0;      // deg
+    double zdilation = 0;     // m, shear displacement at which dilation stops (0: no limit)
+    double res_friction = 0;  // deg (joint model 2)
+};
+
+// Degrees of freedom of a block that a boundary condition prescribes.
+enum BlockFlags : std::uint8_t {
+    kFixed = 1,      // `fix`: velocity and spin held at zero
+    kHidden = 2,     // `hide`: left out of jset and pictures
+    kExcavated = 4,  // `excavate`: null block, kept for a later `fill`
+};
+
+struct BlockSet {
+    std::vector<int> id;                  // (n_blocks) user id, 1-based, never reused
+    std::vector<Polyhedron> shape;        // (n_blocks) vertices relative to centroid, body frame
+    std::vector<Vec3> centroid;           // (n_blocks) m
+    std::vector<Quat> orientation;        // (n_blocks) body frame -> world
+    std::vector<Vec3> vel;                // (n_blocks) m/s at t - dt/2
+    std::vector<Vec3> ang_vel;            // (n_blocks) rad/s at t - dt/2
+    std::vector<Vec3> accel;              // (n_blocks) m/s^2 last applied (for velocity at t)
+    std::vector<Vec3> ang_accel;          // (n_blocks) rad/s^2 last applied
+    std::vector<Vec3> force;              // (n_blocks) N, unbalanced force of this step
+    std::vector<Vec3> moment;             // (n_blocks) N m about the centroid
+    std::vector<Vec3> applied_force;      // (n_blocks) N, `bound xload ...`
+    std::vector<double> force_scale;      // (n_blocks) N, sum of magnitudes of forces this step
+    std::vector<Vec3> disp;               // (n_blocks) m since the last `reset disp`
+    std::vector<Vec3> rotation;           // (n_blocks) rad, accumulated small rotation
+    std::vector<double> volume;           // (n_blocks) m^3
+    std::vector<double> mass;             // (n_blocks) kg
+    std::vector<Mat3> inertia_body;       // (n_blocks) kg m^2 about centroid, body frame
+    std::vector<Mat3> inertia_unit;       // (n_blocks) m^5, inertia per unit density, body frame
+    std::vector<int> material;            // (n_blocks) material number (`change mat`)
+    std::vector<int> region;              // (n_blocks) region number given at creation
+    std::vector<int> group;               // (n_blocks) index into Model::group_names, -1 none
+    std::vector<std::uint8_t> flags;      // (n_blocks) BlockFlags
+    std::vector<std::uint8_t> vel_bc;     // (n_blocks) bit k: velocity component k prescribed
+    std::vector<Vec3> vel_bc_value;       // (n_blocks) m/s, prescribed velocity components
+    std::vector<int> vel_bc_table;        // (n_blocks) table number scaling vel_bc_value, 0 none
+    std::vector<std::uint8_t> half_kick;  // (n_blocks) 1: velocity given at t, first kick is dt/2
+
+    // Derived, refreshed every step: world vertex positions of all blocks.
+    std::vector<int> vertex_offset;       // (n_blocks + 1) start of each block in world_vertices
+    std::vector<Vec3> world_vertices;     // (sum of n_vertices) m
+
+    int size() const { return static_cast<int>(id.size()); }
+};
+
+// Cycle stages, timed into Profile.
+enum class Stage { ApplyLoads, DetectContacts, UpdateContacts, Integrate, Record, Count };
+const char* stage_name(Stage s);
+
+struct Profile {
+    double seconds[static_cast<int>(Stage::Count)] = {};
+    long steps = 0;
+};
+
+enum class DampingMode { Local, Auto, Rayleigh, Off };
+
+struct Damping {
+    DampingMode mode = DampingMode::Local;
+    double local = 0.8;             // local damping coefficient
+    double rayleigh_fraction = 0;   // critical damping fraction
+    double rayleigh_frequency = 0;  // Hz
+    double auto_coefficient = 0;    // adaptive global damping: current viscous coefficient (1/s)
+};
+
+struct Settings {
+    double dt_fixed = 0;      // s; > 0 when `set dt` forces a timestep
+    double dtfrac = 0.1;      // fraction of the critical timestep
+    double ctol = 0;          // m contact tolerance; 0: chosen from block sizes
+    int default_jmat = 1;     // joint material of newly created contacts (`set jmat`)
+    int default_jcons = 1;    // joint model of newly created contacts
+    bool large_strain = true; // rigid blocks always move by large displacements
+};
+
+struct Model {
+    std::string title;
+    BlockSet blocks;
+    std::vector<Material> materials;            // index = material number (0 unused)
+    std::vector<JointMaterial> joint_materials; // index = joint material number (0 unused)
+    std::vector<std::string> group_names;
+    ContactSet contacts;
+    HistorySet histories;
+    TableSet tables;
+    Vec3 gravity = Vec3::Zero();  // m/s^2
+    Damping damping;
+    Settings settings;
+    Profile profile;
+
+    long step = 0;                // steps taken since `new`
+    double time = 0;              // s
+    double dt = 0;                // s, timestep in use
+    int next_block_id = 1;
+    bool geometry_changed = true; // contacts and timestep must be recomputed
+
+    // Index of the block with this id, or -1 (blocks are kept in id order).
+    int block_index(int block_id) const;
+    // Index of group `name`, creating it when `create`; -1 when absent and not created.
+    int group_index(const std::string& name, bool create);
+};
+
+} // namespace odec

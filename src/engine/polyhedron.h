@@ -1,0 +1,80 @@
+// Convex polyhedra: the shape of every block.
+//
+// A block is a convex polyhedron with planar faces. The layout is flat (one
+// array of vertices, one array of face-vertex indices with offsets) so that a
+// block owns three heap buffers however many faces it has, and the contact
+// code can walk faces without chasing pointers.
+//
+// Faces list their vertices counter-clockwise when seen from outside, so the
+// right-hand normal of each face points out of the block.
+//
+// Mass properties come from the divergence theorem: each face is fanned into
+// triangles, each triangle with the origin spans a signed tetrahedron, and the
+// tetrahedra's volume, first and second moments add up to the polyhedron's.
+// The sums are exact for any closed, consistently oriented polyhedron (convex
+// or not), which the unit tests check on bricks and a general shape.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+
+namespace odec {
+
+using Vec3 = Eigen::Vector3d;
+using Mat3 = Eigen::Matrix3d;
+
+struct Polyhedron {
+    std::vector<Vec3> vertices;     // (n_vertices) m
+    std::vector<int> face_offsets;  // (n_faces + 1) start of each face in face_vertices
+    std::vector<int> face_vertices; // (sum of face sizes) vertex indices, CCW from outside
+
+    int n_vertices() const { return static_cast<int>(vertices.size()); }
+    int n_faces() const { return face_offsets.empty() ? 0 : static_cast<int>(face_offsets.size()) - 1; }
+    int face_size(int f) const { return face_offsets[f + 1] - face_offsets[f]; }
+    int face_vertex(int f, int k) const { return face_vertices[face_offsets[f] + k]; }
+
+    // Outward unit normal of face f (Newell's method, robust for any planar polygon).
+    Vec3 face_normal(int f) const;
+    // Area of face f.
+    double face_area(int f) const;
+    // Axis-aligned bounding box.
+    void bounds(Vec3& lo, Vec3& hi) const;
+    // Move every vertex by d.
+    void translate(const Vec3& d);
+};
+
+// Volume, centroid and inertia tensor of a solid of unit density.
+struct MassProperties {
+    double volume = 0;              // m^3
+    Vec3 centroid = Vec3::Zero();   // m
+    Mat3 inertia = Mat3::Zero();    // m^5: inertia tensor about the centroid per unit density
+};
+
+MassProperties mass_properties(const Polyhedron& p);
+
+// Axis-aligned box x1..x2, y1..y2, z1..z2 (each pair in increasing order).
+Polyhedron make_brick(double x1, double x2, double y1, double y2, double z1, double z2);
+
+// Build a convex polyhedron from its faces given as vertex loops (any winding).
+// Shared vertices are merged within tol. Returns false and fills `error` (naming the
+// face by its 1-based index) when a face is not planar, the solid is not closed or
+// not convex, or it has no volume.
+bool make_from_faces(const std::vector<std::vector<Vec3>>& faces, double tol, Polyhedron& out,
+                     std::string& error);
+
+// Convex hull of a set of points, as a polyhedron. Returns false with `error` when the
+// points are coplanar or fewer than four.
+bool make_convex_hull(const std::vector<Vec3>& points, double tol, Polyhedron& out, std::string& error);
+
+// Split p by the plane n.x = d (n unit). `below` gets the part with n.x <= d, `above`
+// the rest. Returns false (and leaves both untouched) when the plane misses p or one part
+// would be thinner than tol.
+bool split_by_plane(const Polyhedron& p, const Vec3& n, double d, double tol, Polyhedron& below,
+                    Polyhedron& above);
+
+// True when the point lies inside or on p (within tol).
+bool contains_point(const Polyhedron& p, const Vec3& x, double tol);
+
+} // namespace odec

@@ -1,0 +1,55 @@
+#include "engine/range.h"
+
+#include "engine/model.h"
+
+namespace odec {
+
+static bool test_filter(const Model& m, int b, const Filter& f) {
+    const Vec3& c = m.blocks.centroid[b];
+    // Interval ends are widened by a relative hair so that `z 0 1` keeps a centroid at exactly 1.
+    auto within = [](double v, double lo, double hi) {
+        const double eps = 1e-9 * (1.0 + std::abs(lo) + std::abs(hi));
+        return v >= lo - eps && v <= hi + eps;
+    };
+    switch (f.kind) {
+    case FilterKind::X: return within(c.x(), f.lo, f.hi);
+    case FilterKind::Y: return within(c.y(), f.lo, f.hi);
+    case FilterKind::Z: return within(c.z(), f.lo, f.hi);
+    case FilterKind::Region: return m.blocks.region[b] == static_cast<int>(f.lo);
+    case FilterKind::Group: {
+        const int g = m.blocks.group[b];
+        return g >= 0 && m.group_names[g] == f.name;
+    }
+    case FilterKind::Id: return m.blocks.id[b] >= f.lo && m.blocks.id[b] <= f.hi;
+    case FilterKind::Sphere: return (c - f.a).norm() <= f.radius;
+    case FilterKind::Cylinder: {
+        const Vec3 axis = f.b - f.a;
+        const double len2 = axis.squaredNorm();
+        if (len2 == 0) return false;
+        const double t = (c - f.a).dot(axis) / len2;
+        if (t < 0 || t > 1) return false;
+        return (c - (f.a + t * axis)).norm() <= f.radius;
+    }
+    case FilterKind::PlaneAbove: return (c - f.a).dot(f.b) >= 0;
+    case FilterKind::PlaneBelow: return (c - f.a).dot(f.b) <= 0;
+    }
+    return false;
+}
+
+bool Range::contains_block(const Model& m, int b) const {
+    for (const Filter& f : filters) {
+        if (test_filter(m, b, f) == f.negate) return false;
+    }
+    return true;
+}
+
+std::vector<int> select_blocks(const Model& m, const Range& r, bool include_excavated) {
+    std::vector<int> out;
+    for (int b = 0; b < m.blocks.size(); ++b) {
+        if (!include_excavated && (m.blocks.flags[b] & kExcavated)) continue;
+        if (r.contains_block(m, b)) out.push_back(b);
+    }
+    return out;
+}
+
+} // namespace odec

@@ -1,0 +1,36 @@
+// The range phrase as the engine sees it: a conjunction of filters on blocks.
+// Each filter tests a block's centroid, region, group or id; `not` inverts one.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+
+namespace odec {
+
+struct Model;
+
+enum class FilterKind { X, Y, Z, Region, Group, Id, Sphere, Cylinder, PlaneAbove, PlaneBelow };
+
+struct Filter {
+    FilterKind kind = FilterKind::X;
+    bool negate = false;
+    double lo = 0, hi = 0;            // X/Y/Z interval; Id range (inclusive); Region (lo only)
+    std::string name;                 // Group
+    Eigen::Vector3d a = Eigen::Vector3d::Zero(); // sphere centre; cylinder end 1; plane origin
+    Eigen::Vector3d b = Eigen::Vector3d::Zero(); // cylinder end 2; plane upward normal
+    double radius = 0;                // sphere/cylinder
+};
+
+struct Range {
+    std::vector<Filter> filters;      // all must hold; empty selects everything
+    bool empty() const { return filters.empty(); }
+    // True when block `block_index` of m passes every filter.
+    bool contains_block(const Model& m, int block_index) const;
+};
+
+// Indices of the blocks that r selects (excavated blocks are skipped unless asked).
+std::vector<int> select_blocks(const Model& m, const Range& r, bool include_excavated = false);
+
+} // namespace odec
