@@ -53,6 +53,14 @@ struct JointMaterial {
     double res_friction = 0;  // deg (joint model 2)
 };
 
+// A plane cut by `jset`: the faces it makes on both sides carry its number, so that
+// contacts across it know their joint set, joint material and whether it was joined.
+struct JointPlane {
+    int set = 0;          // which `jset` command made it (1-based, in order)
+    bool joined = false;  // `jset ... join`: the two sides are glued
+    int jmat = 0;         // joint material for contacts across it (0: Settings::default_jmat)
+};
+
 // Degrees of freedom of a block that a boundary condition prescribes.
 enum BlockFlags : std::uint8_t {
     kFixed = 1,      // `fix`: velocity and spin held at zero
@@ -129,6 +137,9 @@ struct Model {
     std::vector<Material> materials;            // index = material number (0 unused)
     std::vector<JointMaterial> joint_materials; // index = joint material number (0 unused)
     std::vector<std::string> group_names;
+    std::vector<JointPlane> joint_planes;       // face_joint k refers to joint_planes[k-1]
+    int n_joint_sets = 0;                       // `jset` commands so far
+    int slivers_skipped = 0;                    // cuts not made because a piece would be a sliver
     ContactSet contacts;
     HistorySet histories;
     TableSet tables;

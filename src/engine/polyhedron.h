@@ -29,6 +29,9 @@ struct Polyhedron {
     std::vector<Vec3> vertices;     // (n_vertices) m
     std::vector<int> face_offsets;  // (n_faces + 1) start of each face in face_vertices
     std::vector<int> face_vertices; // (sum of face sizes) vertex indices, CCW from outside
+    // (n_faces) joint plane that made each face: index into Model::joint_planes plus one,
+    // 0 for faces made by `poly` commands. Empty means all 0.
+    std::vector<int> face_joint;
 
     int n_vertices() const { return static_cast<int>(vertices.size()); }
     int n_faces() const { return face_offsets.empty() ? 0 : static_cast<int>(face_offsets.size()) - 1; }
