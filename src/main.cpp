@@ -1,1 +1,88 @@
-int main() { return 0; }
+// odec: the command-line program. Runs scripts and command-line commands, or opens the prompt.
+#include <cstring>
+#include <iostream>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+#include "commands.h"
+#include "lang/help.h"
+#include "lang/interpreter.h"
+#include "lang/prompt.h"
+
+namespace {
+
+const char* kUsage =
+    "usage: odec [options] [file.dat ...]\n"
+    "  With no file, opens the interactive prompt. Files are run in order; the first error stops\n"
+    "  odec with exit status 1.\n"
+    "options:\n"
+    "  -c, --command TEXT  run the commands in TEXT (lines separated by newlines); may be repeated\n"
+    "  -q, --quiet         do not echo script commands or print progress\n"
+    "      --manual DIR    write the command reference pages into DIR and exit\n"
+    "  -h, --help          show this help and exit\n"
+    "  -V, --version       show the version and exit\n";
+
+} // namespace
+
+int main(int argc, char** argv) {
+    using namespace odec;
+    struct Item {
+        bool is_command;
+        std::string text;
+    };
+    std::vector<Item> items;
+    bool quiet = false;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "-h" || a == "--help") {
+            std::cout << kUsage;
+            return 0;
+        } else if (a == "-V" || a == "--version") {
+            std::cout << "odec " << ODEC_VERSION << "\n";
+            return 0;
+        } else if (a == "-q" || a == "--quiet") {
+            quiet = true;
+        } else if (a == "-c" || a == "--command") {
+            if (i + 1 >= argc) {
+                std::cerr << "odec: " << a << " needs the commands to run\n" << kUsage;
+                return 2;
+            }
+            items.push_back({true, argv[++i]});
+        } else if (a == "--manual") {
+            if (i + 1 >= argc) {
+                std::cerr << "odec: --manual needs a directory\n";
+                return 2;
+            }
+            std::string error;
+            if (!write_manual(command_table(), argv[i + 1], error)) {
+                std::cerr << "odec: " << error << "\n";
+                return 1;
+            }
+            return 0;
+        } else if (a.size() > 1 && a[0] == '-') {
+            std::cerr << "odec: unknown option '" << a << "'\n" << kUsage;
+            return 2;
+        } else {
+            items.push_back({false, a});
+        }
+    }
+    Model model;
+    Interpreter interp(model, command_table(), std::cout, std::cerr);
+    interp.quiet = quiet;
+    if (items.empty()) {
+        if (isatty(STDIN_FILENO)) {
+            if (!quiet) std::cout << "odec " << ODEC_VERSION << ": type 'help' for the commands, Ctrl-D to leave\n";
+            return run_prompt(interp, default_history_file());
+        }
+        // Commands piped in: run them as a script.
+        std::string text((std::istreambuf_iterator<char>(std::cin)), std::istreambuf_iterator<char>());
+        return interp.run_text("<stdin>", text, true) ? 0 : 1;
+    }
+    for (const Item& it : items) {
+        const bool ok = it.is_command ? interp.run_text("<command-line>", it.text, false) : interp.run_file(it.text);
+        if (!ok) return 1;
+        if (interp.quit_requested) break;
+    }
+    return 0;
+}

@@ -37,6 +37,7 @@ struct ColourScale {
 // Planar polygons (block faces, zone faces, contact patches), each with one scalar per
 // polygon or per point, or a flat colour when `scalars` is empty.
 struct PolygonLayer {
+    std::string name;                      // what it shows, e.g. "blocks" (for messages)
     std::vector<Vec3> points;              // (n_points) m
     std::vector<int> offsets;              // (n_polygons + 1) into indices
     std::vector<int> indices;              // point indices, CCW from outside
@@ -46,6 +47,8 @@ struct PolygonLayer {
     Rgb flat_colour{0.8, 0.8, 0.8};
     bool edges = true;                     // draw polygon outlines
     double opacity = 1.0;
+    Rgb edge_colour{0.15, 0.15, 0.15};
+    double edge_width = 1.0;
 };
 
 // Arrows or bars at points: velocity and displacement vectors, principal stresses.
@@ -81,6 +84,7 @@ struct ChartSeries {
 struct Chart {
     std::string x_label, y_label;
     std::vector<ChartSeries> series;
+    bool markers = false;              // a marker at every sample (few samples)
 };
 
 struct Camera {
@@ -90,6 +94,8 @@ struct Camera {
     Vec3 up{0, 0, 1};
     bool eye_given = false;   // `view eye x,y,z`: an eye point rather than a direction
     Vec3 eye_point = Vec3::Zero();
+    bool parallel = false;    // orthographic projection (axis views, sections)
+    double zoom = 1.0;        // > 1 magnifies after the bounds are fitted
 };
 
 struct Scene {
@@ -104,5 +110,12 @@ struct Scene {
     int width = 1024, height = 768;
     bool is_chart() const { return !chart.series.empty(); }
 };
+
+// Colour of a map at t in 0..1 (clamped); the backend and the tests share these tables.
+Rgb colour_at(ColourMap map, double t);
+// Colour of category k (0-based) of the Categorical map; repeats after a dozen.
+Rgb category_colour(int k);
+// The colour of value v under a scale (lo..hi; Categorical: v is the category number).
+Rgb scale_colour(const ColourScale& scale, double v);
 
 } // namespace odec::render

@@ -1,0 +1,25 @@
+#include "commands.h"
+#include "common.h"
+
+namespace odec {
+
+const CommandSpec& call_command() {
+    static const CommandSpec spec = [] {
+        CommandSpec c("call", 3, "run the commands of a data file");
+        c.positional.string("file");
+        c.describe("A relative path is taken from the directory of the file that calls it (from the "
+                   "working directory at the prompt). Calls nest; a file may not call itself, directly or "
+                   "through others. The first error stops every file being run.");
+        c.example("call 'geometry.dat'");
+        c.handle([](CommandContext& ctx, const Args& a) {
+            std::string path = a.positional[0].text;
+            const auto& file = a.loc.file;
+            if (!path.empty() && path[0] != '/' && file && !file->directory.empty()) path = file->directory + path;
+            if (!ctx.interp.run_file(path, &a.positional[0].loc)) throw ScriptFailed{};
+        });
+        return c;
+    }();
+    return spec;
+}
+
+} // namespace odec

@@ -1,0 +1,32 @@
+// Every command of odec: each declared and handled in a file of its own, named after it,
+// and listed once in registry.cpp.
+#pragma once
+
+#include "lang/parser.h"
+
+namespace odec {
+
+// The table of all commands, in the order `help` lists them.
+const CommandTable& command_table();
+
+// One function per command file.
+const CommandSpec& call_command();
+const CommandSpec& change_command();
+const CommandSpec& damp_command();
+const CommandSpec& fix_command();
+const CommandSpec& free_command();
+const CommandSpec& grav_command();
+const CommandSpec& help_command_spec();
+const CommandSpec& hist_command();
+const CommandSpec& ini_command();
+const CommandSpec& new_command();
+const CommandSpec& poly_command();
+const CommandSpec& print_command();
+const CommandSpec& prop_command();
+const CommandSpec& quit_command();
+const CommandSpec& return_command();
+const CommandSpec& set_command();
+const CommandSpec& step_command();
+const CommandSpec& title_command();
+
+} // namespace odec

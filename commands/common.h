@@ -1,0 +1,34 @@
+// Small helpers shared by command handlers.
+#pragma once
+
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "engine/model.h"
+#include "engine/range.h"
+#include "lang/interpreter.h"
+
+namespace odec {
+
+// Blocks selected by the command's range phrase (all blocks when none was given).
+inline std::vector<int> blocks_in_range(const CommandContext& ctx, const Args& args) {
+    return select_blocks(ctx.model, args.range);
+}
+
+// Grow a property table so that index n exists.
+template <class T>
+void ensure_index(std::vector<T>& v, int n) {
+    if (static_cast<int>(v.size()) <= n) v.resize(n + 1);
+}
+
+// "%.6g" of a number.
+inline std::string num(double x) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", x);
+    return buf;
+}
+
+inline std::string vec_text(const Vec3& v) { return "(" + num(v.x()) + "," + num(v.y()) + "," + num(v.z()) + ")"; }
+
+} // namespace odec

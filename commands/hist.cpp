@@ -1,0 +1,133 @@
+#include "commands.h"
+#include "common.h"
+#include "engine/blocks.h"
+#include "io/csv.h"
+
+#include <cmath>
+#include <limits>
+
+namespace odec {
+
+namespace {
+
+struct BlockQuantity {
+    const char* name;
+    HistoryKind kind;
+};
+const BlockQuantity kBlockQuantities[] = {
+    {"xdisplacement", HistoryKind::XDis}, {"ydisplacement", HistoryKind::YDis}, {"zdisplacement", HistoryKind::ZDis},
+    {"xvelocity", HistoryKind::XVel},     {"yvelocity", HistoryKind::YVel},     {"zvelocity", HistoryKind::ZVel},
+};
+
+// The history numbers of a keyword's values, checked to exist.
+std::vector<int> history_numbers(const Model& m, const KeywordUse& u) {
+    std::vector<int> out;
+    for (const Value& v : u.values) {
+        const int n = static_cast<int>(v.number);
+        if (n < 1 || n > static_cast<int>(m.histories.items.size())) {
+            fail(v.loc, "there is no history " + std::to_string(n) + " (there are " +
+                            std::to_string(m.histories.items.size()) + ")",
+                 {}, "history");
+        }
+        out.push_back(n);
+    }
+    return out;
+}
+
+} // namespace
+
+const CommandSpec& hist_command() {
+    static const CommandSpec spec = [] {
+        CommandSpec c("history", 4, "record a quantity as the model cycles, or write recorded histories");
+        c.keyword("unbalanced", 2, "largest unbalanced force on a block, N").in_choice(1);
+        c.keyword("ratio", 2, "mean unbalanced-force ratio").in_choice(1);
+        c.keyword("time", 2, "model time, s").in_choice(1);
+        c.keyword("step", 2, "step number").in_choice(1);
+        for (const BlockQuantity& q : kBlockQuantities) {
+            const std::string n = q.name;
+            const bool dis = n[1] == 'd';
+            c.keyword(n, 4, std::string(dis ? "displacement " : "velocity ") + n[0] +
+                                " component of the block containing or nearest the point, " + (dis ? "m" : "m/s"))
+                .vec("x,y,z")
+                .in_choice(1);
+        }
+        c.keyword("write", 2, "write histories n ... to a CSV file").integer("n", 1).repeat().in_choice(1);
+        c.keyword("vs", 2, "with 'write': history m as the first column instead of the step").integer("m", 1);
+        c.keyword("file", 2, "with 'write': the CSV file").string("name");
+        c.keyword("ncyc", 2, "steps between samples (for all histories)").integer("n", 1).defaults("10");
+        c.keyword("label", 3, "title of history n").integer("n", 1).string("text");
+        c.describe("Each history is numbered in the order it was made, from 1. Samples are taken every "
+                   "'ncyc' steps. A block quantity follows the block found at the point when the history "
+                   "is made.");
+        c.example("hist zdis 0,0,5");
+        c.example("hist write 1 2 vs 3 file 'fall.csv'");
+        c.handle([](CommandContext& ctx, const Args& a) {
+            Model& m = ctx.model;
+            HistorySet& hs = m.histories;
+            const std::string what = a.chosen(1);
+            if ((a.has("vs") || a.has("file")) && what != "write") {
+                const KeywordUse* u = a.has("vs") ? a.find("vs") : a.find("file");
+                fail(u->loc, "'" + u->spec->name + "' goes with 'write'", {}, "history");
+            }
+            if (what == "write") {
+                const std::vector<int> numbers = history_numbers(m, *a.find("write"));
+                int vs = 0;
+                if (a.has("vs")) {
+                    vs = history_numbers(m, *a.find("vs"))[0];
+                }
+                if (!a.has("file")) fail(a.find("write")->loc, "'write' needs 'file name.csv'", {}, "history");
+                std::string error;
+                if (!write_histories_csv(hs, numbers, vs, a.text("file"), error)) {
+                    fail(a.find("file")->values[0].loc, error, {}, "history");
+                }
+                if (!ctx.interp.quiet) {
+                    ctx.out << "wrote " << hs.sample_steps.size() << " samples of " << numbers.size()
+                            << " histories to " << a.text("file") << "\n";
+                }
+                return;
+            }
+            if (a.has("label")) {
+                const KeywordUse* u = a.find("label");
+                const int n = static_cast<int>(u->values[0].number);
+                if (n > static_cast<int>(hs.items.size())) {
+                    fail(u->values[0].loc, "there is no history " + std::to_string(n), {}, "history");
+                }
+            }
+            if (a.has("ncyc")) hs.ncyc = a.integer("ncyc");
+            if (a.has("label")) {
+                const KeywordUse* u = a.find("label");
+                hs.items[static_cast<int>(u->values[0].number) - 1].label = u->values[1].text;
+            }
+            if (what.empty()) {
+                if (!a.has("ncyc") && !a.has("label")) {
+                    fail(a.loc, "'history' needs a quantity to record, or 'write', 'ncyc' or 'label'", {}, "history");
+                }
+                return;
+            }
+            History h;
+            if (what == "unbalanced") h.kind = HistoryKind::Unbalanced;
+            else if (what == "ratio") h.kind = HistoryKind::Ratio;
+            else if (what == "time") h.kind = HistoryKind::Time;
+            else if (what == "step") h.kind = HistoryKind::Step;
+            for (const BlockQuantity& q : kBlockQuantities) {
+                if (what != q.name) continue;
+                h.kind = q.kind;
+                h.point = a.vec(what);
+                const int b = find_block_at(m, h.point);
+                if (b < 0) fail(a.find(what)->loc, "there are no blocks to follow", {"create blocks first"}, "history");
+                h.block_id = m.blocks.id[b];
+            }
+            h.label = history_default_label(h);
+            // Samples taken before this history existed have no value.
+            h.values.assign(hs.sample_steps.size(), std::numeric_limits<double>::quiet_NaN());
+            hs.items.push_back(std::move(h));
+            if (!ctx.interp.quiet) {
+                ctx.out << "history " << hs.items.size() << ": " << hs.items.back().label << "\n";
+            }
+        });
+        return c;
+    }();
+    return spec;
+}
+
+} // namespace odec

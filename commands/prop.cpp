@@ -1,0 +1,97 @@
+#include "commands.h"
+#include "common.h"
+#include "engine/blocks.h"
+
+namespace odec {
+
+
+
+const CommandSpec& prop_command() {
+    static const CommandSpec spec = [] {
+        CommandSpec c("property", 4, "set the properties of a block material or a joint material");
+        c.keyword("material", 3, "block material number").integer("n", 1, 1000000).in_choice(1);
+        c.keyword("jmat", 4, "joint material number").integer("n", 1, 1000000).in_choice(1);
+        c.keyword("density", 3, "mass density, kg/m^3").real("rho", 0, kInf, Limit::Open);
+        c.keyword("bulk", 2, "bulk modulus K, Pa (deformable blocks)").real("K", 0, kInf, Limit::Open);
+        c.keyword("k", 1, "bulk modulus K, Pa (same as 'bulk')").real("K", 0, kInf, Limit::Open);
+        c.keyword("shear", 2, "shear modulus G, Pa (deformable blocks)").real("G", 0, kInf, Limit::Open);
+        c.keyword("g", 1, "shear modulus G, Pa (same as 'shear')").real("G", 0, kInf, Limit::Open);
+        c.keyword("ymod", 2, "Young's modulus E, Pa (with 'prat', instead of K and G)").real("E", 0, kInf, Limit::Open);
+        c.keyword("prat", 2, "Poisson's ratio (with 'ymod')").real("nu", -1, 0.5, Limit::Open, Limit::Open);
+        c.keyword("cohesion", 3, "cohesion, Pa (Mohr-Coulomb zones)").real("c", 0);
+        c.keyword("friction", 3, "friction angle, degrees (Mohr-Coulomb zones)").real("phi", 0, 90, Limit::Closed, Limit::Open);
+        c.keyword("tension", 3, "tensile strength, Pa (Mohr-Coulomb zones)").real("t", 0);
+        c.keyword("dilation", 3, "dilation angle, degrees (Mohr-Coulomb zones)").real("psi", 0, 90, Limit::Closed, Limit::Open);
+        c.keyword("jkn", 3, "joint normal stiffness, Pa/m").real("kn", 0, kInf, Limit::Open);
+        c.keyword("jks", 3, "joint shear stiffness, Pa/m").real("ks", 0, kInf, Limit::Open);
+        c.keyword("jfriction", 3, "joint friction angle, degrees").real("phi", 0, 90, Limit::Closed, Limit::Open);
+        c.keyword("jcohesion", 3, "joint cohesion, Pa (lost once the joint fails)").real("c", 0);
+        c.keyword("jtension", 3, "joint tensile strength, Pa (lost once the joint fails)").real("t", 0);
+        c.keyword("jdilation", 3, "joint dilation angle, degrees").real("psi", 0, 90, Limit::Closed, Limit::Open);
+        c.keyword("jzdilation", 3, "shear displacement at which dilation stops, m (0: never)").real("u", 0);
+        c.keyword("jres_friction", 4, "residual friction angle after failure, degrees (joint model 2)")
+            .real("phi", 0, 90, Limit::Closed, Limit::Open);
+        c.require_one_of(1);
+        c.describe("Properties not given keep their earlier values (0 for a new material). Block "
+                   "properties go with 'mat', joint properties (those starting with j) with 'jmat'. "
+                   "Changing the density of a material updates the mass of its blocks.");
+        c.example("prop mat=1 dens=2700");
+        c.example("prop jmat=1 jkn=1e10 jks=5e9 jfric=30 jcoh=0 jten=0");
+        c.handle([](CommandContext& ctx, const Args& a) {
+            Model& m = ctx.model;
+            const bool joint = a.chosen(1) == "jmat";
+            // Check first: no joint property on a block material and no block property on a joint one.
+            for (const KeywordUse& u : a.uses) {
+                const std::string& n = u.spec->name;
+                if (n == "material" || n == "jmat") continue;
+                const bool is_joint = n[0] == 'j';
+                if (is_joint != joint) {
+                    fail(u.loc, "'" + n + "' is a " + (is_joint ? "joint" : "block") + " property: give it with '" +
+                                    (is_joint ? "jmat" : "mat") + "=n'",
+                         {}, "property");
+                }
+            }
+            if (a.has("ymod") != a.has("prat")) {
+                const KeywordUse* u = a.has("ymod") ? a.find("ymod") : a.find("prat");
+                fail(u->loc, "'ymod' and 'prat' go together", {"or give 'bulk' and 'shear'"}, "property");
+            }
+            if (joint) {
+                const int n = a.integer("jmat");
+                ensure_index(m.joint_materials, n);
+                JointMaterial& j = m.joint_materials[n];
+                j.defined = true;
+                j.kn = a.real_or("jkn", j.kn);
+                j.ks = a.real_or("jks", j.ks);
+                j.friction = a.real_or("jfriction", j.friction);
+                j.cohesion = a.real_or("jcohesion", j.cohesion);
+                j.tension = a.real_or("jtension", j.tension);
+                j.dilation = a.real_or("jdilation", j.dilation);
+                j.zdilation = a.real_or("jzdilation", j.zdilation);
+                j.res_friction = a.real_or("jres_friction", j.res_friction);
+                m.geometry_changed = true; // stiffness may change the timestep
+                return;
+            }
+            const int n = a.integer("material");
+            ensure_index(m.materials, n);
+            Material& mat = m.materials[n];
+            mat.defined = true;
+            mat.density = a.real_or("density", mat.density);
+            mat.bulk = a.real_or("k", a.real_or("bulk", mat.bulk));
+            mat.shear = a.real_or("g", a.real_or("shear", mat.shear));
+            if (a.has("ymod")) {
+                const double e = a.real("ymod"), nu = a.real("prat");
+                mat.bulk = e / (3 * (1 - 2 * nu));
+                mat.shear = e / (2 * (1 + nu));
+            }
+            mat.cohesion = a.real_or("cohesion", mat.cohesion);
+            mat.friction = a.real_or("friction", mat.friction);
+            mat.tension = a.real_or("tension", mat.tension);
+            mat.dilation = a.real_or("dilation", mat.dilation);
+            if (a.has("density")) update_masses(m);
+        });
+        return c;
+    }();
+    return spec;
+}
+
+} // namespace odec

@@ -1,0 +1,46 @@
+#include "commands.h"
+#include "common.h"
+
+namespace odec {
+
+const CommandSpec& set_command() {
+    static const CommandSpec spec = [] {
+        CommandSpec c("set", 3, "change a setting of the model or of the program");
+        c.keyword("dt", 2, "force this timestep, s (0: back to the automatic one)").real("dt", 0);
+        c.keyword("dtfrac", 3, "fraction of the critical timestep used").real("f", 0, 1, Limit::Open).defaults("0.1");
+        c.keyword("ctol", 2, "contact tolerance, m (0: chosen from block sizes)").real("tol", 0);
+        c.keyword("echo", 2, "echo script commands with their file and line").one_of("state", {"on", "off"}).defaults("on");
+        c.keyword("gravity", 3, "gravity vector, m/s^2 (same as 'grav')").vec("g");
+        c.keyword("ncyc", 2, "steps between history samples").integer("n", 1).defaults("10");
+        c.keyword("large", 2, "large-displacement mode (rigid blocks always are)");
+        c.keyword("small", 2, "small-displacement mode (not available for rigid blocks)");
+        c.example("set dt 1e-4 echo off");
+        c.handle([](CommandContext& ctx, const Args& a) {
+            Model& m = ctx.model;
+            if (a.has("small")) {
+                fail(a.find("small")->loc, "small-displacement mode is not available: rigid blocks always move by "
+                                            "large displacements", {}, "set");
+            }
+            if (a.uses.empty()) fail(a.loc, "'set' needs a setting", {"type 'help set' for the settings"}, "set");
+            if (a.has("dt")) {
+                m.settings.dt_fixed = a.real("dt");
+                m.geometry_changed = true;
+            }
+            if (a.has("dtfrac")) {
+                m.settings.dtfrac = a.real("dtfrac");
+                m.geometry_changed = true;
+            }
+            if (a.has("ctol")) {
+                m.settings.ctol = a.real("ctol");
+                m.geometry_changed = true;
+            }
+            if (a.has("echo")) ctx.interp.echo = a.text("echo") == "on";
+            if (a.has("gravity")) m.gravity = a.vec("gravity");
+            if (a.has("ncyc")) m.histories.ncyc = a.integer("ncyc");
+        });
+        return c;
+    }();
+    return spec;
+}
+
+} // namespace odec

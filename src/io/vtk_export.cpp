@@ -1,0 +1,395 @@
+#include "io/vtk_export.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include <unistd.h>
+
+#include "engine/blocks.h"
+
+namespace odec {
+
+namespace {
+
+// Shortest text that reads back as the same double.
+void put_number(std::string& out, double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.17g", v);
+    out += buf;
+}
+
+void put_int(std::string& out, long v) { out += std::to_string(v); }
+
+std::string xml_escape(const std::string& s) {
+    std::string out;
+    for (char c : s) {
+        switch (c) {
+        case '&': out += "&amp;"; break;
+        case '<': out += "&lt;"; break;
+        case '>': out += "&gt;"; break;
+        case '"': out += "&quot;"; break;
+        default: out += c;
+        }
+    }
+    return out;
+}
+
+bool write_atomically(const std::string& path, const std::string& text, std::string& error) {
+    const std::string tmp = path + ".tmp" + std::to_string(static_cast<long>(getpid()));
+    {
+        std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+        if (!f) {
+            error = "cannot write '" + path + "'";
+            return false;
+        }
+        f.write(text.data(), static_cast<std::streamsize>(text.size()));
+        f.close();
+        if (!f) {
+            std::remove(tmp.c_str());
+            error = "cannot write '" + path + "' (disk full?)";
+            return false;
+        }
+    }
+    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+        std::remove(tmp.c_str());
+        error = "cannot rename the temporary file to '" + path + "'";
+        return false;
+    }
+    return true;
+}
+
+void put_array(std::string& out, const VtkArray& a) {
+    out += "        <DataArray type=\"";
+    out += a.integer ? "Int32" : "Float64";
+    out += "\" Name=\"" + xml_escape(a.name) + "\"";
+    if (a.n_components != 1) out += " NumberOfComponents=\"" + std::to_string(a.n_components) + "\"";
+    out += " format=\"ascii\">\n";
+    for (size_t i = 0; i < a.values.size(); ++i) {
+        if (a.integer)
+            put_int(out, static_cast<long>(a.values[i]));
+        else
+            put_number(out, a.values[i]);
+        out += (i + 1) % static_cast<size_t>(std::max(3, a.n_components)) == 0 ? '\n' : ' ';
+    }
+    out += "\n        </DataArray>\n";
+}
+
+template <class T>
+void put_int_array(std::string& out, const char* type, const char* name, const std::vector<T>& v) {
+    out += std::string("        <DataArray type=\"") + type + "\" Name=\"" + name + "\" format=\"ascii\">\n";
+    for (size_t i = 0; i < v.size(); ++i) {
+        put_int(out, static_cast<long>(v[i]));
+        out += (i + 1) % 12 == 0 ? '\n' : ' ';
+    }
+    out += "\n        </DataArray>\n";
+}
+
+// Model time and step, which ParaView shows with the data.
+void put_field_data(std::string& out, const Model& m) {
+    out += "    <FieldData>\n";
+    out += "      <DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" format=\"ascii\">";
+    put_number(out, m.time);
+    out += "</DataArray>\n";
+    out += "      <DataArray type=\"Int64\" Name=\"Step\" NumberOfTuples=\"1\" format=\"ascii\">";
+    put_int(out, m.step);
+    out += "</DataArray>\n    </FieldData>\n";
+}
+
+void put_points(std::string& out, const std::vector<Vec3>& pts) {
+    out += "      <Points>\n        <DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+    for (const Vec3& p : pts) {
+        put_number(out, p.x());
+        out += ' ';
+        put_number(out, p.y());
+        out += ' ';
+        put_number(out, p.z());
+        out += '\n';
+    }
+    out += "        </DataArray>\n      </Points>\n";
+}
+
+void put_data_section(std::string& out, const char* tag, const std::vector<VtkArray>& arrays) {
+    out += std::string("      <") + tag + ">\n";
+    for (const auto& a : arrays) put_array(out, a);
+    out += std::string("      </") + tag + ">\n";
+}
+
+VtkArray vector_array(const char* name, const std::vector<Vec3>& v) {
+    VtkArray a;
+    a.name = name;
+    a.n_components = 3;
+    a.values.reserve(3 * v.size());
+    for (const Vec3& x : v) a.values.insert(a.values.end(), {x.x(), x.y(), x.z()});
+    return a;
+}
+
+template <class T>
+VtkArray scalar_array(const char* name, const std::vector<T>& v, bool integer) {
+    VtkArray a;
+    a.name = name;
+    a.integer = integer;
+    a.values.assign(v.begin(), v.end());
+    return a;
+}
+
+std::string strip_extension(const std::string& name) {
+    for (const char* ext : {".vtu", ".vtp", ".pvd", ".vtk"}) {
+        const size_t n = std::string(ext).size();
+        if (name.size() > n && name.compare(name.size() - n, n, ext) == 0) return name.substr(0, name.size() - n);
+    }
+    return name;
+}
+
+std::string base_name(const std::string& path) {
+    const auto slash = path.find_last_of('/');
+    return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
+struct PvdEntry {
+    double timestep = 0;
+    int part = 0;
+    std::string file;
+};
+
+// Entries of an existing collection (one we wrote: one DataSet element per line).
+std::vector<PvdEntry> read_pvd(const std::string& path) {
+    std::vector<PvdEntry> entries;
+    std::ifstream f(path);
+    std::string line;
+    auto attribute = [](const std::string& line, const std::string& key, std::string& value) {
+        const auto at = line.find(" " + key + "=\"");
+        if (at == std::string::npos) return false;
+        const auto from = at + key.size() + 3;
+        const auto to = line.find('"', from);
+        if (to == std::string::npos) return false;
+        value = line.substr(from, to - from);
+        return true;
+    };
+    while (std::getline(f, line)) {
+        if (line.find("<DataSet") == std::string::npos) continue;
+        PvdEntry e;
+        std::string ts, part, file;
+        if (!attribute(line, "timestep", ts) || !attribute(line, "file", file)) continue;
+        attribute(line, "part", part);
+        e.timestep = std::strtod(ts.c_str(), nullptr);
+        e.part = part.empty() ? 0 : std::atoi(part.c_str());
+        e.file = file;
+        entries.push_back(e);
+    }
+    return entries;
+}
+
+} // namespace
+
+VtkPolyhedronMesh blocks_mesh(const Model& m) {
+    VtkPolyhedronMesh mesh;
+    const BlockSet& bs = m.blocks;
+    std::vector<double> block_id, material, group, region, disp_mag;
+    std::vector<Vec3> disp, vel, rot, point_disp, point_vel;
+    mesh.cell_offsets.push_back(0);
+    for (int b = 0; b < bs.size(); ++b) {
+        if (bs.flags[b] & kExcavated) continue;
+        const Polyhedron shape = world_shape(m, b);
+        const int base = static_cast<int>(mesh.points.size());
+        const Vec3 v = velocity_at_t(m, b);
+        for (const Vec3& x : shape.vertices) {
+            mesh.points.push_back(x);
+            const Vec3 r = x - bs.centroid[b];
+            // A rigid block's motion at its vertex (small-rotation form for displacement).
+            point_disp.push_back(bs.disp[b] + bs.rotation[b].cross(r));
+            point_vel.push_back(v + bs.ang_vel[b].cross(r));
+        }
+        for (int f = 0; f < shape.n_faces(); ++f) {
+            mesh.cell_faces.push_back(shape.face_size(f));
+            for (int k = 0; k < shape.face_size(f); ++k) mesh.cell_faces.push_back(base + shape.face_vertex(f, k));
+        }
+        mesh.cell_offsets.push_back(static_cast<int>(mesh.cell_faces.size()));
+        block_id.push_back(bs.id[b]);
+        material.push_back(bs.material[b]);
+        group.push_back(bs.group[b]);
+        region.push_back(bs.region[b]);
+        disp.push_back(bs.disp[b]);
+        disp_mag.push_back(bs.disp[b].norm());
+        vel.push_back(v);
+        rot.push_back(bs.rotation[b]);
+    }
+    mesh.cell_data.push_back(scalar_array("block_id", block_id, true));
+    mesh.cell_data.push_back(scalar_array("material", material, true));
+    mesh.cell_data.push_back(scalar_array("group", group, true));
+    mesh.cell_data.push_back(scalar_array("region", region, true));
+    mesh.cell_data.push_back(vector_array("displacement", disp));
+    mesh.cell_data.push_back(scalar_array("displacement_magnitude", disp_mag, false));
+    mesh.cell_data.push_back(vector_array("velocity", vel));
+    mesh.cell_data.push_back(vector_array("rotation", rot));
+    mesh.point_data.push_back(vector_array("displacement", point_disp));
+    mesh.point_data.push_back(vector_array("velocity", point_vel));
+    return mesh;
+}
+
+bool write_vtu(const VtkPolyhedronMesh& mesh, const Model& m, const std::string& path, std::string& error) {
+    const int n_cells = mesh.n_cells();
+    std::string out;
+    out.reserve(200 * mesh.points.size() + 1024);
+    out += "<?xml version=\"1.0\"?>\n";
+    out += "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n";
+    out += "  <UnstructuredGrid>\n";
+    put_field_data(out, m);
+    out += "    <Piece NumberOfPoints=\"" + std::to_string(mesh.points.size()) + "\" NumberOfCells=\"" +
+           std::to_string(n_cells) + "\">\n";
+    put_data_section(out, "PointData", mesh.point_data);
+    put_data_section(out, "CellData", mesh.cell_data);
+    put_points(out, mesh.points);
+
+    // A polyhedron cell lists its points once in `connectivity` and its faces in `faces`.
+    std::vector<long> connectivity, offsets, faces, face_offsets;
+    std::vector<int> types(static_cast<size_t>(n_cells), 42); // VTK_POLYHEDRON
+    for (int c = 0; c < n_cells; ++c) {
+        const int from = mesh.cell_offsets[c], to = mesh.cell_offsets[c + 1];
+        std::vector<int> ids;
+        int n_faces = 0;
+        for (int i = from; i < to;) {
+            const int k = mesh.cell_faces[i];
+            ids.insert(ids.end(), mesh.cell_faces.begin() + i + 1, mesh.cell_faces.begin() + i + 1 + k);
+            i += k + 1;
+            ++n_faces;
+        }
+        std::sort(ids.begin(), ids.end());
+        ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+        connectivity.insert(connectivity.end(), ids.begin(), ids.end());
+        offsets.push_back(static_cast<long>(connectivity.size()));
+        faces.push_back(n_faces);
+        faces.insert(faces.end(), mesh.cell_faces.begin() + from, mesh.cell_faces.begin() + to);
+        face_offsets.push_back(static_cast<long>(faces.size()));
+    }
+    out += "      <Cells>\n";
+    put_int_array(out, "Int64", "connectivity", connectivity);
+    put_int_array(out, "Int64", "offsets", offsets);
+    put_int_array(out, "UInt8", "types", types);
+    put_int_array(out, "Int64", "faces", faces);
+    put_int_array(out, "Int64", "faceoffsets", face_offsets);
+    out += "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
+    return write_atomically(path, out, error);
+}
+
+bool write_contacts_vtp(const ContactRows& rows, const std::vector<std::string>& state_names, const Model& m,
+                        const std::string& path, std::string& error) {
+    if (!contact_rows_valid(rows, error)) return false;
+    const int n = rows.size();
+    std::vector<VtkArray> data;
+    data.push_back(vector_array("normal", rows.normal));
+    data.push_back(scalar_array("area", rows.area, false));
+    if (!rows.block1.empty()) data.push_back(scalar_array("block1", rows.block1, true));
+    if (!rows.block2.empty()) data.push_back(scalar_array("block2", rows.block2, true));
+    if (!rows.normal_stress.empty()) data.push_back(scalar_array("normal_stress", rows.normal_stress, false));
+    if (!rows.shear_stress.empty()) {
+        data.push_back(vector_array("shear_stress", rows.shear_stress));
+        std::vector<double> mag;
+        for (const Vec3& t : rows.shear_stress) mag.push_back(t.norm());
+        data.push_back(scalar_array("shear_stress_magnitude", mag, false));
+    }
+    if (!rows.normal_disp.empty()) data.push_back(scalar_array("normal_displacement", rows.normal_disp, false));
+    if (!rows.shear_disp.empty()) {
+        data.push_back(vector_array("shear_displacement", rows.shear_disp));
+        std::vector<double> mag;
+        for (const Vec3& t : rows.shear_disp) mag.push_back(t.norm());
+        data.push_back(scalar_array("shear_displacement_magnitude", mag, false));
+    }
+    if (!rows.force.empty()) data.push_back(vector_array("force", rows.force));
+    if (!rows.state.empty()) data.push_back(scalar_array("state", rows.state, true));
+    if (!rows.parent.empty()) data.push_back(scalar_array("contact", rows.parent, true));
+
+    std::string out;
+    out += "<?xml version=\"1.0\"?>\n";
+    out += "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n";
+    out += "  <PolyData>\n";
+    put_field_data(out, m);
+    if (!state_names.empty()) {
+        // The names of the state numbers, for whoever reads the file.
+        out.insert(out.rfind("    </FieldData>"), [&] {
+            std::string s = "      <DataArray type=\"String\" Name=\"state_names\" NumberOfTuples=\"" +
+                            std::to_string(state_names.size()) + "\" format=\"ascii\">\n";
+            for (const auto& name : state_names) {
+                for (unsigned char c : name) s += std::to_string(static_cast<int>(c)) + " ";
+                s += "0\n";
+            }
+            return s + "      </DataArray>\n";
+        }());
+    }
+    out += "    <Piece NumberOfPoints=\"" + std::to_string(n) + "\" NumberOfVerts=\"" + std::to_string(n) +
+           "\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n";
+    put_data_section(out, "PointData", data);
+    put_points(out, rows.centroid);
+    std::vector<long> conn(static_cast<size_t>(n)), offs(static_cast<size_t>(n));
+    for (int i = 0; i < n; ++i) {
+        conn[i] = i;
+        offs[i] = i + 1;
+    }
+    out += "      <Verts>\n";
+    put_int_array(out, "Int64", "connectivity", conn);
+    put_int_array(out, "Int64", "offsets", offs);
+    out += "      </Verts>\n    </Piece>\n  </PolyData>\n</VTKFile>\n";
+    return write_atomically(path, out, error);
+}
+
+bool export_vtk(const Model& m, const ContactView* contacts, const std::string& name,
+                std::vector<std::string>& written, std::string& error) {
+    written.clear();
+    const std::string stem = strip_extension(name);
+    if (stem.empty() || stem.back() == '/') {
+        error = "export vtk needs a file name";
+        return false;
+    }
+    char step[32];
+    std::snprintf(step, sizeof step, "%06ld", m.step);
+    struct Part {
+        std::string path;
+        int part;
+    };
+    std::vector<Part> parts;
+
+    const std::string blocks_path = stem + "-blocks-" + step + ".vtu";
+    if (!write_vtu(blocks_mesh(m), m, blocks_path, error)) return false;
+    parts.push_back({blocks_path, 0});
+    if (contacts) {
+        const std::string path = stem + "-contacts-" + step + ".vtp";
+        if (!write_contacts_vtp(contacts->contacts, contacts->state_names, m, path, error)) return false;
+        parts.push_back({path, 1});
+        if (contacts->sub_contacts.size() > 0) {
+            const std::string sub = stem + "-subcontacts-" + step + ".vtp";
+            if (!write_contacts_vtp(contacts->sub_contacts, contacts->state_names, m, sub, error)) return false;
+            parts.push_back({sub, 2});
+        }
+    }
+
+    // The collection: earlier steps' entries stay, this step's replace any of the same file.
+    // ParaView's time axis is the step number (always increasing, unlike time in a static
+    // solution); the model time travels inside each file as TimeValue.
+    const std::string pvd_path = stem + ".pvd";
+    std::vector<PvdEntry> entries = read_pvd(pvd_path);
+    for (const Part& p : parts) {
+        const std::string file = base_name(p.path);
+        entries.erase(std::remove_if(entries.begin(), entries.end(), [&](const PvdEntry& e) { return e.file == file; }),
+                      entries.end());
+        entries.push_back({static_cast<double>(m.step), p.part, file});
+    }
+    std::stable_sort(entries.begin(), entries.end(), [](const PvdEntry& a, const PvdEntry& b) {
+        return a.timestep != b.timestep ? a.timestep < b.timestep : a.part < b.part;
+    });
+    std::string pvd = "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\" byte_order=\"LittleEndian\">\n"
+                      "  <Collection>\n";
+    for (const PvdEntry& e : entries) {
+        std::string ts;
+        put_number(ts, e.timestep);
+        pvd += "    <DataSet timestep=\"" + ts + "\" group=\"\" part=\"" + std::to_string(e.part) + "\" file=\"" +
+               xml_escape(e.file) + "\"/>\n";
+    }
+    pvd += "  </Collection>\n</VTKFile>\n";
+    if (!write_atomically(pvd_path, pvd, error)) return false;
+    for (const Part& p : parts) written.push_back(p.path);
+    written.push_back(pvd_path);
+    return true;
+}
+
+} // namespace odec

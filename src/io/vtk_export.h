@@ -1,0 +1,59 @@
+// `export vtk 'name'`: the model as VTK XML files that ParaView opens directly.
+//
+// Written by hand (no VTK here: only the render backend includes VTK), in ASCII with
+// round-trip precision, so a file is the same bytes for the same model. Every file goes to
+// a temporary name first and is renamed, so a reader never sees half a file.
+//
+// One export at step n writes
+//   name-blocks-<n>.vtu         blocks as polyhedron cells, with cell and point data
+//   name-contacts-<n>.vtp       contacts as points with their data (when contacts are given)
+//   name-subcontacts-<n>.vtp    sub-contacts, likewise (when there are any)
+//   name.pvd                    the collection: entries of earlier exports are kept and this
+//                               step's are added (or replaced), so ParaView plays the steps.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "engine/model.h"
+#include "render/contact_view.h"
+
+namespace odec {
+
+// A named array of doubles with n_components per tuple (3 for vectors, 9 for tensors:
+// zone stresses will come as "stress" with 9 components). Integer arrays are written
+// as Int32.
+struct VtkArray {
+    std::string name;
+    int n_components = 1;
+    bool integer = false;
+    std::vector<double> values; // (n_tuples * n_components)
+};
+
+// Cells that are convex polyhedra (blocks now, zones later as tetrahedra or polyhedra).
+struct VtkPolyhedronMesh {
+    std::vector<Vec3> points;                   // (n_points) m
+    std::vector<int> cell_offsets;              // (n_cells + 1) into cell_faces
+    // For each cell, its faces: each face is a count followed by that many point indices.
+    std::vector<int> cell_faces;
+    std::vector<VtkArray> point_data, cell_data;
+    int n_cells() const { return cell_offsets.empty() ? 0 : static_cast<int>(cell_offsets.size()) - 1; }
+};
+
+// The blocks that are not excavated, with cell data block_id, material, group, region,
+// displacement, displacement_magnitude, velocity, rotation and point data displacement and
+// velocity (a rigid block's motion at each vertex).
+VtkPolyhedronMesh blocks_mesh(const Model& m);
+
+bool write_vtu(const VtkPolyhedronMesh& mesh, const Model& m, const std::string& path, std::string& error);
+// Contacts (or sub-contacts) as points (one vertex cell each) with their data.
+bool write_contacts_vtp(const ContactRows& rows, const std::vector<std::string>& state_names, const Model& m,
+                        const std::string& path, std::string& error);
+
+// The whole export. `name` may carry a directory and an extension (.vtu, .vtp, .pvd, .vtk:
+// dropped). `contacts` may be null (no contact files). On success `written` lists the
+// files written, the .pvd last.
+bool export_vtk(const Model& m, const ContactView* contacts, const std::string& name,
+                std::vector<std::string>& written, std::string& error);
+
+} // namespace odec

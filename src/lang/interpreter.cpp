@@ -1,0 +1,146 @@
+#include "lang/interpreter.h"
+
+#include <cerrno>
+#include <climits>
+#include <cstring>
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+namespace odec {
+
+namespace {
+
+std::string directory_of(const std::string& path) {
+    const size_t slash = path.find_last_of('/');
+    return slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
+}
+
+std::string canonical(const std::string& path) {
+    char buf[PATH_MAX];
+    if (realpath(path.c_str(), buf)) return buf;
+    return path;
+}
+
+} // namespace
+
+std::string read_file_text(const std::string& path, bool& ok) {
+    std::ifstream in(path, std::ios::binary);
+    ok = static_cast<bool>(in);
+    if (!ok) return {};
+    std::ostringstream s;
+    s << in.rdbuf();
+    ok = !in.bad();
+    return s.str();
+}
+
+Interpreter::Interpreter(Model& m, const CommandTable& t, std::ostream& o, std::ostream& e)
+    : model(m), table(t), out(o), err(e) {}
+
+bool Interpreter::execute(const LexedCommand& cmd, bool echo_command) {
+    if (echo_command && echo && !quiet) {
+        const auto& file = cmd.tokens.front().loc.file;
+        for (int l = cmd.first_line; l <= cmd.last_line; ++l) {
+            const std::string& text = file->lines[l - 1];
+            if (l == cmd.first_line) {
+                out << file->name << ":" << l << "> " << text << "\n";
+            } else {
+                out << std::string(file->name.size() + std::to_string(l).size() + 3, ' ') << text << "\n";
+            }
+        }
+        out.flush();
+    }
+    try {
+        const Args args = parse_command(table, cmd.tokens);
+        CommandContext ctx{model, *this, out};
+        args.command->handler(ctx, args);
+        out.flush();
+        return true;
+    } catch (const CommandError& e) {
+        out.flush();
+        err << format_diagnostic(e.diag);
+        err.flush();
+        return false;
+    } catch (const ScriptFailed&) {
+        return false;
+    }
+}
+
+bool Interpreter::run_text(const std::string& name, const std::string& text, bool echo_commands) {
+    auto file = std::make_shared<SourceFile>();
+    file->name = name;
+    file->lines = split_lines(text);
+    Lexer lex(file);
+    LexedCommand cmd;
+    for (;;) {
+        try {
+            if (!lex.next(cmd)) break;
+        } catch (const CommandError& e) {
+            err << format_diagnostic(e.diag);
+            return false;
+        }
+        if (!execute(cmd, echo_commands)) return false;
+        if (quit_requested) break;
+        if (return_requested) {
+            return_requested = false;
+            break;
+        }
+    }
+    return true;
+}
+
+bool Interpreter::run_file(const std::string& path, const SourceLoc* from) {
+    const std::string canon = canonical(path);
+    for (size_t k = 0; k < call_stack_.size(); ++k) {
+        if (call_stack_[k] == canon) {
+            std::string chain;
+            for (size_t j = k; j < display_stack_.size(); ++j) chain += display_stack_[j] + " -> ";
+            chain += path;
+            Diagnostic d{from ? *from : SourceLoc{}, "'" + path + "' calls itself (" + chain + ")",
+                         {"a file may not call a file that is still running"}, "call"};
+            err << format_diagnostic(d);
+            return false;
+        }
+    }
+    bool ok = false;
+    const std::string text = read_file_text(path, ok);
+    if (!ok) {
+        Diagnostic d{from ? *from : SourceLoc{}, "cannot open '" + path + "': " + std::strerror(errno), {},
+                     from ? "call" : ""};
+        err << format_diagnostic(d);
+        return false;
+    }
+    auto file = std::make_shared<SourceFile>();
+    file->name = path;
+    file->directory = directory_of(path);
+    file->lines = split_lines(text);
+    call_stack_.push_back(canon);
+    display_stack_.push_back(path);
+    Lexer lex(file);
+    LexedCommand cmd;
+    bool good = true;
+    for (;;) {
+        try {
+            if (!lex.next(cmd)) break;
+        } catch (const CommandError& e) {
+            err << format_diagnostic(e.diag);
+            good = false;
+            break;
+        }
+        if (!execute(cmd, true)) {
+            good = false;
+            break;
+        }
+        if (quit_requested) break;
+        if (return_requested) {
+            return_requested = false;
+            break;
+        }
+    }
+    call_stack_.pop_back();
+    display_stack_.pop_back();
+    return good;
+}
+
+} // namespace odec

@@ -1,0 +1,61 @@
+// Runs commands: from script files (with `call` nesting), from the command line, and from
+// the prompt. Each command is parsed against the declarations, then its handler runs; a
+// handler checks everything before it changes the model, so a failed command leaves the
+// model exactly as it was.
+#pragma once
+
+#include <atomic>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include "engine/model.h"
+#include "lang/lexer.h"
+#include "lang/parser.h"
+
+namespace odec {
+
+class Interpreter;
+
+// What a command handler works with.
+struct CommandContext {
+    Model& model;
+    Interpreter& interp;
+    std::ostream& out;
+};
+
+// Thrown by `call` when the called file failed (its error is already reported).
+struct ScriptFailed {};
+
+class Interpreter {
+public:
+    Interpreter(Model& model, const CommandTable& table, std::ostream& out, std::ostream& err);
+
+    // Run a script; returns false at its first error, which is reported on err.
+    // `from` is the `call` command that asked for it (nullptr for top-level files).
+    bool run_file(const std::string& path, const SourceLoc* from = nullptr);
+    // Run text (lines separated by newlines) under a display name such as "<command-line>".
+    bool run_text(const std::string& name, const std::string& text, bool echo_commands);
+    // Parse and execute one lexed command; false when it failed (reported on err).
+    bool execute(const LexedCommand& cmd, bool echo_command);
+
+    Model& model;
+    const CommandTable& table;
+    std::ostream& out;
+    std::ostream& err;
+
+    bool echo = true;             // `set echo on|off`: echo script commands with file and line
+    bool quiet = false;           // --quiet: no echo, no banner
+    bool quit_requested = false;  // `quit`
+    bool return_requested = false;// `return`: leave the current file
+    std::atomic<bool> interrupt{false}; // raised by Ctrl-C; cycling stops between steps
+    bool at_prompt = false;       // commands typed at the prompt are not echoed
+
+private:
+    std::vector<std::string> call_stack_; // canonical paths of the files being run
+    std::vector<std::string> display_stack_;
+};
+
+std::string read_file_text(const std::string& path, bool& ok);
+
+} // namespace odec
