@@ -38,7 +38,7 @@ std::vector<int> history_numbers(const Model& m, const KeywordUse& u) {
 
 const CommandSpec& hist_command() {
     static const CommandSpec spec = [] {
-        CommandSpec c("history", 4, "record a quantity as the model cycles, or write recorded histories");
+        CommandSpec c("history", 3, "record a quantity as the model cycles, or write recorded histories");
         c.keyword("unbalanced", 2, "largest unbalanced force on a block, N").in_choice(1);
         c.keyword("ratio", 2, "mean unbalanced-force ratio").in_choice(1);
         c.keyword("time", 2, "model time, s").in_choice(1);

@@ -1,11 +1,145 @@
+// Contact bookkeeping and queries: clearing, joint materials, gluing, and what print,
+// hist and pictures read (per-contact means over the sub-contacts).
 #include "engine/contact.h"
 
+#include <limits>
+
+#include "engine/blocks.h"
 #include "engine/model.h"
+#include "engine/range.h"
 
 namespace odec {
 
-void detect_contacts(Model&) {}
-void update_contacts(Model&, double) {}
-double contact_critical_timestep(const Model&) { return 0; }
+const char* contact_state_name(ContactState s) {
+    switch (s) {
+    case ContactState::Elastic: return "elastic";
+    case ContactState::Slipping: return "slipping";
+    case ContactState::Open: return "open";
+    case ContactState::Failed: return "failed";
+    }
+    return "?";
+}
+
+void ContactSet::clear() {
+    id.clear(); block_a.clear(); block_b.clear(); normal.clear(); point.clear(); gap.clear();
+    jmat.clear(); jcons.clear(); joined.clear(); sub_offset.assign(1, 0);
+    sub_contact.clear(); sub_side.clear(); sub_key.clear(); sub_vertex.clear(); sub_area.clear();
+    sub_local.clear(); sub_un.clear(); sub_udil.clear(); sub_sn.clear(); sub_us.clear(); sub_ss.clear();
+    sub_flags.clear();
+    detected = false;
+    ref_centroid.clear(); ref_orientation.clear(); geo_centroid.clear(); geo_orientation.clear();
+    radius.clear();
+}
+
+ContactInfo contact_info(const Model& m, int c) {
+    const ContactSet& cs = m.contacts;
+    const BlockSet& s = m.blocks;
+    ContactInfo info;
+    info.id = cs.id[c];
+    info.block_a = cs.block_a[c];
+    info.block_b = cs.block_b[c];
+    info.normal = cs.normal[c];
+    info.jmat = cs.jmat[c];
+    info.jcons = cs.jcons[c];
+    info.joined = cs.joined[c] != 0;
+    const int k0 = cs.sub_offset[c], k1 = cs.sub_offset[c + 1];
+    info.n_subs = k1 - k0;
+    double area = 0, sn = 0, un = 0;
+    Vec3 x = Vec3::Zero(), ss = Vec3::Zero(), us = Vec3::Zero();
+    bool any_slip = false, all_open = true, any_failed = false;
+    for (int k = k0; k < k1; ++k) {
+        const double w = cs.sub_area[k];
+        const int owner = cs.sub_side[k] == 1 ? info.block_b : info.block_a;
+        x += w * (s.centroid[owner] + s.orientation[owner] * cs.sub_local[k]);
+        area += w;
+        sn += w * cs.sub_sn[k];
+        un += w * (cs.sub_un[k] + cs.sub_udil[k]);
+        ss += w * cs.sub_ss[k];
+        us += w * cs.sub_us[k];
+        any_slip |= (cs.sub_flags[k] & kSubSlip) != 0;
+        all_open &= (cs.sub_flags[k] & kSubOpen) != 0;
+        any_failed |= (cs.sub_flags[k] & kSubFailed) != 0;
+    }
+    info.area = area;
+    if (area > 0) {
+        info.centroid = x / area;
+        info.normal_stress = sn / area;
+        info.normal_disp = un / area;
+        info.shear_stress_vec = ss / area;
+        info.shear_disp_vec = us / area;
+        info.shear_stress = info.shear_stress_vec.norm();
+        info.shear_disp = info.shear_disp_vec.norm();
+    } else {
+        info.centroid = cs.point[c];
+        info.normal_disp = -cs.gap[c];
+    }
+    if (any_slip) info.state = ContactState::Slipping;
+    else if (all_open) info.state = ContactState::Open;
+    else if (any_failed) info.state = ContactState::Failed;
+    else info.state = ContactState::Elastic;
+    return info;
+}
+
+int find_contact_at(const Model& m, const Vec3& x) {
+    int best = -1;
+    double best_d = std::numeric_limits<double>::infinity();
+    for (int c = 0; c < m.contacts.size(); ++c) {
+        const double d = (contact_info(m, c).centroid - x).squaredNorm();
+        if (d < best_d) {
+            best_d = d;
+            best = c;
+        }
+    }
+    return best;
+}
+
+int contact_index(const Model& m, int contact_id) {
+    const ContactSet& cs = m.contacts;
+    for (int c = 0; c < cs.size(); ++c) {
+        if (cs.id[c] == contact_id) return c;
+    }
+    return -1;
+}
+
+namespace {
+// Contacts must exist before they can be changed: detect them if the model changed.
+void ensure_detected(Model& m) {
+    if (m.contacts.detected && !m.geometry_changed) return;
+    refresh_world_vertices(m);
+    detect_contacts(m);
+}
+} // namespace
+
+int assign_joint_material(Model& m, const Range& r, int jmat, int jcons) {
+    ensure_detected(m);
+    ContactSet& cs = m.contacts;
+    int changed = 0;
+    for (int c = 0; c < cs.size(); ++c) {
+        const ContactInfo info = contact_info(m, c);
+        if (!r.contains_contact(m, info.centroid, cs.block_a[c], cs.block_b[c])) continue;
+        if (jmat > 0) cs.jmat[c] = jmat;
+        if (jcons > 0) cs.jcons[c] = jcons;
+        ++changed;
+    }
+    return changed;
+}
+
+int join_blocks(Model& m, const std::vector<int>& block_indices) {
+    ensure_detected(m);
+    std::vector<char> sel(m.blocks.size(), 0);
+    for (int b : block_indices) {
+        if (b >= 0 && b < m.blocks.size()) sel[b] = 1;
+    }
+    ContactSet& cs = m.contacts;
+    int n = 0;
+    for (int c = 0; c < cs.size(); ++c) {
+        if (sel[cs.block_a[c]] && sel[cs.block_b[c]]) {
+            cs.joined[c] = 1;
+            ++n;
+        }
+    }
+    return n;
+}
 
 } // namespace odec
+

@@ -1,25 +1,150 @@
-// Contacts between blocks: the common-plane method with sub-contacts.
+// Contacts between rigid blocks: the common-plane method with sub-contacts.
 //
-// (Placeholder for the first slice: blocks do not touch yet. The full design,
-// broad phase, common plane, sub-contacts and joint laws, replaces this file.)
+// A contact joins two blocks a < b whose bounding boxes, enlarged by the contact
+// tolerance ctol, overlap and whose gap is below ctol. Between them lies the common
+// plane (normal n pointing from a to b, reference point p): the plane that makes the
+// gap between the blocks, measured on either side of it, as large as possible (or the
+// overlap as small as possible). Its normal is the contact normal (contact_detect.cpp
+// explains the search).
+//
+// The contact is carried by sub-contacts at the vertices of the contact polygon: the
+// vertices of either block's faces that lie on the other block's face, and the points
+// where an edge of one crosses an edge of the other. Each owns the share of the contact
+// area nearest it (a third of each adjacent triangle) and remembers its own joint history
+// (normal closure, shear displacement and stress, whether it has failed), so a joint can
+// be half slipping, half stuck, or partly open. Forces act at these points, which span
+// the whole contact area, so a block can lean its load out to the very edge of its base,
+// as a rigid block does. Between geometry refreshes each point rides on its block.
+//
+// Everything is a structure of arrays: per contact, and per sub-contact with each
+// contact's sub-contacts stored consecutively (sub_offset). Arrays are rebuilt only when
+// detection reruns, into buffers kept between runs, so cycling allocates nothing.
 #pragma once
 
+#include <cstdint>
 #include <vector>
+
+#include <Eigen/Dense>
+#include <Eigen/Geometry>
 
 namespace odec {
 
 struct Model;
+struct Range;
+struct Polyhedron;
 
-struct ContactSet {
-    int size() const { return 0; }
-    void clear() {}
+// Sub-contact state flags.
+enum SubContactFlags : std::uint8_t {
+    kSubSlip = 1,    // slipping this step (shear stress at the Coulomb limit)
+    kSubOpen = 2,    // no compression: the joint is open here
+    kSubFailed = 4,  // failed in shear or tension: cohesion and tension lost for good
+    kSubNew = 8,     // created by the last geometry refresh: its first increment is already in it
 };
 
-// Find new contacts and drop lost ones when blocks have moved far enough.
+// What `print contact` shows as the state of a whole contact.
+enum class ContactState : std::uint8_t { Elastic, Slipping, Open, Failed };
+const char* contact_state_name(ContactState s);
+
+struct ContactSet {
+    // ---- per contact (n_contacts) ----
+    std::vector<int> id;                  // (n_contacts) user id, 1-based, kept while the contact lives
+    std::vector<int> block_a;             // (n_contacts) block index, a < b
+    std::vector<int> block_b;             // (n_contacts) block index
+    std::vector<Eigen::Vector3d> normal;  // (n_contacts) common-plane unit normal, from a to b
+    std::vector<Eigen::Vector3d> point;   // (n_contacts) m, common-plane reference point
+    std::vector<double> gap;              // (n_contacts) m, signed gap at the last refresh (< 0 overlap)
+    std::vector<int> jmat;                // (n_contacts) joint material number
+    std::vector<int> jcons;               // (n_contacts) joint model (1 or 2)
+    std::vector<std::uint8_t> joined;     // (n_contacts) 1: glued (no slip, no opening)
+    std::vector<int> sub_offset;          // (n_contacts + 1) first sub-contact of each contact
+
+    // ---- per sub-contact (n_subs) ----
+    std::vector<int> sub_contact;         // (n_subs) owning contact
+    std::vector<std::uint8_t> sub_side;   // (n_subs) 0: vertex of block a, 1: vertex of block b,
+                                          //          2: where an edge of one crosses an edge of the other
+    std::vector<std::int64_t> sub_key;    // (n_subs) what the point is (vertex, or pair of edges): the
+                                          //          identity that carries its history across refreshes
+    std::vector<int> sub_vertex;          // (n_subs) the block's vertex index (sides 0, 1), else -1
+    std::vector<double> sub_area;         // (n_subs) m^2, share of the contact area (they sum to it)
+    std::vector<Eigen::Vector3d> sub_local; // (n_subs) m, point in the owner's body frame (block b for
+                                          //          side 1, else block a)
+    std::vector<double> sub_un;           // (n_subs) m, normal closure (> 0 compressed), from motion
+    std::vector<double> sub_udil;         // (n_subs) m, dilation accumulated while slipping
+    std::vector<double> sub_sn;           // (n_subs) Pa, normal stress, compression positive
+    std::vector<Eigen::Vector3d> sub_us;  // (n_subs) m, shear displacement of b relative to a
+    std::vector<Eigen::Vector3d> sub_ss;  // (n_subs) Pa, shear stress on b (opposes its slip)
+    std::vector<std::uint8_t> sub_flags;  // (n_subs) SubContactFlags
+
+    // ---- detection bookkeeping ----
+    double ctol = 0;                      // m, tolerance in use (settings.ctol or chosen)
+    int next_id = 1;                      // next contact id
+    bool detected = false;                // false: the next detect_contacts runs in full
+    std::vector<Eigen::Vector3d> ref_centroid;    // (n_blocks) centroid at the last detection
+    std::vector<Eigen::Quaterniond> ref_orientation; // (n_blocks) orientation at the last detection
+    std::vector<Eigen::Vector3d> geo_centroid;       // (n_blocks) centroid at the last geometry refresh
+    std::vector<Eigen::Quaterniond> geo_orientation; // (n_blocks) orientation then
+    std::vector<double> radius;           // (n_blocks) m, largest vertex distance from the centroid
+    long n_detections = 0;                // full detections so far (for tests and profiling)
+
+    int size() const { return static_cast<int>(block_a.size()); }
+    int n_subs() const { return static_cast<int>(sub_contact.size()); }
+    void clear();
+};
+
+// Find new contacts, drop lost ones and refresh the contact geometry (normal, sub-contacts,
+// areas), when some block has moved more than a fraction of ctol since the last time, or
+// the model changed (Model::geometry_changed).
 void detect_contacts(Model& m);
 // Relative motion -> joint stresses -> forces and moments on both blocks.
 void update_contacts(Model& m, double dt);
-// Largest stable timestep the contacts allow (0 when there are none).
+// Largest stable timestep the contacts allow: dtfrac * 2 sqrt(m_min / k_max).
+// With no contacts yet it is estimated from the stiffest joint material and the largest
+// face; 0 when there is nothing to estimate from.
 double contact_critical_timestep(const Model& m);
+// Contact tolerance in use: settings.ctol, or 5 % of the mean block size when that is 0.
+double contact_tolerance(const Model& m);
+
+// `change jmat=n jcons=j range ...`: existing contacts whose centroid (or either block,
+// for region/group/id filters) the range selects. jmat or jcons <= 0 leaves that one alone.
+// Returns how many contacts changed.
+int assign_joint_material(Model& m, const Range& r, int jmat, int jcons);
+// `join range ...`: glue every contact between two of these blocks. Returns how many.
+int join_blocks(Model& m, const std::vector<int>& block_indices);
+
+// ---- the common plane (also used by the tests) ----
+struct CommonPlane {
+    Eigen::Vector3d normal = Eigen::Vector3d::UnitZ(); // unit, from block a to block b
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();   // m, on the plane, midway in the gap
+    double gap = 0;                                    // m, > 0 apart, < 0 overlapping
+};
+// Common plane of two convex polyhedra given in world coordinates. `warm` (may be null)
+// is the previous normal: kept through ties, so the plane does not flip between equal
+// choices. `band` limits the search to features that far from the warm plane (0: all).
+CommonPlane find_common_plane(const Polyhedron& a, const Polyhedron& b, const Eigen::Vector3d* warm,
+                              double band = 0);
+
+// ---- queries for print, hist and pictures ----
+struct ContactInfo {
+    int id = 0;
+    int block_a = -1, block_b = -1;       // block indices
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero(); // m, area centroid of the sub-contacts
+    Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+    double area = 0;                      // m^2
+    double normal_stress = 0;             // Pa, mean over the area, compression positive
+    double shear_stress = 0;              // Pa, magnitude of the mean shear stress vector
+    double normal_disp = 0;               // m, mean closure (> 0 compressed), dilation included
+    double shear_disp = 0;                // m, magnitude of the mean shear displacement
+    Eigen::Vector3d shear_stress_vec = Eigen::Vector3d::Zero(); // Pa, on block b
+    Eigen::Vector3d shear_disp_vec = Eigen::Vector3d::Zero();   // m, of b relative to a
+    int n_subs = 0;
+    int jmat = 0, jcons = 0;
+    bool joined = false;
+    ContactState state = ContactState::Elastic;
+};
+ContactInfo contact_info(const Model& m, int contact_index);
+// Index of the contact whose centroid is nearest x, or -1 when there are none.
+int find_contact_at(const Model& m, const Eigen::Vector3d& x);
+// Index of the contact with this id, or -1.
+int contact_index(const Model& m, int contact_id);
 
 } // namespace odec

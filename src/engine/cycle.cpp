@@ -1,5 +1,6 @@
 #include "engine/cycle.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -51,10 +52,34 @@ inline double damp_component(const Damping& d, double f, double v, double mass, 
     return f;
 }
 
+// Adaptive global damping (Cundall's auto damping): a viscous coefficient c (1/s, force
+// c m v) that is nudged every few steps so that the power the damping absorbs stays at
+// half the rate at which the unbalanced forces change the kinetic energy. When the model
+// still moves with purpose (kinetic energy changing fast) the damping rises to follow;
+// as it settles and the forces balance, it eases off, so it never freezes a real motion
+// the way a fixed heavy damping would. Explicit viscous damping needs c dt < 2; it is
+// kept well inside that.
+struct AutoDampingPower {
+    double damping = 0; // W per unit c: sum of m v.v (and I w.w)
+    double forcing = 0; // W: sum of |f.v| (and |M.w|), the undamped change of kinetic energy
+};
+
+void adjust_auto_damping(Damping& d, const AutoDampingPower& p, long step, double dt) {
+    const double c_max = 0.5 / dt, c_min = 1e-4 / dt;
+    if (!(d.auto_coefficient > 0)) d.auto_coefficient = 0.02 / dt;
+    if (step % 5 != 0 || !(p.forcing > 0)) return;
+    const double ratio = d.auto_coefficient * p.damping / p.forcing;
+    d.auto_coefficient *= ratio < 0.5 ? 1.05 : 1.0 / 1.05;
+    d.auto_coefficient = std::clamp(d.auto_coefficient, c_min, c_max);
+}
+
 // Returns the index of a block whose motion became non-finite, or -1.
 int integrate(Model& m, double dt) {
     BlockSet& s = m.blocks;
     const Damping& d = m.damping;
+    const bool auto_damp = d.mode == DampingMode::Auto;
+    if (auto_damp && !(m.damping.auto_coefficient > 0)) m.damping.auto_coefficient = 0.02 / dt;
+    AutoDampingPower power;
     int bad = -1;
     for (int b = 0; b < s.size(); ++b) {
         if (!is_active(s, b)) continue;
@@ -68,6 +93,10 @@ int integrate(Model& m, double dt) {
         }
         const double mass = s.mass[b];
         const double kick = s.half_kick[b] ? 0.5 * dt : dt;
+        if (auto_damp) {
+            power.damping += mass * s.vel[b].squaredNorm();
+            power.forcing += std::abs(s.force[b].dot(s.vel[b])) + std::abs(s.moment[b].dot(s.ang_vel[b]));
+        }
         // Translation.
         Vec3 a;
         for (int i = 0; i < 3; ++i) {
@@ -100,6 +129,7 @@ int integrate(Model& m, double dt) {
         for (int i = 0; i < 3; ++i) {
             mom[i] = damp_component(d, s.moment[b][i], s.ang_vel[b][i], inertia(i, i), dt);
         }
+        if (auto_damp) power.damping += s.ang_vel[b].dot(inertia.diagonal().cwiseProduct(s.ang_vel[b]));
         const Vec3 alpha = inertia.ldlt().solve(mom);
         const Vec3 w = s.ang_vel[b] + alpha * kick;
         s.ang_vel[b] = w;
@@ -113,6 +143,7 @@ int integrate(Model& m, double dt) {
         s.half_kick[b] = 0;
         if (bad < 0 && !(v.allFinite() && w.allFinite() && s.centroid[b].allFinite())) bad = b;
     }
+    if (auto_damp) adjust_auto_damping(m.damping, power, m.step, dt);
     return bad;
 }
 
@@ -169,6 +200,8 @@ std::string prepare_cycle(Model& m) {
         }
         m.dt = dt;
     }
+    // Contacts and timestep now match the geometry; the cycle need not prepare again.
+    m.geometry_changed = false;
     return "";
 }
 

@@ -80,4 +80,29 @@ bool split_by_plane(const Polyhedron& p, const Vec3& n, double d, double tol, Po
 // True when the point lies inside or on p (within tol).
 bool contains_point(const Polyhedron& p, const Vec3& x, double tol);
 
+// Why split_by_plane did or did not cut: the plane crossed p and both parts were kept
+// (Split), the plane at most touched p (Missed), or it crossed p so close to its
+// boundary that one part would be thinner than tol (Sliver).
+enum class SplitOutcome { Split, Missed, Sliver };
+
+// As split_by_plane above; the new cap face, added to both parts, gets the face_joint tag
+// cap_joint, the other faces keep theirs. `outcome` (when given) says why.
+bool split_by_plane(const Polyhedron& p, const Vec3& n, double d, double tol, int cap_joint,
+                    Polyhedron& below, Polyhedron& above, SplitOutcome* outcome = nullptr);
+
+// Prism between polygon a and polygon b, b being a translated copy of a (listed from any
+// vertex, in either direction). Returns false with `error` when it is not a prism.
+bool make_prism(const std::vector<Vec3>& a_loop, const std::vector<Vec3>& b_loop, double tol,
+                Polyhedron& out, std::string& error);
+
+// Tetrahedron with these corners (any order). Returns false with `error` when flat.
+bool make_tetra(const Vec3& v1, const Vec3& v2, const Vec3& v3, const Vec3& v4, double tol,
+                Polyhedron& out, std::string& error);
+
+// True when p is a closed, consistently outward-oriented, convex polyhedron with volume:
+// every face planar within tol, every vertex on the inner side of every face plane within
+// tol, every edge shared by exactly two faces in opposite directions, one shell.
+// `why` (when given) gets the first problem found.
+bool is_convex_polyhedron(const Polyhedron& p, double tol, std::string* why = nullptr);
+
 } // namespace odec

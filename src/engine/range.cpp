@@ -43,6 +43,45 @@ bool Range::contains_block(const Model& m, int b) const {
     return true;
 }
 
+// Filters that test a location, applied to a point instead of a block centroid.
+static bool test_point_filter(const Vec3& c, const Filter& f) {
+    auto within = [](double v, double lo, double hi) {
+        const double eps = 1e-9 * (1.0 + std::abs(lo) + std::abs(hi));
+        return v >= lo - eps && v <= hi + eps;
+    };
+    switch (f.kind) {
+    case FilterKind::X: return within(c.x(), f.lo, f.hi);
+    case FilterKind::Y: return within(c.y(), f.lo, f.hi);
+    case FilterKind::Z: return within(c.z(), f.lo, f.hi);
+    case FilterKind::Sphere: return (c - f.a).norm() <= f.radius;
+    case FilterKind::Cylinder: {
+        const Vec3 axis = f.b - f.a;
+        const double len2 = axis.squaredNorm();
+        if (len2 == 0) return false;
+        const double t = (c - f.a).dot(axis) / len2;
+        if (t < 0 || t > 1) return false;
+        return (c - (f.a + t * axis)).norm() <= f.radius;
+    }
+    case FilterKind::PlaneAbove: return (c - f.a).dot(f.b) >= 0;
+    case FilterKind::PlaneBelow: return (c - f.a).dot(f.b) <= 0;
+    default: return false;
+    }
+}
+
+bool Range::contains_contact(const Model& m, const Vec3& point, int a, int b) const {
+    for (const Filter& f : filters) {
+        bool pass;
+        switch (f.kind) {
+        case FilterKind::Region:
+        case FilterKind::Group:
+        case FilterKind::Id: pass = test_filter(m, a, f) || test_filter(m, b, f); break;
+        default: pass = test_point_filter(point, f); break;
+        }
+        if (pass == f.negate) return false;
+    }
+    return true;
+}
+
 std::vector<int> select_blocks(const Model& m, const Range& r, bool include_excavated) {
     std::vector<int> out;
     for (int b = 0; b < m.blocks.size(); ++b) {

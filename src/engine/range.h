@@ -28,6 +28,9 @@ struct Range {
     bool empty() const { return filters.empty(); }
     // True when block `block_index` of m passes every filter.
     bool contains_block(const Model& m, int block_index) const;
+    // True when a contact at `point` between blocks a and b passes every filter: location
+    // filters test the point; region, group and id filters pass if either block does.
+    bool contains_contact(const Model& m, const Eigen::Vector3d& point, int block_a, int block_b) const;
 };
 
 // Indices of the blocks that r selects (excavated blocks are skipped unless asked).

@@ -56,17 +56,19 @@ int match_word(const std::string& w, const Names& names, std::vector<std::string
     return -1;
 }
 
+// Edit distance counting a swap of two neighbouring letters as one edit ("dnes" for "dens").
 size_t edit_distance(const std::string& a, const std::string& b) {
-    std::vector<size_t> prev(b.size() + 1), cur(b.size() + 1);
-    for (size_t j = 0; j <= b.size(); ++j) prev[j] = j;
-    for (size_t i = 1; i <= a.size(); ++i) {
-        cur[0] = i;
-        for (size_t j = 1; j <= b.size(); ++j) {
-            cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+    const size_t n = a.size(), m = b.size();
+    std::vector<std::vector<size_t>> d(n + 1, std::vector<size_t>(m + 1));
+    for (size_t i = 0; i <= n; ++i) d[i][0] = i;
+    for (size_t j = 0; j <= m; ++j) d[0][j] = j;
+    for (size_t i = 1; i <= n; ++i) {
+        for (size_t j = 1; j <= m; ++j) {
+            d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+            if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
         }
-        std::swap(prev, cur);
     }
-    return prev[b.size()];
+    return d[n][m];
 }
 
 class Parser {
@@ -248,14 +250,12 @@ private:
     }
 
     std::string owner_phrase(const std::string& owner, const KeywordSpec& spec, const ValueSpec& v) const {
-        const size_t n_values = spec.values.size();
-        if (n_values == 1 && !spec.name.empty()) return "'" + owner + "'";
+        if (spec.values.size() == 1 && !spec.repeat_last) return "'" + owner + "'";
         return "'" + owner + "' " + v.name;
     }
 
     [[noreturn]] void missing(const std::string& owner, const KeywordSpec& spec, const ValueSpec& v, const Token& kw) {
-        fail(end_loc(kw), "missing value for " + owner_phrase(owner, spec, v) + ": expected " + v.name + " (" +
-                              type_name(v.type) + ")",
+        fail(end_loc(kw), "missing value for " + owner_phrase(owner, spec, v) + ": expected " + type_name(v.type),
              {"'" + owner + "' takes: " + (spec.name.empty() ? cmd_->synopsis() : spec.synopsis())}, cmd_->name);
     }
 
@@ -263,8 +263,7 @@ private:
         if (pos_ >= t_.size()) missing(owner, spec, v, kw);
         const Token& t = t_[pos_];
         if (t.kind != TokenKind::Number) {
-            fail(t.loc, "'" + t.text + "' is not a number: " + owner_phrase(owner, spec, v) + " expects " + v.name + " (" +
-                            type_name(v.type) + ")",
+            fail(t.loc, "'" + t.text + "' is not a number: '" + owner + "' expects " + v.name + " (" + type_name(v.type) + ")",
                  {"'" + owner + "' takes: " + (spec.name.empty() ? cmd_->synopsis() : spec.synopsis())}, cmd_->name);
         }
         ++pos_;
@@ -299,8 +298,7 @@ private:
         case ValueType::Int: {
             const double x = number(owner, spec, v, kw);
             if (x != std::floor(x) || std::abs(x) > 2e9) {
-                fail(t.loc, "'" + t.text + "' is not an integer: " + owner_phrase(owner, spec, v) + " expects " + v.name +
-                                " (an integer)",
+                fail(t.loc, "'" + t.text + "' is not an integer: '" + owner + "' expects " + v.name + " (an integer)",
                      {}, cmd_->name);
             }
             check_limits(owner, spec, v, t, x);
@@ -319,8 +317,8 @@ private:
                 if (pos_ >= t_.size()) missing(owner, spec, v, kw);
                 if (t_[pos_].kind != TokenKind::Number) {
                     const Token& bad = t_[pos_];
-                    fail(bad.loc, "'" + bad.text + "' is not a number: " + owner_phrase(owner, spec, v) +
-                                      " expects a vector x,y,z",
+                    fail(bad.loc, "'" + bad.text + "' is not a number: '" + owner + "' expects " + v.name +
+                                      " (a vector x,y,z)",
                          {"'" + owner + "' takes: " + (spec.name.empty() ? cmd_->synopsis() : spec.synopsis())},
                          cmd_->name);
                 }
@@ -550,11 +548,13 @@ std::vector<std::string> closest_words(const std::string& word, const std::vecto
                                        size_t max_results) {
     std::vector<std::pair<size_t, std::string>> scored;
     for (const auto& c : candidates) {
+        // Compare with the whole name and with its beginning, since names are often abbreviated.
         size_t d = edit_distance(word, c);
-        // A word that starts like the candidate is a strong hint even when far in letters.
-        if (c.size() >= 2 && word.size() >= 2 && c.compare(0, 2, word, 0, 2) == 0) d = std::min(d, c.size() / 2);
-        const size_t limit = std::max<size_t>(1, std::min(word.size(), c.size()) / 2);
-        if (d <= limit) scored.emplace_back(d, c);
+        for (size_t len = word.size() > 1 ? word.size() - 1 : 1; len <= word.size() + 1; ++len) {
+            if (len < c.size()) d = std::min(d, edit_distance(word, c.substr(0, len)));
+        }
+        const size_t limit = std::max<size_t>(1, std::min(word.size(), c.size()) / 3);
+        if (d <= limit && d < word.size()) scored.emplace_back(d, c);
     }
     std::stable_sort(scored.begin(), scored.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     std::vector<std::string> out;

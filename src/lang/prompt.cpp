@@ -78,7 +78,13 @@ void on_line(char* line) {
     if (!g_history_file.empty()) append_history(1, g_history_file.c_str());
     g_interp->interrupt = false;
     g_sigint = 0;
+    // Ctrl-C must reach a running command (a long `step`) at any moment.
+    sigset_t sigint;
+    sigemptyset(&sigint);
+    sigaddset(&sigint, SIGINT);
+    sigprocmask(SIG_UNBLOCK, &sigint, nullptr);
     g_interp->run_text("<prompt>", full, false);
+    sigprocmask(SIG_BLOCK, &sigint, nullptr);
     g_sigint = 0;
     g_interp->interrupt = false;
     if (g_interp->quit_requested) g_done = true;
@@ -114,14 +120,22 @@ int run_prompt(Interpreter& interp, const std::string& history_file) {
     sa.sa_flags = 0; // no SA_RESTART: select() must wake up on Ctrl-C
     sigaction(SIGINT, &sa, nullptr);
 
+    // SIGINT stays blocked except inside pselect (and while a command runs), so a Ctrl-C is
+    // never lost between checking the flag and waiting for input.
+    sigset_t sigint, wait_mask;
+    sigemptyset(&sigint);
+    sigaddset(&sigint, SIGINT);
+    sigprocmask(SIG_BLOCK, &sigint, &wait_mask);
+    sigdelset(&wait_mask, SIGINT);
+
     rl_callback_handler_install(kPrompt, on_line);
     while (!g_done) {
         fd_set fds;
         FD_ZERO(&fds);
         FD_SET(STDIN_FILENO, &fds);
-        const int r = select(STDIN_FILENO + 1, &fds, nullptr, nullptr, nullptr);
+        const int r = g_sigint ? -1 : pselect(STDIN_FILENO + 1, &fds, nullptr, nullptr, nullptr, &wait_mask);
         if (r < 0) {
-            if (errno == EINTR && g_sigint) {
+            if (g_sigint) {
                 // Ctrl-C at the prompt: drop the line being typed, and any continuation.
                 g_sigint = 0;
                 interp.interrupt = false;
@@ -139,6 +153,7 @@ int run_prompt(Interpreter& interp, const std::string& history_file) {
         rl_callback_read_char();
     }
     rl_callback_handler_remove();
+    sigprocmask(SIG_UNBLOCK, &sigint, nullptr);
     if (!history_file.empty()) history_truncate_file(history_file.c_str(), 2000);
     return 0;
 }

@@ -49,6 +49,10 @@ struct PolygonLayer {
     double opacity = 1.0;
     Rgb edge_colour{0.15, 0.15, 0.15};
     double edge_width = 1.0;
+    // The polygons bound closed solids (blocks, zones), CCW from outside. Then a face that
+    // two solids share, or that turns away from the eye, cannot be seen when the layer is
+    // opaque, and the backend skips it (most of the faces of a jointed rock mass).
+    bool closed = false;
 };
 
 // Arrows or bars at points: velocity and displacement vectors, principal stresses.

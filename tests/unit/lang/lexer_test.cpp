@@ -100,7 +100,7 @@ TEST(Lexer, QuotedStringsKeepBlanksAndSemicolons) {
     EXPECT_EQ(a[0].tokens[1].kind, TokenKind::String);
     EXPECT_EQ(a[0].tokens[1].text, "A slope; stage 1");
     EXPECT_EQ(a[0].tokens[2].text, "x y");
-    EXPECT_EQ(a[0].tokens[2].loc.col, 25);
+    EXPECT_EQ(a[0].tokens[2].loc.col, 26);
 }
 
 TEST(Lexer, ColumnsAreOneBased) {

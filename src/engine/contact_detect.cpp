@@ -1,0 +1,592 @@
+// Contact detection: which blocks touch, along which plane, over which area.
+//
+// Broad phase. Each block's bounding box, grown by ctol/2 on every side, is dropped into
+// a uniform grid of cells about twice the mean block size (blocks larger than a cell go
+// into every cell they cover). Two boxes that share a cell are a candidate pair; the pair
+// is reported only from the cell holding the low corner of the boxes' intersection, so
+// no pair is seen twice and no hash set is needed. Work and memory grow linearly with the
+// number of blocks, and the candidates come out sorted, so results never depend on the
+// order of anything but block indices.
+//
+// When to look again. A pair missed by the broad phase was more than ctol apart; to meet,
+// one of its blocks must move more than ctol/2. So the broad phase reruns only once some
+// block has moved (translation plus rotation times its radius) more than ctol/2 since the
+// last run. The contact geometry (common plane, sub-contacts, areas) is refreshed more
+// often, for the contacts of any block that moved more than ctol/10 since its own last
+// refresh: between refreshes the sub-contact points ride on their blocks and the normal
+// stays put, which keeps the per-step work down to the joint law alone.
+//
+// Sub-contacts. Seen along the common-plane normal, each block presents the faces that
+// face the plane, cut down to the part within ctol of the plane (so that a face tilting
+// away fades out instead of vanishing: edge-face and vertex-face contacts get a small
+// area that grows continuously into the face-face one as the blocks align). The contact
+// polygon is where the two footprints overlap (piece by piece, each a convex clip). Its
+// vertices are the sub-contacts: vertices of either block lying over the other's face,
+// and crossings of an edge of one with an edge of the other (partial overlaps at edges
+// are cut exactly). Each takes the median-dual share of the polygon's area, half of each
+// of its two fan triangles from the centre (a third of each adjacent triangle of the
+// polygon's own). Forces at the polygon's vertices span the whole contact, so a block can
+// carry its load out to its edge before it tips, as a rigid block must.
+// Every polygon vertex carries a key (which block vertex, or which two edges cross there),
+// so a sub-contact that existed before keeps its history; a new one starts with the
+// overlap the geometry shows at its point.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include "engine/common_plane.h"
+#include "engine/contact.h"
+#include "engine/model.h"
+
+namespace odec {
+
+namespace {
+
+constexpr int kCap = 96; // polygon vertex capacity: a face clipped by a face
+
+// Labels. An edge label names a polyhedron edge or the band line of a face, on one block;
+// a vertex key names a block vertex, or the crossing of two edge labels. Keys survive
+// small motions, so a sub-contact can find its own history after a refresh.
+constexpr std::int32_t kEdgeSideB = 1 << 30;
+constexpr std::int32_t kEdgeBand = 1 << 29;
+
+inline std::int32_t edge_label(int side, int i, int j, int nv) {
+    const int lo = std::min(i, j), hi = std::max(i, j);
+    return (side ? kEdgeSideB : 0) | (lo * nv + hi);
+}
+inline std::int32_t band_label(int side, int face) { return (side ? kEdgeSideB : 0) | kEdgeBand | face; }
+inline std::int64_t corner_key(int side, int vertex) { return (static_cast<std::int64_t>(side) << 61) | vertex; }
+inline std::int64_t crossing_key(std::int32_t e1, std::int32_t e2) {
+    const std::int64_t lo = std::min(e1, e2), hi = std::max(e1, e2);
+    return (std::int64_t{2} << 61) | (lo << 31) | hi;
+}
+inline int key_side(std::int64_t key) { return static_cast<int>(key >> 61); }
+
+struct Poly {
+    int n = 0;
+    double u[kCap], v[kCap], h[kCap];
+    std::int64_t vkey[kCap];   // vertex keys
+    std::int32_t ekey[kCap];   // label of the edge from vertex i to i + 1
+};
+
+inline void put(Poly& out, const Poly& p, int i) {
+    out.u[out.n] = p.u[i]; out.v[out.n] = p.v[i]; out.h[out.n] = p.h[i];
+    out.vkey[out.n] = p.vkey[i]; out.ekey[out.n] = p.ekey[i]; ++out.n;
+}
+inline void put_cut(Poly& out, const Poly& p, int i, int j, double t, std::int32_t cut_label) {
+    out.u[out.n] = p.u[i] + t * (p.u[j] - p.u[i]);
+    out.v[out.n] = p.v[i] + t * (p.v[j] - p.v[i]);
+    out.h[out.n] = p.h[i] + t * (p.h[j] - p.h[i]);
+    out.vkey[out.n] = crossing_key(p.ekey[i], cut_label);
+    out.ekey[out.n] = 0; // set by the caller
+    ++out.n;
+}
+
+// Sutherland-Hodgman step: keep d >= -eps, with d given per vertex; the new edge along
+// the cut gets `cut_label`.
+template <class D>
+void clip_step(const Poly& p, D&& dist, double eps, std::int32_t cut_label, Poly& out) {
+    out.n = 0;
+    for (int i = 0; i < p.n && out.n < kCap - 1; ++i) {
+        const int j = (i + 1) % p.n;
+        const double di = dist(i), dj = dist(j);
+        const bool in_i = di >= -eps, in_j = dj >= -eps;
+        if (in_i) put(out, p, i);
+        if (in_i && !in_j) {
+            put_cut(out, p, i, j, di / (di - dj), cut_label);
+            out.ekey[out.n - 1] = cut_label; // the boundary now runs along the cut
+        } else if (!in_i && in_j) {
+            put_cut(out, p, i, j, di / (di - dj), cut_label);
+            out.ekey[out.n - 1] = p.ekey[i]; // and leaves it along the clipped edge
+        }
+    }
+}
+
+// Keep the part of p where s*h >= -tol.
+void clip_band(const Poly& p, double s, double tol, std::int32_t label, Poly& out) {
+    clip_step(p, [&](int i) { return s * p.h[i] + tol; }, 0.0, label, out);
+}
+
+// Keep the part of p inside convex polygon c (orientation `orient`); eps keeps points
+// that lie on c's edges as they are, rather than cutting them into near twins.
+void clip_convex(const Poly& p, const Poly& c, double orient, double eps, Poly& out, Poly& tmp) {
+    out = p;
+    for (int k = 0; k < c.n && out.n > 0; ++k) {
+        const int k1 = (k + 1) % c.n;
+        const double eu = c.u[k1] - c.u[k], ev = c.v[k1] - c.v[k];
+        const double len = std::sqrt(eu * eu + ev * ev);
+        if (!(len > 0)) continue;
+        const double su = orient * eu / len, sv = orient * ev / len;
+        clip_step(out, [&](int i) { return su * (out.v[i] - c.v[k]) - sv * (out.u[i] - c.u[k]); }, eps, c.ekey[k], tmp);
+        std::swap(out, tmp);
+    }
+}
+
+double signed_area(const Poly& p) {
+    double a = 0;
+    for (int i = 0; i < p.n; ++i) {
+        const int j = (i + 1) % p.n;
+        a += p.u[i] * p.v[j] - p.u[j] * p.v[i];
+    }
+    return 0.5 * a;
+}
+
+// A face presented to the plane: its footprint piece and the plane it lies in.
+struct Piece {
+    int face = 0;
+    Poly poly;            // band-clipped face in (u, v, h)
+    double orient = 1;    // sign of the projected area
+    double area = 0;      // projected area
+    double h0 = 0, hu = 0, hv = 0; // face height above the common plane: h0 + hu u + hv v
+    double height(double u, double v) const { return h0 + hu * u + hv * v; }
+};
+
+struct Frame {
+    Vec3 p, e1, e2, n;
+    void to_plane(const Vec3& x, double& u, double& v, double& h) const {
+        const Vec3 d = x - p;
+        u = e1.dot(d);
+        v = e2.dot(d);
+        h = n.dot(d);
+    }
+};
+
+Frame make_frame(const CommonPlane& cp) {
+    Frame f;
+    f.p = cp.point;
+    f.n = cp.normal;
+    // A fixed rule for the in-plane axes keeps results independent of history.
+    const Vec3 ref = std::abs(f.n.x()) < 0.6 ? Vec3::UnitX() : Vec3::UnitY();
+    f.e1 = (ref - ref.dot(f.n) * f.n).normalized();
+    f.e2 = f.n.cross(f.e1);
+    return f;
+}
+
+// Faces of s facing the plane (side 0: block a, facing +n; side 1: block b, facing -n),
+// cut to the band within tol of the plane.
+void present_faces(const BlockView& s, const Frame& fr, int side, double tol, std::vector<Piece>& out) {
+    out.clear();
+    const double sign = side == 0 ? 1.0 : -1.0;
+    const Polyhedron& p = *s.topo;
+    const int nv = p.n_vertices();
+    Poly face;
+    for (int f = 0; f < p.n_faces(); ++f) {
+        const int m = p.face_size(f);
+        if (m > kCap / 2) continue;
+        const Vec3 nf = world_face_normal(s, f);
+        const double c = sign * nf.dot(fr.n);
+        if (c < 0.01) continue; // edge-on or facing away: no footprint
+        face.n = m;
+        for (int k = 0; k < m; ++k) {
+            const int vi = p.face_vertex(f, k), vj = p.face_vertex(f, (k + 1) % m);
+            fr.to_plane(s.v[vi], face.u[k], face.v[k], face.h[k]);
+            face.vkey[k] = corner_key(side, vi);
+            face.ekey[k] = edge_label(side, vi, vj, nv);
+        }
+        out.emplace_back();
+        Piece& pc = out.back();
+        clip_band(face, sign, tol, band_label(side, f), pc.poly);
+        const double a = signed_area(pc.poly);
+        if (pc.poly.n < 3 || a == 0) {
+            out.pop_back();
+            continue;
+        }
+        pc.face = f;
+        pc.orient = a > 0 ? 1.0 : -1.0;
+        pc.area = std::abs(a);
+        // Plane nf.x = nf.x0 written as a height over (u, v).
+        const double nn = nf.dot(fr.n);
+        pc.h0 = face.h[0] + (nf.dot(fr.e1) * face.u[0] + nf.dot(fr.e2) * face.v[0]) / nn;
+        pc.hu = -nf.dot(fr.e1) / nn;
+        pc.hv = -nf.dot(fr.e2) / nn;
+    }
+}
+
+struct NewSub {
+    std::int64_t key;
+    double area;
+    Vec3 x;        // world point
+    double closure;
+    bool operator<(const NewSub& o) const { return key < o.key; }
+};
+
+// Sub-contacts at the vertices of the contact polygon: each piece of a's footprint
+// clipped by each piece of b's. A vertex shared by several pieces is one sub-contact.
+void polygon_subcontacts(const Frame& fr, const std::vector<Piece>& pa, const std::vector<Piece>& pb, double eps,
+                         double min_area, std::vector<NewSub>& out, std::vector<double>& face_area_a,
+                         std::vector<double>& face_area_b) {
+    out.clear();
+    Poly q, tmp;
+    for (const Piece& A : pa) {
+        for (const Piece& B : pb) {
+            clip_convex(A.poly, B.poly, B.orient, eps, q, tmp);
+            if (q.n < 3) continue;
+            double cu = 0, cv = 0;
+            for (int i = 0; i < q.n; ++i) { cu += q.u[i]; cv += q.v[i]; }
+            cu /= q.n;
+            cv /= q.n;
+            // Fan triangles from the centre; each vertex takes half of its two triangles,
+            // the median-dual share (a third of each triangle, for the polygon's own).
+            double total = 0;
+            const int first = static_cast<int>(out.size());
+            for (int i = 0; i < q.n; ++i) {
+                const int j = (i + 1) % q.n, k = (i + q.n - 1) % q.n;
+                const double t_next = 0.5 * std::abs((q.u[i] - cu) * (q.v[j] - cv) - (q.u[j] - cu) * (q.v[i] - cv));
+                const double t_prev = 0.5 * std::abs((q.u[k] - cu) * (q.v[i] - cv) - (q.u[i] - cu) * (q.v[k] - cv));
+                const double share = 0.5 * (t_next + t_prev);
+                total += share;
+                if (!(share > min_area)) continue;
+                const double ha = A.height(q.u[i], q.v[i]), hb = B.height(q.u[i], q.v[i]);
+                NewSub ns;
+                ns.key = q.vkey[i];
+                ns.area = share;
+                ns.x = fr.p + q.u[i] * fr.e1 + q.v[i] * fr.e2 + 0.5 * (ha + hb) * fr.n;
+                ns.closure = ha - hb; // a's surface above b's: overlap
+                out.push_back(ns);
+            }
+            (void)first;
+            face_area_a[A.face] += total;
+            face_area_b[B.face] += total;
+        }
+    }
+    // One sub-contact per key, in key order (the order history is matched in).
+    std::stable_sort(out.begin(), out.end());
+    int w = 0;
+    for (int r = 0; r < static_cast<int>(out.size()); ++r) {
+        if (w > 0 && out[w - 1].key == out[r].key) {
+            out[w - 1].area += out[r].area;
+        } else {
+            out[w++] = out[r];
+        }
+    }
+    out.resize(w);
+}
+
+double movement(const ContactSet& cs, const BlockSet& s, int b, const std::vector<Vec3>& ref_c,
+                const std::vector<Quat>& ref_q) {
+    const double dx = (s.centroid[b] - ref_c[b]).norm();
+    const Quat dq = s.orientation[b] * ref_q[b].conjugate();
+    const double sin_half = std::min(1.0, dq.vec().norm());
+    return dx + 2.0 * std::asin(sin_half) * cs.radius[b];
+}
+
+void swap_arrays(ContactSet& x, ContactSet& y) {
+    x.id.swap(y.id); x.block_a.swap(y.block_a); x.block_b.swap(y.block_b); x.normal.swap(y.normal);
+    x.point.swap(y.point); x.gap.swap(y.gap); x.jmat.swap(y.jmat); x.jcons.swap(y.jcons);
+    x.joined.swap(y.joined); x.sub_offset.swap(y.sub_offset);
+    x.sub_contact.swap(y.sub_contact); x.sub_side.swap(y.sub_side); x.sub_key.swap(y.sub_key);
+    x.sub_vertex.swap(y.sub_vertex); x.sub_area.swap(y.sub_area); x.sub_local.swap(y.sub_local);
+    x.sub_un.swap(y.sub_un); x.sub_udil.swap(y.sub_udil); x.sub_sn.swap(y.sub_sn); x.sub_us.swap(y.sub_us);
+    x.sub_ss.swap(y.sub_ss); x.sub_flags.swap(y.sub_flags);
+}
+
+void clear_arrays(ContactSet& x) {
+    x.id.clear(); x.block_a.clear(); x.block_b.clear(); x.normal.clear(); x.point.clear(); x.gap.clear();
+    x.jmat.clear(); x.jcons.clear(); x.joined.clear(); x.sub_offset.assign(1, 0);
+    x.sub_contact.clear(); x.sub_side.clear(); x.sub_key.clear(); x.sub_vertex.clear();
+    x.sub_area.clear(); x.sub_local.clear(); x.sub_un.clear(); x.sub_udil.clear(); x.sub_sn.clear();
+    x.sub_us.clear(); x.sub_ss.clear(); x.sub_flags.clear();
+}
+
+void push_sub(ContactSet& to, int c, int side, std::int64_t key, int vertex, double area, const Vec3& local) {
+    to.sub_contact.push_back(c);
+    to.sub_side.push_back(static_cast<std::uint8_t>(side));
+    to.sub_key.push_back(key);
+    to.sub_vertex.push_back(vertex);
+    to.sub_area.push_back(area);
+    to.sub_local.push_back(local);
+}
+
+// Copy contact c of `from` unchanged to the end of `to`.
+void copy_contact(const ContactSet& from, int c, ContactSet& to) {
+    const int nc = to.size();
+    to.id.push_back(from.id[c]); to.block_a.push_back(from.block_a[c]); to.block_b.push_back(from.block_b[c]);
+    to.normal.push_back(from.normal[c]); to.point.push_back(from.point[c]); to.gap.push_back(from.gap[c]);
+    to.jmat.push_back(from.jmat[c]); to.jcons.push_back(from.jcons[c]); to.joined.push_back(from.joined[c]);
+    for (int k = from.sub_offset[c]; k < from.sub_offset[c + 1]; ++k) {
+        push_sub(to, nc, from.sub_side[k], from.sub_key[k], from.sub_vertex[k], from.sub_area[k], from.sub_local[k]);
+        to.sub_un.push_back(from.sub_un[k]); to.sub_udil.push_back(from.sub_udil[k]);
+        to.sub_sn.push_back(from.sub_sn[k]); to.sub_us.push_back(from.sub_us[k]);
+        to.sub_ss.push_back(from.sub_ss[k]); to.sub_flags.push_back(from.sub_flags[k]);
+    }
+    to.sub_offset.push_back(to.n_subs());
+}
+
+// Carry a tangential vector onto the tangent plane of the new normal, keeping its length.
+Vec3 retangent(const Vec3& t, const Vec3& n) {
+    const double len = t.norm();
+    if (!(len > 0)) return t;
+    Vec3 r = t - t.dot(n) * n;
+    const double rl = r.norm();
+    return rl > 0 ? Vec3(r * (len / rl)) : Vec3(Vec3::Zero());
+}
+
+struct Detector {
+    Model& m;
+    ContactSet& cs;
+    ContactSet& next;
+    double tol;
+    std::vector<Mat3> rot; // (n_blocks) orientation matrices
+    std::vector<Piece> pieces_a, pieces_b;
+    std::vector<NewSub> subs;
+    std::vector<double> face_area_a, face_area_b;
+
+    BlockView view(int b) const {
+        return BlockView{m.blocks.world_vertices.data() + m.blocks.vertex_offset[b], &m.blocks.shape[b]};
+    }
+
+    // Build contact (a, b) into `next`, carrying history from old contact oc (-1: new).
+    // Returns false when the blocks are farther apart than ctol.
+    bool build(int a, int b, int oc, bool require_close) {
+        const BlockView va = view(a), vb = view(b);
+        const Vec3* warm = oc >= 0 ? &cs.normal[oc] : nullptr;
+        const CommonPlane cp = common_plane(va, vb, warm, oc >= 0 ? tol : 0.0);
+        if (require_close && cp.gap > tol) return false;
+        const Frame fr = make_frame(cp);
+        present_faces(va, fr, 0, tol, pieces_a);
+        present_faces(vb, fr, 1, tol, pieces_b);
+        face_area_a.assign(m.blocks.shape[a].n_faces(), 0.0);
+        face_area_b.assign(m.blocks.shape[b].n_faces(), 0.0);
+        const double min_area = 1e-12 * tol * tol;
+        polygon_subcontacts(fr, pieces_a, pieces_b, 1e-9 * tol, min_area, subs, face_area_a, face_area_b);
+
+        const int nc = next.size();
+        const BlockSet& s = m.blocks;
+        if (oc >= 0) {
+            next.id.push_back(cs.id[oc]);
+            next.jmat.push_back(cs.jmat[oc]);
+            next.jcons.push_back(cs.jcons[oc]);
+            next.joined.push_back(cs.joined[oc]);
+        } else {
+            next.id.push_back(cs.next_id++);
+            int jmat = m.settings.default_jmat, jcons = m.settings.default_jcons;
+            bool joined = false;
+            // The joint plane the contact lies on, from the faces carrying most area.
+            auto tag_of = [&](int blk, const std::vector<double>& fa) {
+                const Polyhedron& p = s.shape[blk];
+                int best = -1;
+                double best_a = 0;
+                for (int f = 0; f < static_cast<int>(fa.size()); ++f) {
+                    if (fa[f] > best_a) { best_a = fa[f]; best = f; }
+                }
+                if (best < 0 || p.face_joint.empty()) return 0;
+                return p.face_joint[best];
+            };
+            int tag = tag_of(a, face_area_a);
+            if (tag == 0) tag = tag_of(b, face_area_b);
+            if (tag > 0 && tag <= static_cast<int>(m.joint_planes.size())) {
+                const JointPlane& jp = m.joint_planes[tag - 1];
+                if (jp.jmat > 0) jmat = jp.jmat;
+                joined = jp.joined;
+            }
+            next.jmat.push_back(jmat);
+            next.jcons.push_back(jcons);
+            next.joined.push_back(joined ? 1 : 0);
+        }
+        next.block_a.push_back(a);
+        next.block_b.push_back(b);
+        next.normal.push_back(cp.normal);
+        next.point.push_back(cp.point);
+        next.gap.push_back(cp.gap);
+
+        // Merge with the old sub-contacts: both lists are in key order.
+        int k = oc >= 0 ? cs.sub_offset[oc] : 0;
+        const int k_end = oc >= 0 ? cs.sub_offset[oc + 1] : 0;
+        for (const NewSub& ns : subs) {
+            while (k < k_end && cs.sub_key[k] < ns.key) ++k;
+            const int side = key_side(ns.key);
+            const int owner = side == 1 ? b : a;
+            const Vec3 local = rot[owner].transpose() * (ns.x - s.centroid[owner]);
+            const int vertex = side < 2 ? static_cast<int>(ns.key & ((std::int64_t{1} << 61) - 1)) : -1;
+            push_sub(next, nc, side, ns.key, vertex, ns.area, local);
+            if (k < k_end && cs.sub_key[k] == ns.key) {
+                next.sub_un.push_back(cs.sub_un[k]);
+                next.sub_udil.push_back(cs.sub_udil[k]);
+                next.sub_sn.push_back(cs.sub_sn[k]);
+                next.sub_us.push_back(retangent(cs.sub_us[k], cp.normal));
+                next.sub_ss.push_back(retangent(cs.sub_ss[k], cp.normal));
+                next.sub_flags.push_back(cs.sub_flags[k] & ~kSubNew);
+            } else {
+                next.sub_un.push_back(ns.closure);
+                next.sub_udil.push_back(0);
+                next.sub_sn.push_back(0);
+                next.sub_us.push_back(Vec3::Zero());
+                next.sub_ss.push_back(Vec3::Zero());
+                next.sub_flags.push_back(kSubNew);
+            }
+        }
+        next.sub_offset.push_back(next.n_subs());
+        return true;
+    }
+};
+
+// Candidate pairs (a < b) from the cell grid, sorted.
+void broad_phase(const Model& m, double tol, std::vector<std::int64_t>& pairs) {
+    const BlockSet& s = m.blocks;
+    const int n = s.size();
+    pairs.clear();
+    thread_local std::vector<Vec3> lo, hi;
+    thread_local std::vector<int> active, cell_start, cell_items;
+    lo.resize(n);
+    hi.resize(n);
+    active.clear();
+    Vec3 glo = Vec3::Constant(std::numeric_limits<double>::infinity()), ghi = -glo;
+    double size_sum = 0;
+    for (int b = 0; b < n; ++b) {
+        if (s.flags[b] & kExcavated) continue;
+        const int o0 = s.vertex_offset[b], o1 = s.vertex_offset[b + 1];
+        if (o1 == o0) continue;
+        Vec3 l = s.world_vertices[o0], h = l;
+        for (int i = o0 + 1; i < o1; ++i) {
+            l = l.cwiseMin(s.world_vertices[i]);
+            h = h.cwiseMax(s.world_vertices[i]);
+        }
+        lo[b] = l.array() - 0.5 * tol;
+        hi[b] = h.array() + 0.5 * tol;
+        glo = glo.cwiseMin(lo[b]);
+        ghi = ghi.cwiseMax(hi[b]);
+        size_sum += (hi[b] - lo[b]).maxCoeff();
+        active.push_back(b);
+    }
+    const int na = static_cast<int>(active.size());
+    if (na < 2) return;
+    double cell = 2.0 * size_sum / na;
+    const Vec3 span = ghi - glo;
+    // Keep the grid to a few cells per block, however spread out the blocks are.
+    long dims[3];
+    for (;;) {
+        long total = 1;
+        for (int i = 0; i < 3; ++i) {
+            dims[i] = std::max(1L, static_cast<long>(std::ceil(span[i] / cell)));
+            total *= dims[i];
+        }
+        if (total <= 8L * na + 64) break;
+        cell *= 1.5;
+    }
+    auto cell_of = [&](double x, int i) {
+        return std::clamp(static_cast<long>(std::floor((x - glo[i]) / cell)), 0L, dims[i] - 1);
+    };
+    const long n_cells = dims[0] * dims[1] * dims[2];
+    cell_start.assign(n_cells + 1, 0);
+    auto for_cells = [&](int b, auto&& fn) {
+        const long x0 = cell_of(lo[b].x(), 0), x1 = cell_of(hi[b].x(), 0);
+        const long y0 = cell_of(lo[b].y(), 1), y1 = cell_of(hi[b].y(), 1);
+        const long z0 = cell_of(lo[b].z(), 2), z1 = cell_of(hi[b].z(), 2);
+        for (long z = z0; z <= z1; ++z)
+            for (long y = y0; y <= y1; ++y)
+                for (long x = x0; x <= x1; ++x) fn((z * dims[1] + y) * dims[0] + x);
+    };
+    for (int b : active) for_cells(b, [&](long c) { ++cell_start[c + 1]; });
+    for (long c = 0; c < n_cells; ++c) cell_start[c + 1] += cell_start[c];
+    cell_items.resize(cell_start[n_cells]);
+    {
+        thread_local std::vector<int> fill;
+        fill.assign(cell_start.begin(), cell_start.end() - 1);
+        for (int b : active) for_cells(b, [&](long c) { cell_items[fill[c]++] = b; });
+    }
+    for (long c = 0; c < n_cells; ++c) {
+        for (int i = cell_start[c]; i < cell_start[c + 1]; ++i) {
+            const int a = cell_items[i];
+            for (int j = i + 1; j < cell_start[c + 1]; ++j) {
+                const int b = cell_items[j];
+                if ((s.flags[a] & kFixed) && (s.flags[b] & kFixed)) continue;
+                if ((lo[a].array() > hi[b].array()).any() || (lo[b].array() > hi[a].array()).any()) continue;
+                const Vec3 il = lo[a].cwiseMax(lo[b]);
+                const long owner = (cell_of(il.z(), 2) * dims[1] + cell_of(il.y(), 1)) * dims[0] + cell_of(il.x(), 0);
+                if (owner != c) continue;
+                pairs.push_back(static_cast<std::int64_t>(a) * n + b); // a < b: items are in block order
+            }
+        }
+    }
+    std::sort(pairs.begin(), pairs.end());
+}
+
+} // namespace
+
+double contact_tolerance(const Model& m) {
+    if (m.settings.ctol > 0) return m.settings.ctol;
+    const BlockSet& s = m.blocks;
+    double sum = 0;
+    int n = 0;
+    for (int b = 0; b < s.size(); ++b) {
+        if (s.flags[b] & kExcavated) continue;
+        sum += std::cbrt(std::max(0.0, s.volume[b]));
+        ++n;
+    }
+    return n > 0 && sum > 0 ? 0.05 * sum / n : 1e-3;
+}
+
+void detect_contacts(Model& m) {
+    ContactSet& cs = m.contacts;
+    BlockSet& s = m.blocks;
+    const int n = s.size();
+    if (static_cast<int>(s.vertex_offset.size()) != n + 1) return; // world vertices not refreshed yet
+    const bool full_needed = !cs.detected || m.geometry_changed || static_cast<int>(cs.ref_centroid.size()) != n;
+
+    thread_local ContactSet next;
+    thread_local std::vector<std::int64_t> pairs;
+    thread_local std::vector<char> moved;
+    std::vector<Vec3>& geo_c = cs.geo_centroid;
+    std::vector<Quat>& geo_q = cs.geo_orientation;
+
+    bool full = full_needed;
+    if (!full) {
+        const double limit = 0.5 * cs.ctol;
+        for (int b = 0; b < n && !full; ++b) {
+            if (s.flags[b] & kExcavated) continue;
+            full = movement(cs, s, b, cs.ref_centroid, cs.ref_orientation) > limit;
+        }
+    }
+    if (full) {
+        cs.ctol = contact_tolerance(m);
+        cs.radius.resize(n);
+        for (int b = 0; b < n; ++b) {
+            double r = 0;
+            for (const Vec3& v : s.shape[b].vertices) r = std::max(r, v.norm());
+            cs.radius[b] = r;
+        }
+    }
+    Detector d{m, cs, next, cs.ctol, {}, {}, {}, {}, {}, {}};
+    d.rot.resize(n);
+    for (int b = 0; b < n; ++b) d.rot[b] = s.orientation[b].toRotationMatrix();
+    clear_arrays(next);
+
+    if (full) {
+        broad_phase(m, cs.ctol, pairs);
+        int oc = 0;
+        const int n_old = cs.size();
+        for (const std::int64_t key : pairs) {
+            const int a = static_cast<int>(key / n), b = static_cast<int>(key % n);
+            while (oc < n_old && (cs.block_a[oc] < a || (cs.block_a[oc] == a && cs.block_b[oc] < b))) ++oc;
+            const bool have = oc < n_old && cs.block_a[oc] == a && cs.block_b[oc] == b;
+            d.build(a, b, have ? oc : -1, true);
+        }
+        cs.ref_centroid = s.centroid;
+        cs.ref_orientation = s.orientation;
+        geo_c = s.centroid;
+        geo_q = s.orientation;
+        cs.detected = true;
+        ++cs.n_detections;
+    } else {
+        const double limit = 0.1 * cs.ctol;
+        moved.assign(n, 0);
+        bool any = false;
+        for (int b = 0; b < n; ++b) {
+            if (s.flags[b] & kExcavated) continue;
+            if (movement(cs, s, b, geo_c, geo_q) > limit) moved[b] = any = 1;
+        }
+        if (!any) return;
+        for (int c = 0; c < cs.size(); ++c) {
+            const int a = cs.block_a[c], b = cs.block_b[c];
+            if (moved[a] || moved[b]) d.build(a, b, c, true);
+            else copy_contact(cs, c, next);
+        }
+        for (int b = 0; b < n; ++b) {
+            if (moved[b]) { geo_c[b] = s.centroid[b]; geo_q[b] = s.orientation[b]; }
+        }
+    }
+    swap_arrays(cs, next);
+}
+
+} // namespace odec

@@ -1,0 +1,206 @@
+// The joint law at sub-contacts, the forces it puts on the blocks, and the timestep.
+//
+// Each step, every sub-contact reads the motion of the two blocks at its point: the
+// relative velocity of block b with respect to block a there, times dt, is this step's
+// displacement increment (the block velocities are the half-step ones that moved the
+// blocks from t - dt to t). Along the contact normal it closes or opens the joint; across
+// it, it shears. Stresses follow (Pa, stiffnesses in Pa/m):
+//   normal   sn = kn (un + udil)            total form, so a standing contact cannot drift
+//   shear    ss <- ss - ks dus              incremental, as the slip history demands
+//   Coulomb  |ss| <= c + sn tan(phi)        beyond it the joint slips at the limit
+//   tension  sn >= -T                       beyond it the joint opens: sn = ss = 0
+// A sub-contact that slips or opens past its strength has failed: its cohesion and
+// tensile strength are gone for good, and under joint model 2 its friction drops to the
+// residual angle. While slipping, the joint dilates: udil grows by |dus| tan(dilation)
+// until the shear displacement reaches zdilation (0: no limit), pushing the blocks apart
+// or, if they are held, raising the normal stress. A joined (glued) contact has no
+// strength limits at all.
+//
+// Each sub-contact carries (sn n + ss) times its area. The force acts at the sub-contact
+// point on block b, and its opposite on block a, each with its moment about the block
+// centroid.
+//
+// The timestep. A rigid block of mass m on a joint spring of stiffness k (stress per unit
+// closure times area) oscillates at omega = sqrt(k/m); central differences are stable for
+// dt < 2/omega = 2 sqrt(m/k). The model takes the worst pair, the lightest free block
+// against the stiffest contact, and a safety fraction dtfrac (0.1 by default, because a
+// block has several contacts and rotational modes):
+//   dt = dtfrac * 2 sqrt(m_min / k_max),   k_max = max over contacts of max(kn, ks) * area.
+// Before any contact exists (blocks placed apart), k_max is estimated from the stiffest
+// defined joint material times the largest face of any block: the stiffest contact that
+// could form, so the step stays stable when the first contacts close.
+#include <algorithm>
+#include <cmath>
+
+#include "engine/contact.h"
+#include "engine/model.h"
+
+namespace odec {
+
+namespace {
+
+struct LawParams {
+    double kn = 0, ks = 0, tan_phi = 0, coh = 0, ten = 0, tan_dil = 0, zdil = 0, tan_res = 0;
+    bool model2 = false;
+};
+
+LawParams law_params(const Model& m, int jmat, int jcons) {
+    LawParams p;
+    if (jmat <= 0 || jmat >= static_cast<int>(m.joint_materials.size())) return p;
+    const JointMaterial& j = m.joint_materials[jmat];
+    if (!j.defined) return p;
+    const double deg = M_PI / 180.0;
+    p.kn = j.kn;
+    p.ks = j.ks;
+    p.tan_phi = std::tan(j.friction * deg);
+    p.coh = j.cohesion;
+    p.ten = j.tension;
+    p.tan_dil = std::tan(j.dilation * deg);
+    p.zdil = j.zdilation;
+    p.model2 = jcons == 2;
+    p.tan_res = p.model2 ? std::tan(j.res_friction * deg) : p.tan_phi;
+    return p;
+}
+
+} // namespace
+
+void update_contacts(Model& m, double dt) {
+    ContactSet& cs = m.contacts;
+    BlockSet& s = m.blocks;
+    const int n = s.size();
+    thread_local std::vector<Mat3> rot;
+    thread_local std::vector<Vec3> vel, spin;
+    rot.resize(n);
+    vel.resize(n);
+    spin.resize(n);
+    for (int b = 0; b < n; ++b) {
+        rot[b] = s.orientation[b].toRotationMatrix();
+        // A block whose velocity was given at t has not moved with it yet.
+        const bool still = s.half_kick[b] || (s.flags[b] & kFixed);
+        vel[b] = still ? Vec3::Zero() : s.vel[b];
+        spin[b] = still ? Vec3::Zero() : s.ang_vel[b];
+    }
+    // Joint-law constants once per material and model, not per contact.
+    thread_local std::vector<LawParams> params;
+    const int n_jmat = static_cast<int>(m.joint_materials.size());
+    params.resize(2 * std::max(1, n_jmat));
+    for (int j = 0; j < n_jmat; ++j) {
+        params[2 * j] = law_params(m, j, 1);
+        params[2 * j + 1] = law_params(m, j, 2);
+    }
+    const LawParams none;
+    for (int c = 0; c < cs.size(); ++c) {
+        const int a = cs.block_a[c], b = cs.block_b[c];
+        if ((s.flags[a] | s.flags[b]) & kExcavated) continue;
+        const int jm = cs.jmat[c];
+        const LawParams& p = (jm > 0 && jm < n_jmat) ? params[2 * jm + (cs.jcons[c] == 2 ? 1 : 0)] : none;
+        const bool joined = cs.joined[c] != 0;
+        const Vec3 nrm = cs.normal[c];
+        const Vec3 ca = s.centroid[a], cb = s.centroid[b];
+        const Vec3 va = vel[a], wa = spin[a], vb = vel[b], wb = spin[b];
+        Vec3 fa = Vec3::Zero(), ma = Vec3::Zero(), fb = Vec3::Zero(), mb = Vec3::Zero();
+        double scale = 0;
+        for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
+            const int owner = cs.sub_side[k] == 1 ? b : a;
+            const Vec3 x = s.centroid[owner] + rot[owner] * cs.sub_local[k];
+            const Vec3 ra = x - ca, rb = x - cb;
+            std::uint8_t flags = cs.sub_flags[k];
+            Vec3 dus = Vec3::Zero();
+            if (flags & kSubNew) {
+                // Its closure was measured from the geometry at t: the step is already in it.
+                flags &= ~kSubNew;
+            } else {
+                const Vec3 du = (vb + wb.cross(rb) - va - wa.cross(ra)) * dt;
+                const double dun = du.dot(nrm);
+                cs.sub_un[k] -= dun;
+                dus = du - dun * nrm;
+                cs.sub_us[k] += dus;
+            }
+            flags &= ~(kSubSlip | kSubOpen);
+            double sn;
+            Vec3 ss = cs.sub_ss[k] - p.ks * dus;
+            if (joined) {
+                sn = p.kn * cs.sub_un[k];
+            } else {
+                const bool failed = flags & kSubFailed;
+                double coh = failed ? 0.0 : p.coh;
+                const double ten = failed ? 0.0 : p.ten;
+                double tan_phi = failed ? p.tan_res : p.tan_phi;
+                sn = p.kn * (cs.sub_un[k] + cs.sub_udil[k]);
+                if (sn < -ten || (sn <= 0 && ten <= 0)) {
+                    // Open: past its tensile strength, which (if any) is lost with cohesion.
+                    if (sn < -ten && (coh > 0 || ten > 0)) flags |= kSubFailed;
+                    sn = 0;
+                    ss.setZero();
+                    flags |= kSubOpen;
+                } else {
+                    double tmax = std::max(0.0, coh + sn * tan_phi);
+                    const double t = ss.norm();
+                    if (t > tmax) {
+                        if (!failed && (coh > 0 || ten > 0 || p.model2)) {
+                            flags |= kSubFailed;
+                            coh = 0;
+                            tan_phi = p.tan_res;
+                            tmax = std::max(0.0, sn * tan_phi);
+                        }
+                        ss *= tmax / t;
+                        flags |= kSubSlip;
+                        if (p.tan_dil != 0 && (p.zdil <= 0 || cs.sub_us[k].norm() < p.zdil)) {
+                            cs.sub_udil[k] += dus.norm() * p.tan_dil;
+                        }
+                    }
+                }
+            }
+            cs.sub_sn[k] = sn;
+            cs.sub_ss[k] = ss;
+            cs.sub_flags[k] = flags;
+            const Vec3 f = cs.sub_area[k] * (sn * nrm + ss);
+            fb += f;
+            mb += rb.cross(f);
+            fa -= f;
+            ma -= ra.cross(f);
+            scale += f.norm();
+        }
+        s.force[a] += fa;
+        s.moment[a] += ma;
+        s.force[b] += fb;
+        s.moment[b] += mb;
+        s.force_scale[a] += scale;
+        s.force_scale[b] += scale;
+    }
+}
+
+double contact_critical_timestep(const Model& m) {
+    const BlockSet& s = m.blocks;
+    const ContactSet& cs = m.contacts;
+    double m_min = 0;
+    for (int b = 0; b < s.size(); ++b) {
+        if ((s.flags[b] & (kExcavated | kFixed)) || !(s.mass[b] > 0)) continue;
+        if (m_min == 0 || s.mass[b] < m_min) m_min = s.mass[b];
+    }
+    if (!(m_min > 0)) return 0;
+    double k_max = 0;
+    for (int c = 0; c < cs.size(); ++c) {
+        const int jm = cs.jmat[c];
+        if (jm <= 0 || jm >= static_cast<int>(m.joint_materials.size()) || !m.joint_materials[jm].defined) continue;
+        const JointMaterial& j = m.joint_materials[jm];
+        double area = 0;
+        for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) area += cs.sub_area[k];
+        k_max = std::max(k_max, std::max(j.kn, j.ks) * area);
+    }
+    if (!(k_max > 0)) {
+        double kj = 0, face = 0;
+        for (const JointMaterial& j : m.joint_materials) {
+            if (j.defined) kj = std::max(kj, std::max(j.kn, j.ks));
+        }
+        for (int b = 0; b < s.size(); ++b) {
+            if (s.flags[b] & kExcavated) continue;
+            for (int f = 0; f < s.shape[b].n_faces(); ++f) face = std::max(face, s.shape[b].face_area(f));
+        }
+        k_max = kj * face;
+    }
+    if (!(k_max > 0)) return 0;
+    return m.settings.dtfrac * 2.0 * std::sqrt(m_min / k_max);
+}
+
+} // namespace odec

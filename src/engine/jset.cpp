@@ -1,0 +1,159 @@
+// Joint sets: cutting the rock mass into blocks.
+//
+// Planes are applied one after another, and each plane is tried against every block of the
+// selection as it stands, including the pieces earlier planes of the same set made; so a
+// set of n planes through one block gives n + 1 blocks, not two. A block is cut in world
+// coordinates (it may have rotated since it was made), and both pieces are stored with the
+// body frame equal to the world axes: that frame is as good as any other for a rigid
+// block, and it saves carrying the parent's rotation into shapes that no longer have its
+// symmetry. The accumulated displacement and rotation records go to both pieces unchanged;
+// they are reports of history, not state that the new frame must agree with. The cut is
+// made on the shape turned to world axes but still centred on the block's centroid (the
+// plane shifted to match): models often sit at survey coordinates millions of metres from
+// the origin, where absolute vertex positions would keep only a few digits below a metre.
+//
+// Each piece inherits the parent's rigid-body motion, so its velocity is the parent's
+// velocity at the piece's own centroid (v + w x (c_piece - c_parent)); a spinning block cut
+// in two does not jerk. An applied load is shared between the pieces by volume, so the
+// total load on the rock mass is the same after the cut.
+//
+// Persistence draws come from a splitmix64 stream seeded by the spec, consumed once per
+// crossing of a plane and a block in a fixed order (planes in order, blocks in index
+// order), so the same input always makes the same blocks. No std::random distribution is
+// used: their output may differ between standard libraries.
+#include "engine/jset.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "engine/blocks.h"
+
+namespace odec {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+struct SplitMix64 {
+    std::uint64_t state;
+    std::uint64_t next() {
+        std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+        return z ^ (z >> 31);
+    }
+    // Uniform in [0, 1) from the top 53 bits.
+    double uniform() { return static_cast<double>(next() >> 11) * (1.0 / 9007199254740992.0); }
+};
+
+// Sine of an angle in degrees, exact at multiples of 90.
+double sin_deg(double a) {
+    double r = std::fmod(a, 360.0);
+    if (r < 0) r += 360.0;
+    if (r == 0 || r == 180) return 0;
+    if (r == 90) return 1;
+    if (r == 270) return -1;
+    return std::sin(r * (kPi / 180.0));
+}
+
+double cos_deg(double a) { return sin_deg(a + 90.0); }
+
+double density(const Model& m, int material) {
+    return (material > 0 && material < static_cast<int>(m.materials.size())) ? m.materials[material].density : 0.0;
+}
+
+// Store a piece (world axes, relative to the point `origin`) as block b's shape, with the
+// body frame along the world axes.
+void set_shape(Model& m, int b, const Polyhedron& piece, const MassProperties& mp, const Vec3& origin) {
+    BlockSet& s = m.blocks;
+    Polyhedron local = piece;
+    local.translate(-mp.centroid);
+    s.shape[b] = std::move(local);
+    s.centroid[b] = origin + mp.centroid;
+    s.orientation[b] = Quat::Identity();
+    s.volume[b] = mp.volume;
+    s.inertia_unit[b] = mp.inertia;
+    const double rho = density(m, s.material[b]);
+    s.mass[b] = rho * mp.volume;
+    s.inertia_body[b] = rho * mp.inertia;
+}
+
+} // namespace
+
+Vec3 plane_normal(double dip, double dd) {
+    const double sd = sin_deg(dip);
+    return Vec3(sd * sin_deg(dd), sd * cos_deg(dd), cos_deg(dip));
+}
+
+CutReport cut_joint_set(Model& m, const JointSetSpec& spec, const Range& r, double sliver_tol) {
+    CutReport rep;
+    const int set = ++m.n_joint_sets;
+    const Vec3 n = plane_normal(spec.dip, spec.dd);
+    const double d0 = n.dot(spec.origin);
+    const int number = std::max(spec.number, 0);
+    SplitMix64 rng{spec.seed};
+
+    std::vector<int> targets;
+    for (int b : select_blocks(m, r)) {
+        if (!(m.blocks.flags[b] & (kHidden | kExcavated))) targets.push_back(b);
+    }
+    for (int k = 0; k < number; ++k) {
+        const double d = d0 + (k - 0.5 * (number - 1)) * spec.spacing;
+        m.joint_planes.push_back(JointPlane{set, spec.join, 0});
+        const int tag = static_cast<int>(m.joint_planes.size());
+        ++rep.planes;
+        const size_t n_targets = targets.size();
+        for (size_t t = 0; t < n_targets; ++t) {
+            const int b = targets[t];
+            const Vec3 c0 = m.blocks.centroid[b];
+            Polyhedron turned = m.blocks.shape[b];
+            const Mat3 rot = m.blocks.orientation[b].toRotationMatrix();
+            for (Vec3& x : turned.vertices) x = rot * x;
+            Polyhedron lo, hi;
+            SplitOutcome why = SplitOutcome::Missed;
+            split_by_plane(turned, n, d - n.dot(c0), sliver_tol, tag, lo, hi, &why);
+            if (why == SplitOutcome::Sliver) ++rep.slivers_skipped;
+            if (why != SplitOutcome::Split) continue;
+            if (spec.persistence < 1.0 && !(rng.uniform() < spec.persistence)) continue;
+
+            const MassProperties mlo = mass_properties(lo);
+            const MassProperties mhi = mass_properties(hi);
+            BlockSet& s = m.blocks;
+            const Vec3 v0 = s.vel[b];
+            const Vec3 w0 = s.ang_vel[b];
+            const double total = mlo.volume + mhi.volume;
+            const Vec3 load = s.applied_force[b];
+            set_shape(m, b, lo, mlo, c0);
+            s.vel[b] = v0 + w0.cross(mlo.centroid);
+            s.applied_force[b] = load * (mlo.volume / total);
+
+            const int a = add_block(m, hi, s.region[b], s.group[b], s.material[b]);
+            // No element references are held across add_block, which grows every array.
+            s.centroid[a] += c0; // the piece was given relative to c0
+            s.vel[a] = v0 + w0.cross(mhi.centroid);
+            s.ang_vel[a] = w0;
+            s.accel[a] = s.accel[b];
+            s.ang_accel[a] = s.ang_accel[b];
+            s.applied_force[a] = load * (mhi.volume / total);
+            s.disp[a] = s.disp[b];
+            s.rotation[a] = s.rotation[b];
+            s.flags[a] = s.flags[b];
+            s.vel_bc[a] = s.vel_bc[b];
+            s.vel_bc_value[a] = s.vel_bc_value[b];
+            s.vel_bc_table[a] = s.vel_bc_table[b];
+            s.half_kick[a] = s.half_kick[b];
+            targets.push_back(a);
+            ++rep.blocks_cut;
+        }
+    }
+    m.slivers_skipped += rep.slivers_skipped;
+    if (rep.blocks_cut > 0) {
+        // Contacts name vertices and faces of the old shapes.
+        m.contacts.clear();
+        refresh_world_vertices(m);
+    }
+    m.geometry_changed = true;
+    return rep;
+}
+
+} // namespace odec

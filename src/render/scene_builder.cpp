@@ -1,0 +1,613 @@
+// Building scenes from the model. See scene_builder.h for the order of calls.
+//
+// Blocks are drawn face by face: each face a polygon carrying its block's value, so a block
+// reads as one colour (a rigid block has one displacement) and the block edges show where
+// joints cut the rock. Sections clip each convex block by the plane here, rather than in
+// the backend, because a clipped block needs its cap (the cut face) and only the builder
+// knows which polygons close a block.
+#include "render/scene_builder.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <set>
+
+#include "engine/blocks.h"
+
+namespace odec::render {
+
+namespace {
+
+bool shown(const Model& m, int b) {
+    return (m.blocks.flags[b] & (kHidden | kExcavated)) == 0;
+}
+
+std::vector<int> blocks_to_draw(const Model& m, const PlotOptions& opt) {
+    std::vector<int> out;
+    if (opt.blocks) {
+        for (int b : *opt.blocks)
+            if (b >= 0 && b < m.blocks.size() && shown(m, b)) out.push_back(b);
+        std::sort(out.begin(), out.end());
+        out.erase(std::unique(out.begin(), out.end()), out.end());
+    } else {
+        for (int b = 0; b < m.blocks.size(); ++b)
+            if (shown(m, b)) out.push_back(b);
+    }
+    return out;
+}
+
+// A convex polyhedron kept on the side n.x <= d: its faces (each clipped) and the cap.
+struct ClippedShape {
+    std::vector<std::vector<Vec3>> faces;
+    std::vector<Vec3> cap; // CCW seen from +n, empty when the plane does not cross
+};
+
+// Order points lying in a plane (normal n) counter-clockwise around their mean.
+std::vector<Vec3> order_in_plane(std::vector<Vec3> pts, const Vec3& n, double tol) {
+    // Merge near duplicates first (an edge crossing at a vertex gives the same point twice).
+    std::vector<Vec3> unique;
+    for (const Vec3& p : pts) {
+        bool dup = false;
+        for (const Vec3& q : unique)
+            if ((p - q).norm() <= tol) {
+                dup = true;
+                break;
+            }
+        if (!dup) unique.push_back(p);
+    }
+    if (unique.size() < 3) return {};
+    Vec3 c = Vec3::Zero();
+    for (const Vec3& p : unique) c += p;
+    c /= static_cast<double>(unique.size());
+    const Vec3 e = std::abs(n.x()) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+    const Vec3 u = n.cross(e).normalized();
+    const Vec3 v = n.cross(u);
+    std::vector<std::pair<double, Vec3>> by_angle;
+    for (const Vec3& p : unique) by_angle.push_back({std::atan2((p - c).dot(v), (p - c).dot(u)), p});
+    std::sort(by_angle.begin(), by_angle.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<Vec3> out;
+    for (const auto& a : by_angle) out.push_back(a.second);
+    return out;
+}
+
+// Returns false when nothing of the shape is left.
+bool clip_convex(const Polyhedron& p, const Vec3& n, double d, double tol, ClippedShape& out) {
+    std::vector<double> s(p.vertices.size());
+    bool any_below = false, any_above = false;
+    for (size_t i = 0; i < p.vertices.size(); ++i) {
+        s[i] = n.dot(p.vertices[i]) - d;
+        any_below |= s[i] < -tol;
+        any_above |= s[i] > tol;
+    }
+    if (!any_below) return false;
+    std::vector<Vec3> cap_points;
+    for (int f = 0; f < p.n_faces(); ++f) {
+        const int k = p.face_size(f);
+        std::vector<Vec3> poly;
+        for (int j = 0; j < k; ++j) {
+            const int a = p.face_vertex(f, j), b = p.face_vertex(f, (j + 1) % k);
+            const double sa = s[a], sb = s[b];
+            if (sa <= tol) poly.push_back(p.vertices[a]);
+            if (any_above && std::abs(sa) <= tol) cap_points.push_back(p.vertices[a]);
+            if ((sa < -tol && sb > tol) || (sa > tol && sb < -tol)) {
+                const double t = sa / (sa - sb);
+                const Vec3 x = p.vertices[a] + t * (p.vertices[b] - p.vertices[a]);
+                poly.push_back(x);
+                cap_points.push_back(x);
+            }
+        }
+        if (poly.size() >= 3) out.faces.push_back(std::move(poly));
+    }
+    if (any_above) out.cap = order_in_plane(cap_points, n, tol);
+    return true;
+}
+
+double block_size(const Model& m, int b) { return std::cbrt(std::max(m.blocks.volume[b], 0.0)); }
+
+double block_scalar(const Model& m, int b, BlockColour by) {
+    const BlockSet& bs = m.blocks;
+    switch (by) {
+    case BlockColour::Disp: return bs.disp[b].norm();
+    case BlockColour::XDis: return bs.disp[b].x();
+    case BlockColour::YDis: return bs.disp[b].y();
+    case BlockColour::ZDis: return bs.disp[b].z();
+    case BlockColour::Vel: return velocity_at_t(m, b).norm();
+    case BlockColour::XVel: return velocity_at_t(m, b).x();
+    case BlockColour::YVel: return velocity_at_t(m, b).y();
+    case BlockColour::ZVel: return velocity_at_t(m, b).z();
+    case BlockColour::Group: return bs.group[b];
+    case BlockColour::Material: return bs.material[b];
+    case BlockColour::Region: return bs.region[b];
+    case BlockColour::Flat: return 0;
+    }
+    return 0;
+}
+
+bool is_categorical(BlockColour by) {
+    return by == BlockColour::Group || by == BlockColour::Material || by == BlockColour::Region;
+}
+
+// Continuous scale over the values: from 0 for magnitudes, symmetric about 0 for signed ones.
+ColourScale continuous_scale(const QuantityInfo& info, const std::vector<double>& values, const PlotOptions& opt) {
+    ColourScale s;
+    s.title = info.title;
+    s.units = info.units;
+    s.map = opt.map ? *opt.map : (info.is_signed ? ColourMap::CoolWarm : ColourMap::Rainbow);
+    if (s.map == ColourMap::Categorical) s.map = ColourMap::Rainbow;
+    double lo = 0, hi = 0;
+    bool first = true;
+    for (double v : values) {
+        if (!std::isfinite(v)) continue;
+        if (first) lo = hi = v;
+        lo = std::min(lo, v);
+        hi = std::max(hi, v);
+        first = false;
+    }
+    if (opt.limits) {
+        lo = opt.limits->first;
+        hi = opt.limits->second;
+    } else if (info.is_signed && s.map == ColourMap::CoolWarm) {
+        const double a = std::max(std::abs(lo), std::abs(hi));
+        lo = -a;
+        hi = a;
+    } else if (!info.is_signed) {
+        lo = std::min(0.0, lo);
+    }
+    s.lo = lo;
+    s.hi = hi;
+    return s;
+}
+
+// Categorical values (group, material, region numbers) become 0..n-1 with a name each.
+ColourScale categorical_scale(const Model& m, BlockColour by, std::vector<double>& values) {
+    ColourScale s;
+    s.map = ColourMap::Categorical;
+    s.title = block_colour_info(by).title;
+    std::set<int> distinct;
+    for (double v : values) distinct.insert(static_cast<int>(v));
+    std::map<int, int> index;
+    for (int v : distinct) {
+        index[v] = static_cast<int>(s.categories.size());
+        if (by == BlockColour::Group)
+            s.categories.push_back(v >= 0 && v < static_cast<int>(m.group_names.size()) ? m.group_names[v]
+                                                                                       : std::string("(none)"));
+        else
+            s.categories.push_back(std::to_string(v));
+    }
+    for (double& v : values) v = index[static_cast<int>(v)];
+    s.lo = 0;
+    s.hi = std::max(0, static_cast<int>(s.categories.size()) - 1);
+    return s;
+}
+
+void append_polygon(PolygonLayer& layer, const std::vector<Vec3>& poly, double scalar) {
+    const int base = static_cast<int>(layer.points.size());
+    for (size_t i = 0; i < poly.size(); ++i) {
+        layer.points.push_back(poly[i]);
+        layer.indices.push_back(base + static_cast<int>(i));
+    }
+    layer.offsets.push_back(static_cast<int>(layer.indices.size()));
+    layer.cell_scalars.push_back(scalar);
+}
+
+Vec3 unit_or(const Vec3& v, const Vec3& fallback) {
+    const double n = v.norm();
+    return n > 0 ? Vec3(v / n) : fallback;
+}
+
+// Two unit vectors spanning the plane normal to n, chosen the same way every time.
+void plane_axes(const Vec3& n, Vec3& u, Vec3& v) {
+    const Vec3 e = std::abs(n.x()) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+    u = n.cross(e).normalized();
+    v = n.cross(u);
+}
+
+} // namespace
+
+QuantityInfo block_colour_info(BlockColour by) {
+    switch (by) {
+    case BlockColour::Disp: return {"displacement magnitude", "m", false};
+    case BlockColour::XDis: return {"x displacement", "m", true};
+    case BlockColour::YDis: return {"y displacement", "m", true};
+    case BlockColour::ZDis: return {"z displacement", "m", true};
+    case BlockColour::Vel: return {"velocity magnitude", "m/s", false};
+    case BlockColour::XVel: return {"x velocity", "m/s", true};
+    case BlockColour::YVel: return {"y velocity", "m/s", true};
+    case BlockColour::ZVel: return {"z velocity", "m/s", true};
+    case BlockColour::Group: return {"group", "", false};
+    case BlockColour::Material: return {"material", "", false};
+    case BlockColour::Region: return {"region", "", false};
+    case BlockColour::Flat: return {"", "", false};
+    }
+    return {};
+}
+
+QuantityInfo contact_quantity_info(ContactQuantity q) {
+    switch (q) {
+    case ContactQuantity::NormalStress: return {"contact normal stress", "Pa", true};
+    case ContactQuantity::ShearStress: return {"contact shear stress", "Pa", false};
+    case ContactQuantity::NormalDisp: return {"contact normal displacement", "m", true};
+    case ContactQuantity::ShearDisp: return {"contact shear displacement", "m", false};
+    case ContactQuantity::State: return {"contact state", "", false};
+    }
+    return {};
+}
+
+bool camera_for_view(const std::string& name, Camera& camera) {
+    Camera c;
+    if (name == "iso") {
+        c.eye_direction = Vec3(1, -1, 0.8);
+    } else if (name == "x" || name == "-x" || name == "y" || name == "-y" || name == "z" || name == "-z") {
+        const double sign = name[0] == '-' ? -1.0 : 1.0;
+        const char axis = name.back();
+        c.eye_direction = axis == 'x' ? Vec3(sign, 0, 0) : axis == 'y' ? Vec3(0, sign, 0) : Vec3(0, 0, sign);
+        c.up = axis == 'z' ? Vec3(0, 1, 0) : Vec3(0, 0, 1);
+        c.parallel = true; // axis views are read like drawings: no perspective
+    } else {
+        return false;
+    }
+    camera = c;
+    return true;
+}
+
+Camera camera_for_eye(const Vec3& eye) {
+    Camera c;
+    c.eye_given = true;
+    c.eye_point = eye;
+    return c;
+}
+
+std::string scene_title(const Model& m) {
+    char line[128];
+    std::snprintf(line, sizeof line, "step %ld    time %.5g s", m.step, m.time);
+    return (m.title.empty() ? std::string("odec") : m.title) + "\n" + line;
+}
+
+Scene begin_scene(const Model& m, const PlotOptions& opt) {
+    Scene s;
+    s.title = scene_title(m);
+    s.width = opt.width;
+    s.height = opt.height;
+    s.background = opt.background;
+    s.camera = opt.camera;
+    if (opt.cut && !opt.view_given) {
+        // Look straight at the section.
+        const Vec3 n = unit_or(opt.cut->normal, Vec3(0, -1, 0));
+        s.camera = Camera();
+        s.camera.eye_direction = n;
+        s.camera.up = std::abs(n.z()) > 0.9 ? Vec3(0, 1, 0) : Vec3(0, 0, 1);
+        s.camera.parallel = true;
+    }
+    return s;
+}
+
+void add_blocks(Scene& scene, const Model& m, BlockColour by, const PlotOptions& opt) {
+    const std::vector<int> blocks = blocks_to_draw(m, opt);
+    PolygonLayer layer;
+    layer.name = "blocks";
+    layer.edges = opt.edges;
+    layer.closed = true;
+    layer.offsets.push_back(0);
+    LineLayer trace;
+    trace.colour = {0.05, 0.05, 0.05};
+    trace.width = 2.0;
+
+    Vec3 cut_n = Vec3::Zero();
+    double cut_d = 0;
+    if (opt.cut) {
+        cut_n = unit_or(opt.cut->normal, Vec3(0, -1, 0));
+        cut_d = cut_n.dot(opt.cut->origin);
+    }
+    std::vector<double> block_values;
+    block_values.reserve(blocks.size());
+    for (int b : blocks) block_values.push_back(block_scalar(m, b, by));
+
+    ColourScale scale;
+    if (is_categorical(by))
+        scale = categorical_scale(m, by, block_values);
+    else if (by != BlockColour::Flat)
+        scale = continuous_scale(block_colour_info(by), block_values, opt);
+
+    for (size_t i = 0; i < blocks.size(); ++i) {
+        const int b = blocks[i];
+        const Polyhedron shape = world_shape(m, b);
+        const double value = block_values[i];
+        if (!opt.cut) {
+            const int base = static_cast<int>(layer.points.size());
+            layer.points.insert(layer.points.end(), shape.vertices.begin(), shape.vertices.end());
+            for (int f = 0; f < shape.n_faces(); ++f) {
+                for (int k = 0; k < shape.face_size(f); ++k) layer.indices.push_back(base + shape.face_vertex(f, k));
+                layer.offsets.push_back(static_cast<int>(layer.indices.size()));
+                layer.cell_scalars.push_back(value);
+            }
+            continue;
+        }
+        ClippedShape clipped;
+        const double tol = 1e-9 * std::max(block_size(m, b), 1e-12);
+        if (!clip_convex(shape, cut_n, cut_d, tol, clipped)) continue;
+        for (const auto& face : clipped.faces) append_polygon(layer, face, value);
+        if (!clipped.cap.empty()) {
+            append_polygon(layer, clipped.cap, value);
+            const int base = static_cast<int>(trace.points.size());
+            const int k = static_cast<int>(clipped.cap.size());
+            // Lift the trace a hair towards the eye so it is not buried in the cap.
+            const Vec3 lift = cut_n * (1e-4 * block_size(m, b));
+            for (const Vec3& x : clipped.cap) trace.points.push_back(x + lift);
+            for (int j = 0; j < k; ++j) trace.segments.push_back({base + j, base + (j + 1) % k});
+        }
+    }
+    if (by == BlockColour::Flat) {
+        layer.cell_scalars.clear();
+    } else {
+        layer.scale = scale;
+    }
+    if (layer.offsets.size() < 2) return;
+    scene.polygons.push_back(std::move(layer));
+    if (!trace.segments.empty()) scene.lines.push_back(std::move(trace));
+}
+
+void add_block_outline(Scene& scene, const Model& m, const PlotOptions& opt) {
+    LineLayer lines;
+    lines.colour = {0.55, 0.55, 0.55};
+    lines.width = 1.0;
+    for (int b : blocks_to_draw(m, opt)) {
+        const Polyhedron shape = world_shape(m, b);
+        const int base = static_cast<int>(lines.points.size());
+        lines.points.insert(lines.points.end(), shape.vertices.begin(), shape.vertices.end());
+        std::set<std::pair<int, int>> edges; // each edge is shared by two faces: draw it once
+        for (int f = 0; f < shape.n_faces(); ++f) {
+            const int k = shape.face_size(f);
+            for (int j = 0; j < k; ++j) {
+                int a = shape.face_vertex(f, j), c = shape.face_vertex(f, (j + 1) % k);
+                if (a > c) std::swap(a, c);
+                if (edges.insert({a, c}).second) lines.segments.push_back({base + a, base + c});
+            }
+        }
+    }
+    if (!lines.segments.empty()) scene.lines.push_back(std::move(lines));
+}
+
+void add_vectors(Scene& scene, const Model& m, VectorKind kind, const PlotOptions& opt) {
+    GlyphLayer g;
+    g.shape = GlyphLayer::Shape::Arrow;
+    std::vector<double> sizes;
+    Vec3 cut_n = Vec3::Zero();
+    double cut_d = 0;
+    if (opt.cut) {
+        cut_n = unit_or(opt.cut->normal, Vec3(0, -1, 0));
+        cut_d = cut_n.dot(opt.cut->origin);
+    }
+    for (int b : blocks_to_draw(m, opt)) {
+        if (opt.cut && cut_n.dot(m.blocks.centroid[b]) > cut_d) continue;
+        const Vec3 v = kind == VectorKind::Disp ? m.blocks.disp[b] : velocity_at_t(m, b);
+        g.origins.push_back(m.blocks.centroid[b]);
+        g.directions.push_back(v);
+        g.scalars.push_back(v.norm());
+        sizes.push_back(block_size(m, b));
+    }
+    if (g.origins.empty()) return;
+    // The longest arrow about one typical block long: long enough to read, short enough
+    // not to cross the picture.
+    std::nth_element(sizes.begin(), sizes.begin() + sizes.size() / 2, sizes.end());
+    g.max_length = sizes[sizes.size() / 2];
+    bool coloured_already = false;
+    for (auto& layer : scene.polygons) {
+        if (!layer.cell_scalars.empty() || !layer.point_scalars.empty()) coloured_already = true;
+        if (layer.name == "blocks") layer.opacity = std::min(layer.opacity, 0.35);
+    }
+    const QuantityInfo info = kind == VectorKind::Disp ? QuantityInfo{"displacement magnitude", "m", false}
+                                                       : QuantityInfo{"velocity magnitude", "m/s", false};
+    if (coloured_already) {
+        g.scalars.clear();
+    } else {
+        g.scale = continuous_scale(info, g.scalars, opt);
+    }
+    scene.glyphs.push_back(std::move(g));
+}
+
+bool add_contacts(Scene& scene, const ContactView& view, ContactQuantity q, const PlotOptions& opt,
+                  std::string& error) {
+    const ContactRows& rows = view.sub_contacts.size() > 0 ? view.sub_contacts : view.contacts;
+    if (!contact_rows_valid(rows, error)) return false;
+    const int n = rows.size();
+    auto need = [&](size_t size, const char* what) {
+        if (n > 0 && size == 0) {
+            error = std::string("the contacts carry no ") + what;
+            return false;
+        }
+        return true;
+    };
+    switch (q) {
+    case ContactQuantity::NormalStress: if (!need(rows.normal_stress.size(), "normal stress")) return false; break;
+    case ContactQuantity::ShearStress: if (!need(rows.shear_stress.size(), "shear stress")) return false; break;
+    case ContactQuantity::NormalDisp: if (!need(rows.normal_disp.size(), "normal displacement")) return false; break;
+    case ContactQuantity::ShearDisp: if (!need(rows.shear_disp.size(), "shear displacement")) return false; break;
+    case ContactQuantity::State: if (!need(rows.state.size(), "state")) return false; break;
+    }
+    Vec3 cut_n = Vec3::Zero();
+    double cut_d = 0;
+    if (opt.cut) {
+        cut_n = unit_or(opt.cut->normal, Vec3(0, -1, 0));
+        cut_d = cut_n.dot(opt.cut->origin);
+    }
+    PolygonLayer layer;
+    layer.name = "contacts";
+    layer.offsets.push_back(0);
+    layer.edges = false;
+    std::vector<double> values;
+    for (int i = 0; i < n; ++i) {
+        if (opt.cut && cut_n.dot(rows.centroid[i]) > cut_d) continue;
+        double v = 0;
+        switch (q) {
+        case ContactQuantity::NormalStress: v = rows.normal_stress[i]; break;
+        case ContactQuantity::ShearStress: v = rows.shear_stress[i].norm(); break;
+        case ContactQuantity::NormalDisp: v = rows.normal_disp[i]; break;
+        case ContactQuantity::ShearDisp: v = rows.shear_disp[i].norm(); break;
+        case ContactQuantity::State: v = rows.state[i]; break;
+        }
+        const Vec3 nrm = unit_or(rows.normal[i], Vec3(0, 0, 1));
+        Vec3 u, w;
+        plane_axes(nrm, u, w);
+        const double h = 0.5 * std::sqrt(std::max(rows.area[i], 0.0));
+        const Vec3& c = rows.centroid[i];
+        append_polygon(layer, {c - h * u - h * w, c + h * u - h * w, c + h * u + h * w, c - h * u + h * w}, v);
+        values.push_back(v);
+    }
+    if (layer.offsets.size() < 2) return true; // nothing to show is not an error
+    if (q == ContactQuantity::State) {
+        layer.scale.map = ColourMap::Categorical;
+        layer.scale.title = "contact state";
+        int max_state = 0;
+        for (double v : values) max_state = std::max(max_state, static_cast<int>(v));
+        for (int k = 0; k <= max_state || k < static_cast<int>(view.state_names.size()); ++k)
+            layer.scale.categories.push_back(k < static_cast<int>(view.state_names.size()) ? view.state_names[k]
+                                                                                         : std::to_string(k));
+        layer.scale.lo = 0;
+        layer.scale.hi = static_cast<double>(layer.scale.categories.size()) - 1;
+    } else {
+        layer.scale = continuous_scale(contact_quantity_info(q), values, opt);
+    }
+    scene.polygons.push_back(std::move(layer));
+    return true;
+}
+
+PrincipalField principal_from_contacts(const ContactView& view) {
+    PrincipalField f;
+    const ContactRows& rows = view.sub_contacts.size() > 0 ? view.sub_contacts : view.contacts;
+    std::string error;
+    if (!contact_rows_valid(rows, error)) return f;
+    for (int i = 0; i < rows.size(); ++i) {
+        const Vec3 n = unit_or(rows.normal[i], Vec3(0, 0, 1));
+        Vec3 u, w;
+        plane_axes(n, u, w);
+        const double sn = rows.normal_stress.empty() ? 0.0 : rows.normal_stress[i];
+        const Vec3 tau = rows.shear_stress.empty() ? Vec3::Zero() : rows.shear_stress[i];
+        f.points.push_back(rows.centroid[i]);
+        // Compression negative, as for zone stresses.
+        f.value.push_back({-sn, tau.norm(), 0.0});
+        f.direction.push_back({n, unit_or(tau, u), w});
+    }
+    // The largest bar about as long as a typical contact patch is wide.
+    std::vector<double> sides;
+    for (double a : rows.area) sides.push_back(std::sqrt(std::max(a, 0.0)));
+    if (!sides.empty()) {
+        std::nth_element(sides.begin(), sides.begin() + sides.size() / 2, sides.end());
+        f.typical_size = sides[sides.size() / 2];
+    }
+    return f;
+}
+
+void add_principal(Scene& scene, const PrincipalField& field, const PlotOptions& opt) {
+    GlyphLayer g;
+    g.shape = GlyphLayer::Shape::Bar;
+    for (size_t i = 0; i < field.points.size(); ++i) {
+        for (int k = 0; k < 3; ++k) {
+            const double v = field.value[i][k];
+            if (v == 0) continue;
+            g.origins.push_back(field.points[i]);
+            g.directions.push_back(field.direction[i][k] * std::abs(v));
+            g.scalars.push_back(v);
+        }
+    }
+    if (g.origins.empty()) return;
+    g.max_length = field.typical_size;
+    g.scale = continuous_scale({"principal stress", "Pa", true}, g.scalars, opt);
+    scene.glyphs.push_back(std::move(g));
+}
+
+Scene build_block_scene(const Model& m, BlockColour by, const std::vector<int>& block_indices) {
+    PlotOptions opt;
+    if (!block_indices.empty()) opt.blocks = block_indices;
+    Scene s = begin_scene(m, opt);
+    add_blocks(s, m, by, opt);
+    return s;
+}
+
+namespace {
+
+std::string history_axis_title(HistoryKind k) {
+    switch (k) {
+    case HistoryKind::Unbalanced: return "unbalanced force (N)";
+    case HistoryKind::Time: return "time (s)";
+    case HistoryKind::Step: return "step";
+    case HistoryKind::XDis: return "x displacement (m)";
+    case HistoryKind::YDis: return "y displacement (m)";
+    case HistoryKind::ZDis: return "z displacement (m)";
+    case HistoryKind::XVel: return "x velocity (m/s)";
+    case HistoryKind::YVel: return "y velocity (m/s)";
+    case HistoryKind::ZVel: return "z velocity (m/s)";
+    case HistoryKind::Ratio: return "unbalanced force ratio";
+    }
+    return "value";
+}
+
+std::string history_name(const HistorySet& h, int number) {
+    const History& item = h.items[number - 1];
+    return std::to_string(number) + ": " + (item.label.empty() ? history_default_label(item) : item.label);
+}
+
+} // namespace
+
+bool add_history_chart(Scene& scene, const HistorySet& h, const std::vector<int>& numbers, int vs,
+                       std::string& error) {
+    const int n_items = static_cast<int>(h.items.size());
+    if (numbers.empty()) {
+        error = "no history numbers given";
+        return false;
+    }
+    for (int k : numbers) {
+        if (k < 1 || k > n_items) {
+            error = "history " + std::to_string(k) + " does not exist (there " +
+                    (n_items == 1 ? std::string("is 1 history") : "are " + std::to_string(n_items) + " histories") + ")";
+            return false;
+        }
+    }
+    if (vs != 0 && (vs < 1 || vs > n_items)) {
+        error = "history " + std::to_string(vs) + " (after vs) does not exist";
+        return false;
+    }
+    const size_t n_samples = h.sample_steps.size();
+    if (n_samples == 0) {
+        error = "the histories have no samples yet (take some steps first)";
+        return false;
+    }
+    Chart chart;
+    std::vector<double> x(n_samples);
+    if (vs > 0) {
+        const History& xh = h.items[vs - 1];
+        for (size_t i = 0; i < n_samples; ++i) x[i] = i < xh.values.size() ? xh.values[i] : 0.0;
+        chart.x_label = history_name(h, vs);
+    } else {
+        for (size_t i = 0; i < n_samples; ++i) x[i] = static_cast<double>(h.sample_steps[i]);
+        chart.x_label = "step";
+    }
+    bool same_kind = true;
+    for (int k : numbers) same_kind &= h.items[k - 1].kind == h.items[numbers[0] - 1].kind;
+    chart.y_label = same_kind ? history_axis_title(h.items[numbers[0] - 1].kind) : std::string("value");
+    for (int k : numbers) {
+        const History& item = h.items[k - 1];
+        ChartSeries s;
+        s.name = history_name(h, k);
+        const size_t n = std::min(n_samples, item.values.size());
+        s.x.assign(x.begin(), x.begin() + n);
+        s.y.assign(item.values.begin(), item.values.begin() + n);
+        chart.series.push_back(std::move(s));
+    }
+    chart.markers = n_samples <= 20;
+    scene.chart = std::move(chart);
+    // A chart's title is one line: the model title and where it stands.
+    const auto nl = scene.title.find('\n');
+    if (nl != std::string::npos) scene.title = scene.title.substr(0, nl) + "   (" + scene.title.substr(nl + 1) + ")";
+    return true;
+}
+
+Scene build_history_chart(const HistorySet& h, const std::vector<int>& numbers, int vs) {
+    Scene s;
+    s.title = "histories";
+    std::string error;
+    add_history_chart(s, h, numbers, vs, error);
+    return s;
+}
+
+} // namespace odec::render

@@ -1,0 +1,158 @@
+// Drives the real prompt through a pseudo-terminal, as a person at a keyboard would.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <csignal>
+#include <cstdlib>
+#include <fstream>
+#include <poll.h>
+#include <pty.h>
+#include <string>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace {
+
+class Terminal {
+public:
+    explicit Terminal(const std::string& home) {
+        pid_ = forkpty(&fd_, nullptr, nullptr, nullptr);
+        if (pid_ == 0) {
+            setenv("HOME", home.c_str(), 1);
+            setenv("TERM", "dumb", 1);
+            unsetenv("ODEC_HISTORY");
+            execl(ODEC_BINARY, ODEC_BINARY, static_cast<char*>(nullptr));
+            _exit(127);
+        }
+    }
+    ~Terminal() {
+        if (pid_ > 0) {
+            kill(pid_, SIGKILL);
+            waitpid(pid_, nullptr, 0);
+        }
+        if (fd_ >= 0) close(fd_);
+    }
+    void type(const std::string& s) { ASSERT_EQ(write(fd_, s.data(), s.size()), static_cast<ssize_t>(s.size())); }
+    // Reads until `what` has appeared in the output since the last call, or 10 s pass.
+    bool expect(const std::string& what) {
+        const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+        while (std::chrono::steady_clock::now() < end) {
+            const size_t at = seen_.find(what, from_);
+            if (at != std::string::npos) {
+                from_ = at + what.size();
+                return true;
+            }
+            pollfd p{fd_, POLLIN, 0};
+            if (poll(&p, 1, 100) > 0) {
+                char buf[4096];
+                const ssize_t n = read(fd_, buf, sizeof buf);
+                if (n <= 0) break;
+                seen_.append(buf, n);
+            }
+        }
+        return false;
+    }
+    // Exit status of the program, or -1 when it has not ended within 10 s (it is then killed).
+    int wait_exit() {
+        int status = 0;
+        for (int k = 0; k < 1000; ++k) {
+            // Keep draining output so that the program never blocks writing to the terminal.
+            pollfd p{fd_, POLLIN, 0};
+            if (poll(&p, 1, 10) > 0) {
+                char buf[4096];
+                const ssize_t n = read(fd_, buf, sizeof buf);
+                if (n > 0) seen_.append(buf, n);
+            }
+            if (waitpid(pid_, &status, WNOHANG) == pid_) {
+                pid_ = -1;
+                return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+            }
+        }
+        return -1;
+    }
+    const std::string& seen() const { return seen_; }
+
+private:
+    int fd_ = -1;
+    pid_t pid_ = -1;
+    std::string seen_;
+    size_t from_ = 0;
+};
+
+std::string temp_home() {
+    char tmpl[] = "/tmp/odec-home-XXXXXX";
+    return mkdtemp(tmpl);
+}
+
+} // namespace
+
+TEST(Prompt, CompletesCommandsAndKeywords) {
+    const std::string home = temp_home();
+    Terminal t(home);
+    ASSERT_TRUE(t.expect("odec> ")) << t.seen();
+    t.type("pro\t");
+    ASSERT_TRUE(t.expect("property ")) << t.seen();
+    t.type("mat=1 den\t");
+    ASSERT_TRUE(t.expect("density ")) << t.seen();
+    t.type("2000\n");
+    ASSERT_TRUE(t.expect("odec> ")) << t.seen();
+    t.type("print info\n");
+    ASSERT_TRUE(t.expect("materials:  1 (dens 2000)")) << t.seen();
+    ASSERT_TRUE(t.expect("odec> ")) << t.seen();
+    t.type("\x04"); // Ctrl-D leaves
+    EXPECT_EQ(t.wait_exit(), 0);
+}
+
+TEST(Prompt, ContinuationPromptAfterAmpersand) {
+    const std::string home = temp_home();
+    Terminal t(home);
+    ASSERT_TRUE(t.expect("odec> "));
+    t.type("poly brick 0 1 &\n");
+    ASSERT_TRUE(t.expect("...> ")) << t.seen();
+    t.type("0 1 0 1\n");
+    ASSERT_TRUE(t.expect("odec> ")) << t.seen();
+    t.type("print block\n");
+    ASSERT_TRUE(t.expect("1 of 1 blocks")) << t.seen();
+    ASSERT_TRUE(t.expect("odec> ")) << t.seen();
+    t.type("quit\n");
+    EXPECT_EQ(t.wait_exit(), 0);
+    // The history file keeps the joined command for the next session.
+    std::ifstream h(home + "/.odec_history");
+    std::string all((std::istreambuf_iterator<char>(h)), std::istreambuf_iterator<char>());
+    EXPECT_NE(all.find("print block"), std::string::npos) << all;
+}
+
+TEST(Prompt, ErrorsDoNotEndTheSessionAndCtrlCClearsTheLine) {
+    const std::string home = temp_home();
+    Terminal t(home);
+    ASSERT_TRUE(t.expect("odec> "));
+    t.type("prop mat=1 dens=-5\n");
+    ASSERT_TRUE(t.expect("'density' must be > 0 (got -5)")) << t.seen();
+    ASSERT_TRUE(t.expect("odec> "));
+    t.type("grav 0 0 -10 junk");
+    ASSERT_TRUE(t.expect("junk")) << t.seen();
+    t.type("\x03"); // Ctrl-C drops the half-typed line
+    ASSERT_TRUE(t.expect("^C")) << t.seen();
+    t.type("print info\n");
+    ASSERT_TRUE(t.expect("gravity:    (0,0,0)")) << t.seen();
+    ASSERT_TRUE(t.expect("odec> ")) << t.seen();
+    t.type("quit\n");
+    EXPECT_EQ(t.wait_exit(), 0);
+}
+
+TEST(Prompt, CtrlCStopsALongStepAndTheSessionGoesOn) {
+    const std::string home = temp_home();
+    Terminal t(home);
+    ASSERT_TRUE(t.expect("odec> "));
+    t.type("poly brick 0 1 0 1 0 1\nprop mat=1 dens=1000\nset dt 1e-9\nstep 2000000000\n");
+    ASSERT_TRUE(t.expect("step 2000000000")) << t.seen(); // the echo of the typed line
+    usleep(300000);
+    t.type("\x03");
+    ASSERT_TRUE(t.expect("interrupted after")) << t.seen();
+    ASSERT_TRUE(t.expect("odec> "));
+    t.type("print info\n");
+    ASSERT_TRUE(t.expect("step:")) << t.seen();
+    ASSERT_TRUE(t.expect("odec> ")) << t.seen();
+    t.type("quit\n");
+    EXPECT_EQ(t.wait_exit(), 0);
+}

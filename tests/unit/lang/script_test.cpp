@@ -1,0 +1,159 @@
+// Scripts run end to end through the interpreter, checked against the physics they model.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "engine/blocks.h"
+#include "lang/help.h"
+#include "test_util.h"
+
+using odec::test::Session;
+
+namespace {
+const std::string kSource = ODEC_SOURCE_DIR;
+}
+
+// Verification problem 1: central differences with constant gravity are exact up to round-off.
+TEST(FreeFall, TutorialMatchesTheAnalyticAnswer) {
+    Session s;
+    ASSERT_TRUE(s.interp.run_file(kSource + "/examples/tutorial/free-fall.dat")) << s.error();
+    const odec::Model& m = s.model;
+    ASSERT_EQ(m.blocks.size(), 1);
+    const double t = m.time, g = 10.0, z0 = 10.5;
+    EXPECT_NEAR(t, 1.0, 1e-12);
+    const double z_exact = z0 - g * t * t / 2;
+    EXPECT_NEAR(m.blocks.centroid[0].z(), z_exact, 1e-6 * std::abs(z_exact));
+    EXPECT_NEAR(m.blocks.disp[0].z(), -5.0, 1e-6 * 5.0);
+    EXPECT_NEAR(odec::velocity_at_t(m, 0).z(), -10.0, 1e-6 * 10.0);
+    // The histories saw the same: last zdis sample -5, last zvel sample -10.
+    ASSERT_EQ(m.histories.items.size(), 3u);
+    EXPECT_NEAR(m.histories.items[1].values.back(), -5.0, 5e-6);
+    EXPECT_NEAR(m.histories.items[2].values.back(), -10.0, 1e-5);
+}
+
+TEST(FreeFall, LocalDampingLeavesAFifthOfGravity) {
+    Session s;
+    ASSERT_TRUE(s.run("poly brick 0 1 0 1 10 11\nprop mat=1 dens=2000\ngrav 0 0 -10\nset dt 1e-3\n"
+                      "hist ncyc 1\nhist zvel 0.5 0.5 10.5\nstep 1000"))
+        << s.error();
+    const auto& v = s.model.histories.items[0].values;
+    ASSERT_EQ(v.size(), 1000u);
+    // Acceleration between 0.5 s and 1 s, well after the first step.
+    const double a = (v[999] - v[499]) / 0.5;
+    EXPECT_NEAR(a, -0.2 * 10.0, 1e-9);
+}
+
+TEST(FreeFall, InitialVelocityIsIntegratedExactly) {
+    Session s;
+    ASSERT_TRUE(s.run("poly brick 0 1 0 1 0 1\nprop mat=1 dens=1000\ngrav 0 0 -10\ndamp off\nset dt 1e-3\n"
+                      "ini zvel 5 xvel 1\nstep 1000"));
+    // z = v0 t - g t^2 / 2 = 0 after 1 s; x = 1.
+    EXPECT_NEAR(s.model.blocks.disp[0].z(), 0.0, 1e-9);
+    EXPECT_NEAR(s.model.blocks.disp[0].x(), 1.0, 1e-9);
+}
+
+TEST(Commands, FixHoldsBlocksAndFreeReleasesThem) {
+    Session s;
+    ASSERT_TRUE(s.run("poly brick 0 1 0 1 0 1 region 1\npoly brick 0 1 0 1 5 6 region 2\nprop mat=1 dens=1000\n"
+                      "grav 0 0 -10\ndamp off\nset dt 1e-3\nfix range region 1\nstep 100"));
+    EXPECT_EQ(s.model.blocks.disp[0].norm(), 0.0);
+    EXPECT_LT(s.model.blocks.disp[1].z(), 0.0);
+    ASSERT_TRUE(s.run("free range z -1 2\nstep 100"));
+    EXPECT_LT(s.model.blocks.disp[0].z(), 0.0);
+}
+
+TEST(Commands, RangeSelectsByGroupIdSphereAndNot) {
+    Session s;
+    ASSERT_TRUE(s.run("poly brick 0 1 0 1 0 1 group 'a'\npoly brick 2 3 0 1 0 1 group 'b'\n"
+                      "poly brick 4 5 0 1 0 1\nfix range not group 'a'"));
+    EXPECT_FALSE(s.model.blocks.flags[0] & odec::kFixed);
+    EXPECT_TRUE(s.model.blocks.flags[1] & odec::kFixed);
+    EXPECT_TRUE(s.model.blocks.flags[2] & odec::kFixed);
+    ASSERT_TRUE(s.run("free\nfix range id 2 3 sphere 4.5,0.5,0.5 0.1"));
+    EXPECT_FALSE(s.model.blocks.flags[1] & odec::kFixed);
+    EXPECT_TRUE(s.model.blocks.flags[2] & odec::kFixed);
+    ASSERT_TRUE(s.run("free\nfix range plane dip 90 dd 90 origin 1.5,0,0 below"));
+    EXPECT_TRUE(s.model.blocks.flags[0] & odec::kFixed);
+    EXPECT_FALSE(s.model.blocks.flags[1] & odec::kFixed);
+}
+
+TEST(Commands, ChangeMaterialUpdatesMass) {
+    Session s;
+    ASSERT_TRUE(s.run("poly brick 0 2 0 1 0 1\nprop mat=1 dens=1000\nprop mat=2 dens=3000\nchange mat=2"));
+    EXPECT_DOUBLE_EQ(s.model.blocks.mass[0], 6000.0);
+    // Inertia about the centroid: m (b^2 + c^2) / 12.
+    EXPECT_NEAR(s.model.blocks.inertia_body[0](0, 0), 6000.0 * 2 / 12, 1e-9);
+}
+
+TEST(Commands, AbbreviationsAndAliases) {
+    Session s;
+    ASSERT_TRUE(s.run("POLY BRICK 0 1 0 1 0 1\nproperty material=1 density=2000\nprop mat 1 dens 2500\n"
+                      "gravity 0,0,-9.81\nset dt=1e-3\ncyc 10\nstep 10\nhist unbal\nhis time"));
+    EXPECT_EQ(s.model.step, 20);
+    EXPECT_EQ(s.model.materials[1].density, 2500);
+    EXPECT_EQ(s.model.histories.items.size(), 2u);
+}
+
+TEST(Commands, HistWriteMakesACsvWithAHeader) {
+    Session s;
+    const std::string path = testing::TempDir() + "odec-hist.csv";
+    ASSERT_TRUE(s.run("poly brick 0 1 0 1 0 1\nprop mat=1 dens=1000\ngrav 0 0 -10\ndamp off\nset dt 0.01\n"
+                      "hist ncyc 10\nhist time\nhist zdis 0.5 0.5 0.5\nstep 100\nhist write 2 vs 1 file '" + path + "'"))
+        << s.error();
+    std::ifstream in(path);
+    std::string header, line, last;
+    std::getline(in, header);
+    EXPECT_EQ(header, "\"1: time\",\"2: zdis (0.5,0.5,0.5) block 1\"");
+    int rows = 0;
+    while (std::getline(in, line)) {
+        last = line;
+        ++rows;
+    }
+    EXPECT_EQ(rows, 10);
+    EXPECT_NEAR(std::stod(last.substr(0, last.find(','))), 1.0, 1e-12);
+    EXPECT_NEAR(std::stod(last.substr(last.find(',') + 1)), -5.0, 1e-9);
+}
+
+TEST(Scripts, CallNestsWithRelativePathsAndReturn) {
+    Session s;
+    ASSERT_TRUE(s.interp.run_file(kSource + "/tests/scripts/call-outer.dat")) << s.error();
+    // outer sets gravity, calls sub/inner.dat (relative to outer), which makes a block and returns
+    // before a line that would fail; outer then goes on.
+    EXPECT_EQ(s.model.blocks.size(), 1);
+    EXPECT_EQ(s.model.gravity.z(), -10);
+    EXPECT_EQ(s.model.title, "after the call");
+}
+
+TEST(Scripts, EchoShowsFileAndLine) {
+    odec::Model model;
+    std::ostringstream out, err;
+    odec::Interpreter interp(model, odec::command_table(), out, err);
+    ASSERT_TRUE(interp.run_text("demo.dat", "grav 0 0 -10\nset echo off\ngrav 0 0 -9", true));
+    EXPECT_EQ(out.str(), "demo.dat:1> grav 0 0 -10\ndemo.dat:2> set echo off\n");
+}
+
+TEST(Help, ComesFromTheDeclarations) {
+    Session s;
+    ASSERT_TRUE(s.run("help"));
+    EXPECT_NE(s.out.str().find("property          set the properties of a block material or a joint material"),
+              std::string::npos);
+    s.out.str("");
+    ASSERT_TRUE(s.run("help prop"));
+    EXPECT_NE(s.out.str().find("density rho                   mass density, kg/m^3"), std::string::npos) << s.out.str();
+    s.out.str("");
+    ASSERT_TRUE(s.run("help prop dens"));
+    EXPECT_NE(s.out.str().find("rho: a number, > 0"), std::string::npos) << s.out.str();
+    EXPECT_FALSE(s.run("help prop bogus"));
+    EXPECT_NE(s.error().find("'property' has no keyword 'bogus'"), std::string::npos);
+}
+
+TEST(Manual, PagesAreGeneratedForEveryCommand) {
+    const std::string page = odec::manual_page(*odec::command_table().find("property"));
+    EXPECT_NE(page.find("| `density` | `den[sity]` | rho: a number, > 0 | mass density, kg/m^3 |"), std::string::npos)
+        << page;
+    const std::string index = odec::manual_index(odec::command_table());
+    for (const odec::CommandSpec* c : odec::command_table().commands) {
+        EXPECT_NE(index.find("[`" + c->name + "`](" + c->name + ".md)"), std::string::npos) << c->name;
+    }
+}
