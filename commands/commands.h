@@ -28,5 +28,9 @@ const CommandSpec& return_command();
 const CommandSpec& set_command();
 const CommandSpec& step_command();
 const CommandSpec& title_command();
+const CommandSpec& save_command();
+const CommandSpec& restore_command();
+const CommandSpec& plot_command();
+const CommandSpec& export_command();
 
 } // namespace odec

@@ -11,6 +11,7 @@ const CommandTable& command_table() {
             &help_command_spec(), &poly_command(), &prop_command(), &change_command(), &grav_command(),
             &fix_command(),    &free_command(),  &ini_command(),   &damp_command(),   &set_command(),
             &step_command(),   &hist_command(),  &print_command(),
+            &plot_command(),   &export_command(), &save_command(),  &restore_command(),
         };
         return t;
     }();
