@@ -1,6 +1,7 @@
 #include "commands.h"
 #include "common.h"
 #include "engine/blocks.h"
+#include "engine/contact.h"
 
 namespace odec {
 
@@ -8,16 +9,36 @@ const CommandSpec& change_command() {
     static const CommandSpec spec = [] {
         CommandSpec c("change", 4, "give blocks another material");
         c.keyword("material", 3, "block material number").integer("n", 1, 1000000);
+        c.keyword("cons", 3, "zone model for deformable blocks (0 null, 1 elastic, 2 Mohr-Coulomb)").integer("c", 0, 2);
+        c.keyword("jmat", 4, "joint material number of the contacts in the range").integer("n", 1, 1000000);
+        c.keyword("jcons", 4, "joint model of the contacts in the range (1 Coulomb slip, 2 with residual strength)")
+            .integer("j", 1, 2);
         c.range();
         c.describe("Blocks in the range (every block when no range is given) take the material; their "
-                   "mass and inertia follow its density.");
+                   "mass and inertia follow its density. Contacts whose centroid is in the range take the "
+                   "joint material and joint model; contacts made later take those of the joint plane they "
+                   "lie on, or the defaults of 'set jmat' and 'set jcons'. 'cons' is kept for deformable "
+                   "blocks; rigid blocks have no zones.");
         c.example("change mat=2 range z -10 0");
         c.handle([](CommandContext& ctx, const Args& a) {
             Model& m = ctx.model;
-            if (!a.has("material")) fail(a.loc, "'change' needs 'mat=n'", {}, "change");
-            const int n = a.integer("material");
-            for (int b : blocks_in_range(ctx, a)) m.blocks.material[b] = n;
-            update_masses(m);
+            if (!a.has("material") && !a.has("jmat") && !a.has("jcons") && !a.has("cons")) {
+                fail(a.loc, "'change' needs 'mat=n', 'jmat=n' or 'jcons=j'", {}, "change");
+            }
+            if (a.has("jmat") || a.has("jcons")) {
+                const int jmat = a.has("jmat") ? a.integer("jmat") : 0;
+                const int jcons = a.has("jcons") ? a.integer("jcons") : 0;
+                // Contacts are found first when the model has not cycled since it changed.
+                refresh_world_vertices(m);
+                detect_contacts(m);
+                const int n = assign_joint_material(m, a.range, jmat, jcons);
+                if (!ctx.interp.quiet) ctx.out << n << " contacts changed\n";
+            }
+            if (a.has("material")) {
+                const int n = a.integer("material");
+                for (int b : blocks_in_range(ctx, a)) m.blocks.material[b] = n;
+                update_masses(m);
+            }
         });
         return c;
     }();

@@ -1,13 +1,40 @@
+// `export vtk 'name'`: the model as VTK XML files for ParaView (io/vtk_export.h), with the
+// contacts and sub-contacts as the contact bridge sees them, so ParaView shows what
+// `plot contact` shows.
 #include "commands.h"
 #include "common.h"
 
+#include "io/vtk_export.h"
+#include "render/contact_bridge.h"
+
 namespace odec {
 
-// Placeholder: being written.
 const CommandSpec& export_command() {
     static const CommandSpec spec = [] {
-        CommandSpec c("export", 4, "(being written)");
-        c.handle([](CommandContext&, const Args& a) { fail(a.loc, "'export' is not available yet"); });
+        CommandSpec c("export", 3, "write the model as files for other programs");
+        c.keyword("vtk", 2, "VTK XML files for ParaView: blocks (.vtu), contacts and sub-contacts (.vtp), and a .pvd")
+            .string("name")
+            .in_choice(1);
+        c.require_one_of(1);
+        c.describe("'export vtk name' writes name-blocks-<step>.vtu (blocks with displacement, velocity, "
+                   "material, group and region), name-contacts-<step>.vtp and name-subcontacts-<step>.vtp "
+                   "(contact points with normal, area, normal and shear stress, normal and shear displacement, "
+                   "force and state) and name.pvd, the collection ParaView opens. Exporting again at a later "
+                   "step adds that step to the same name.pvd, so ParaView plays the steps in order. The name may "
+                   "carry a directory; an extension (.vtu, .vtp, .pvd, .vtk) is dropped.");
+        c.example("export vtk 'slope'");
+        c.handle([](CommandContext& ctx, const Args& a) {
+            const Model& m = ctx.model;
+            const Value& name = a.find("vtk")->values[0];
+            const ContactView contacts = make_contact_view(m);
+            std::vector<std::string> written;
+            std::string error;
+            if (!export_vtk(m, &contacts, name.text, written, error)) fail(name.loc, error, {}, "export");
+            if (ctx.interp.quiet) return;
+            ctx.out << "export: wrote";
+            for (size_t k = 0; k < written.size(); ++k) ctx.out << (k ? ", " : " ") << written[k];
+            ctx.out << "\n";
+        });
         return c;
     }();
     return spec;

@@ -1,6 +1,7 @@
 #include "commands.h"
 #include "common.h"
 #include "engine/blocks.h"
+#include "engine/contact.h"
 #include "io/csv.h"
 
 #include <cmath>
@@ -51,6 +52,10 @@ const CommandSpec& hist_command() {
                 .vec("x,y,z")
                 .in_choice(1);
         }
+        c.keyword("nstress", 2, "normal stress of the contact nearest the point, Pa (compression positive)").vec("x,y,z").in_choice(1);
+        c.keyword("sstress", 2, "shear stress of the contact nearest the point, Pa").vec("x,y,z").in_choice(1);
+        c.keyword("ndis", 2, "normal closure of the contact nearest the point, m").vec("x,y,z").in_choice(1);
+        c.keyword("sdis", 2, "shear displacement of the contact nearest the point, m").vec("x,y,z").in_choice(1);
         c.keyword("write", 2, "write histories n ... to a CSV file").integer("n", 1).repeat().in_choice(1);
         c.keyword("vs", 2, "with 'write': history m as the first column instead of the step").integer("m", 1);
         c.keyword("file", 2, "with 'write': the CSV file").string("name");
@@ -116,6 +121,19 @@ const CommandSpec& hist_command() {
                 const int b = find_block_at(m, h.point);
                 if (b < 0) fail(a.find(what)->loc, "there are no blocks to follow", {"create blocks first"}, "history");
                 h.block_id = m.blocks.id[b];
+            }
+            const struct { const char* name; HistoryKind kind; } contact_quantities[] = {
+                {"nstress", HistoryKind::NStress}, {"sstress", HistoryKind::SStress},
+                {"ndis", HistoryKind::NDis}, {"sdis", HistoryKind::SDis}};
+            for (const auto& q : contact_quantities) {
+                if (what != q.name) continue;
+                h.kind = q.kind;
+                h.point = a.vec(what);
+                refresh_world_vertices(m);
+                detect_contacts(m);
+                const int c = find_contact_at(m, h.point);
+                if (c < 0) fail(a.find(what)->loc, "there are no contacts to follow", {"blocks touch once they are made and cycled"}, "history");
+                h.contact_id = m.contacts.id[c];
             }
             h.label = history_default_label(h);
             // Samples taken before this history existed have no value.

@@ -1,13 +1,454 @@
+// `plot`: pictures of the model, drawn off-screen into PNG files.
+//
+// Items are keywords that may all appear in one command, each with an optional quantity
+// after it, so pictures layer the way people say them: `plot block disp vector vel`.
+// Whatever order they are typed in, they are drawn blocks first, then contacts, principal
+// stresses and vectors, because each later layer needs to see through the earlier ones
+// (the builder makes blocks translucent under arrows; this file does the same under
+// contacts, which lie on faces the blocks share). `history` draws a chart, which is a
+// picture of its own and takes no 3D items.
 #include "commands.h"
 #include "common.h"
+#include "plot_settings.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+
+#include "engine/blocks.h"
+#include "render/contact_bridge.h"
+#include "render/scene_builder.h"
+#include "render/vtk_backend.h"
 
 namespace odec {
 
-// Placeholder: being written.
+namespace {
+
+using render::BlockColour;
+using render::ContactQuantity;
+using render::VectorKind;
+
+const std::vector<std::string> kBlockQuantities = {"disp", "xdis", "ydis",  "zdis",     "vel",   "xvel",
+                                                   "yvel", "zvel", "group", "material", "region"};
+const std::vector<std::string> kContactQuantities = {"nstress", "sstress", "ndis", "sdis", "state"};
+const std::vector<std::string> kViews = {"iso", "x", "-x", "y", "-y", "z", "-z", "eye"};
+const std::vector<std::string> kBackgrounds = {"white", "black", "grey"};
+const std::vector<std::string> kMaps = {"auto", "rainbow", "coolwarm", "viridis", "grey"};
+
+BlockColour block_colour(const std::string& q) {
+    static const std::map<std::string, BlockColour> table = {
+        {"disp", BlockColour::Disp},   {"xdis", BlockColour::XDis},         {"ydis", BlockColour::YDis},
+        {"zdis", BlockColour::ZDis},   {"vel", BlockColour::Vel},           {"xvel", BlockColour::XVel},
+        {"yvel", BlockColour::YVel},   {"zvel", BlockColour::ZVel},         {"group", BlockColour::Group},
+        {"material", BlockColour::Material}, {"region", BlockColour::Region}};
+    return table.at(q);
+}
+
+ContactQuantity contact_quantity(const std::string& q) {
+    static const std::map<std::string, ContactQuantity> table = {
+        {"nstress", ContactQuantity::NormalStress}, {"sstress", ContactQuantity::ShearStress},
+        {"ndis", ContactQuantity::NormalDisp},      {"sdis", ContactQuantity::ShearDisp},
+        {"state", ContactQuantity::State}};
+    return table.at(q);
+}
+
+render::Rgb background_colour(const std::string& name) {
+    if (name == "black") return {0, 0, 0};
+    if (name == "grey") return {0.82, 0.82, 0.82};
+    return {1, 1, 1};
+}
+
+std::optional<render::ColourMap> colour_map(const std::string& name) {
+    if (name == "rainbow") return render::ColourMap::Rainbow;
+    if (name == "coolwarm") return render::ColourMap::CoolWarm;
+    if (name == "viridis") return render::ColourMap::Viridis;
+    if (name == "grey") return render::ColourMap::Grey;
+    return std::nullopt;
+}
+
+// The quantity given after an item keyword, or its default.
+std::string quantity_of(const KeywordUse& u, const std::string& fallback) {
+    return u.values.empty() ? fallback : u.values[0].text;
+}
+
+// `view ...` of this command into the settings' form, checked.
+void read_view(const Args& a, std::string& view, Vec3& eye) {
+    const KeywordUse* u = a.find("view");
+    view = u->values[0].text;
+    if (view == "eye") {
+        if (u->values.size() < 2) {
+            fail(u->values[0].loc, "'view eye' needs the eye point x,y,z", {"for example: view eye 10,-20,8"}, "plot");
+        }
+        eye = u->values[1].vec;
+    } else if (u->values.size() > 1) {
+        fail(u->values[1].loc, "a point goes with 'view eye' only", {"write 'view eye x,y,z' to look from a point"},
+             "plot");
+    }
+}
+
+std::string settings_text(const PlotSettings& s) {
+    std::string view = s.view == "eye" ? "eye " + vec_text(s.eye) : s.view;
+    return "size " + std::to_string(s.width) + " " + std::to_string(s.height) + ", view " + view + ", background " +
+           s.background + ", map " + s.map;
+}
+
+// `plot set ...`: store defaults, draw nothing.
+void store_settings(CommandContext& ctx, const Args& a, PlotSettings& settings) {
+    for (const KeywordUse& u : a.uses) {
+        const std::string& k = u.spec->name;
+        if (k != "set" && k != "size" && k != "view" && k != "background" && k != "map") {
+            fail(u.loc, "'" + k + "' cannot go with 'set'",
+                 {"'plot set' keeps size, view, background and map for later plots and draws nothing"}, "plot");
+        }
+    }
+    PlotSettings next = settings;
+    if (a.has("size")) {
+        next.width = a.integer("size", 0);
+        next.height = a.integer("size", 1);
+    }
+    if (a.has("view")) {
+        read_view(a, next.view, next.eye);
+        next.view_set = true;
+    }
+    if (a.has("background")) next.background = a.text("background");
+    if (a.has("map")) next.map = a.text("map");
+    settings = next;
+    if (!ctx.interp.quiet) ctx.out << "plot defaults: " << settings_text(settings) << "\n";
+}
+
+// Centre of the shown blocks' bounding box: where a cut goes when no origin is given.
+Vec3 blocks_centre(const Model& m, const std::vector<int>& blocks) {
+    Eigen::AlignedBox3d box;
+    for (int b : blocks) {
+        const Polyhedron p = world_shape(m, b);
+        for (const Vec3& v : p.vertices) box.extend(v);
+    }
+    return box.isEmpty() ? Vec3::Zero() : Vec3(box.center());
+}
+
+bool block_shown(const Model& m, int b) { return (m.blocks.flags[b] & (kHidden | kExcavated)) == 0; }
+
+// Where the picture goes: the file given (".png" added when it has no extension), or the
+// next free plot-NNNN.png in the working directory. Checked before anything is drawn.
+std::string picture_path(const Args& a) {
+    namespace fs = std::filesystem;
+    if (!a.has("file")) {
+        int last = 0;
+        std::error_code ec;
+        for (const auto& entry : fs::directory_iterator(".", ec)) {
+            const std::string name = entry.path().filename().string();
+            // plot-NNNN.png: four or more digits.
+            if (name.size() < 13 || name.size() > 18 || name.compare(0, 5, "plot-") != 0 ||
+                name.compare(name.size() - 4, 4, ".png") != 0)
+                continue;
+            const std::string digits = name.substr(5, name.size() - 9);
+            if (digits.find_first_not_of("0123456789") != std::string::npos) continue;
+            last = std::max(last, std::stoi(digits));
+        }
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "plot-%04d.png", last + 1);
+        if (access(".", W_OK) != 0) {
+            fail(a.loc, "cannot write '" + std::string(buf) + "': the working directory is not writable",
+                 {"give a file in a writable directory: plot ... file '/tmp/picture.png'"}, "plot");
+        }
+        return buf;
+    }
+    const Value& v = a.find("file")->values[0];
+    fs::path path(v.text);
+    std::string ext = path.extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (ext.empty()) {
+        path += ".png";
+    } else if (ext != ".png") {
+        fail(v.loc, "pictures are PNG files: '" + v.text + "' should end in '.png'", {}, "plot");
+    }
+    const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) {
+        fail(v.loc, "cannot write '" + path.string() + "': there is no directory '" + dir.string() + "'", {}, "plot");
+    }
+    if (access(dir.c_str(), W_OK) != 0) {
+        fail(v.loc, "cannot write '" + path.string() + "': the directory '" + dir.string() + "' is not writable", {},
+             "plot");
+    }
+    return path.string();
+}
+
+// Contacts the range keeps (all, when there is none), skipping those of hidden blocks.
+std::vector<int> contacts_in_range(const Model& m, const Args& a) {
+    std::vector<int> out;
+    const ContactSet& cs = m.contacts;
+    for (int c = 0; c < cs.size(); ++c) {
+        const int ba = cs.block_a[c], bb = cs.block_b[c];
+        if (!block_shown(m, ba) || !block_shown(m, bb)) continue;
+        if (a.has_range && !a.range.contains_contact(m, contact_info(m, c).centroid, ba, bb)) continue;
+        out.push_back(c);
+    }
+    return out;
+}
+
+// A sub-contact's point is a corner of the contact polygon, and its share of the area lies
+// between that corner and the contact's centroid. A patch drawn at the corner would hang
+// over the blocks' edges; drawn halfway, the patches of a rectangular contact tile it.
+void centre_sub_contacts(ContactView& view) {
+    ContactRows& subs = view.sub_contacts;
+    for (int i = 0; i < subs.size(); ++i) {
+        subs.centroid[i] = 0.5 * (subs.centroid[i] + view.contacts.centroid[subs.parent[i]]);
+    }
+}
+
+std::string ms_text(double ms) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.0f ms", ms);
+    return buf;
+}
+
+using Clock = std::chrono::steady_clock;
+
+// Draw the scene and say where it went (and, with echo on, how long it took: the scene
+// from the model, then VTK's part, so a slow picture shows which half to look at).
+void draw(CommandContext& ctx, const Args& a, const render::Scene& scene, const std::string& path,
+          Clock::time_point t0) {
+    const auto t1 = Clock::now();
+    std::string error;
+    if (!render::render_png(scene, path, error)) {
+        fail(a.has("file") ? a.find("file")->values[0].loc : a.loc, error, {}, "plot");
+    }
+    if (ctx.interp.quiet) return;
+    ctx.out << "plot: wrote " << path;
+    if (ctx.interp.echo) {
+        const double scene_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
+        const render::RenderTimes rt = render::last_render_times();
+        ctx.out << " in " << ms_text(scene_ms + rt.total_ms) << " (scene " << ms_text(scene_ms) << ", render "
+                << ms_text(rt.total_ms);
+        // The first picture of a session also starts the renderer: say so, or it looks slow.
+        if (rt.context_ms > 0) ctx.out << ", of which " << ms_text(rt.context_ms) << " starting the renderer";
+        ctx.out << ")";
+    }
+    ctx.out << "\n";
+}
+
+void handle_plot(CommandContext& ctx, const Args& a) {
+    const auto t0 = Clock::now();
+    const Model& m = ctx.model;
+    PlotSettings& settings = plot_settings(ctx.interp);
+    if (a.has("set")) {
+        store_settings(ctx, a, settings);
+        return;
+    }
+
+    const KeywordUse* block = a.find("block");
+    const KeywordUse* vector = a.find("vector");
+    const KeywordUse* principal = a.find("principal");
+    const KeywordUse* contact = a.find("contact");
+    const KeywordUse* history = a.find("history");
+    const bool any_3d = block || vector || principal || contact;
+    if (a.has("vs") && !history) fail(a.find("vs")->loc, "'vs' goes with 'history'", {}, "plot");
+    if (history) {
+        for (const KeywordUse& u : a.uses) {
+            const std::string& k = u.spec->name;
+            if (k == "block" || k == "vector" || k == "principal" || k == "contact" || k == "cut" || k == "range" ||
+                k == "view" || k == "map" || k == "scale") {
+                fail(u.loc, "'" + k + "' cannot go with 'history'",
+                     {"a history chart is a picture of its own: plot it with a separate 'plot' command"}, "plot");
+            }
+        }
+    }
+
+    // Options: the stored defaults, then what this command says.
+    render::PlotOptions opt;
+    opt.width = a.has("size") ? a.integer("size", 0) : settings.width;
+    opt.height = a.has("size") ? a.integer("size", 1) : settings.height;
+    std::string view = settings.view;
+    Vec3 eye = settings.eye;
+    if (a.has("view")) read_view(a, view, eye);
+    if (view == "eye") opt.camera = render::camera_for_eye(eye);
+    else render::camera_for_view(view, opt.camera);
+    opt.view_given = a.has("view") || settings.view_set;
+    opt.background = background_colour(a.has("background") ? a.text("background") : settings.background);
+    opt.map = colour_map(a.has("map") ? a.text("map") : settings.map);
+    if (a.has("scale")) {
+        const double lo = a.real("scale", 0), hi = a.real("scale", 1);
+        if (!(hi > lo)) {
+            fail(a.find("scale")->values[1].loc, "'scale' hi must be greater than lo (got " + num(lo) + " and " +
+                                                     num(hi) + ")",
+                 {}, "plot");
+        }
+        opt.limits = std::make_pair(lo, hi);
+    }
+
+    render::Scene scene;
+    if (history) {
+        std::vector<int> numbers;
+        const int n_items = static_cast<int>(m.histories.items.size());
+        auto check = [&](const Value& v) {
+            const int n = static_cast<int>(v.number);
+            if (n > n_items) {
+                fail(v.loc, "there is no history " + std::to_string(n) + " (there " +
+                                (n_items == 1 ? std::string("is 1") : "are " + std::to_string(n_items)) + ")",
+                     {"make histories with 'hist', e.g. 'hist zdis 0,0,1'"}, "plot");
+            }
+            return n;
+        };
+        for (const Value& v : history->values) numbers.push_back(check(v));
+        const int vs = a.has("vs") ? check(a.find("vs")->values[0]) : 0;
+        if (m.histories.sample_steps.empty()) {
+            fail(history->loc, "the histories have no samples yet", {"take some steps first"}, "plot");
+        }
+        const std::string path = picture_path(a);
+        scene = render::begin_scene(m, opt);
+        std::string error;
+        if (!render::add_history_chart(scene, m.histories, numbers, vs, error)) fail(history->loc, error, {}, "plot");
+        draw(ctx, a, scene, path, t0);
+        return;
+    }
+
+    // 3D items; `plot` alone is `plot block disp`.
+    std::vector<int> blocks = a.has_range ? select_blocks(m, a.range) : std::vector<int>{};
+    if (!a.has_range) {
+        for (int b = 0; b < m.blocks.size(); ++b) blocks.push_back(b);
+    }
+    blocks.erase(std::remove_if(blocks.begin(), blocks.end(), [&](int b) { return !block_shown(m, b); }),
+                 blocks.end());
+    if (blocks.empty()) {
+        const SourceLoc& where = a.has_range ? a.range_loc : a.loc;
+        if (a.has_range && m.blocks.size() > 0) fail(where, "the range selects no blocks to plot", {}, "plot");
+        fail(where, "there are no blocks to plot", {"make blocks first, e.g. 'poly brick 0 1 0 1 0 1'"}, "plot");
+    }
+    if (a.has_range) opt.blocks = blocks;
+
+    if (a.has("cut")) {
+        const KeywordUse* u = a.find("cut");
+        const double dip = u->values[1].number * M_PI / 180.0, dd = u->values[2].number * M_PI / 180.0;
+        render::CutPlane cut;
+        // The plane's upward normal (language.md): what lies above is cut away.
+        cut.normal = Vec3(std::sin(dip) * std::sin(dd), std::sin(dip) * std::cos(dd), std::cos(dip));
+        cut.origin = u->values.size() > 3 ? u->values[3].vec : blocks_centre(m, blocks);
+        opt.cut = cut;
+    }
+
+    ContactView contacts;
+    if (contact || principal) {
+        const std::vector<int> chosen = contacts_in_range(m, a);
+        if (chosen.empty()) {
+            fail((contact ? contact : principal)->loc,
+                 m.contacts.size() == 0 ? "there are no contacts to plot" : "the range selects no contacts to plot",
+                 {m.contacts.size() == 0 ? "contacts are found when the model steps: take a step first"
+                                         : "widen the range"},
+                 "plot");
+        }
+        contacts = make_contact_view(m, &chosen);
+        centre_sub_contacts(contacts);
+    }
+    const std::string path = picture_path(a);
+
+    scene = render::begin_scene(m, opt);
+    if (block || !any_3d) {
+        render::add_blocks(scene, m, block_colour(block ? quantity_of(*block, "disp") : "disp"), opt);
+    } else {
+        render::add_block_outline(scene, m, opt);
+    }
+    std::string error;
+    if (contact) {
+        if (!render::add_contacts(scene, contacts, contact_quantity(quantity_of(*contact, "nstress")), opt, error)) {
+            fail(contact->loc, error, {}, "plot");
+        }
+    }
+    if (principal) render::add_principal(scene, render::principal_from_contacts(contacts), opt);
+    if ((contact || principal) && block) {
+        // Contacts lie on faces the blocks share: see them through the blocks.
+        for (auto& layer : scene.polygons) {
+            if (layer.name == "blocks") layer.opacity = std::min(layer.opacity, 0.3);
+        }
+    }
+    if (vector) render::add_vectors(scene, m, quantity_of(*vector, "disp") == "vel" ? VectorKind::Vel : VectorKind::Disp, opt);
+
+    draw(ctx, a, scene, path, t0);
+}
+
+// Keyed by address until the Interpreter holds its own (plot_settings.h).
+std::map<const Interpreter*, PlotSettings>& settings_table() {
+    static std::map<const Interpreter*, PlotSettings> table;
+    return table;
+}
+
+} // namespace
+
+PlotSettings& plot_settings(const Interpreter& interp) { return settings_table()[&interp]; }
+
+void forget_plot_settings(const Interpreter& interp) { settings_table().erase(&interp); }
+
 const CommandSpec& plot_command() {
     static const CommandSpec spec = [] {
-        CommandSpec c("plot", 4, "(being written)");
-        c.handle([](CommandContext&, const Args& a) { fail(a.loc, "'plot' is not available yet"); });
+        CommandSpec c("plot", 2, "draw a picture of the model into a PNG file, off-screen");
+        c.keyword("block", 2, "blocks coloured by a quantity").one_of("quantity", kBlockQuantities).optional("disp");
+        c.keyword("vector", 2, "arrows of block displacement or velocity at the centroids")
+            .one_of("quantity", {"disp", "vel"})
+            .optional("disp");
+        c.keyword("principal", 2, "principal-stress bars on the contacts (normal and shear stress)");
+        c.keyword("contact", 2, "contact patches coloured by a quantity")
+            .one_of("quantity", kContactQuantities)
+            .optional("nstress");
+        c.keyword("history", 2, "a line chart of histories n ... against the step (a picture of its own)")
+            .integer("n", 1)
+            .repeat();
+        c.keyword("vs", 1, "with 'history': history m along the horizontal axis instead of the step").integer("m", 1);
+        c.keyword("file", 2, "the PNG file to write").string("name").defaults("the next free plot-NNNN.png");
+        c.keyword("size", 2, "picture width and height, pixels")
+            .integer("w", 16, 8192)
+            .integer("h", 16, 8192)
+            .defaults("1024 768");
+        c.keyword("view", 2, "where the eye is: iso, on an axis (x, -x, ...), or at a point ('eye x,y,z')")
+            .one_of("from", kViews)
+            .vec("point")
+            .optional()
+            .defaults("iso");
+        c.keyword("cut", 2, "a section: the part above the plane (dip, dip direction, through origin) is cut away")
+            .one_of("shape", {"plane"})
+            .real("dip", 0, 90)
+            .labelled()
+            .real("dd", 0, 360)
+            .labelled()
+            .vec("origin")
+            .labelled()
+            .optional("the centre of the blocks");
+        c.keyword("map", 3, "colour map of continuous quantities").one_of("name", kMaps).defaults("auto");
+        c.keyword("scale", 2, "fixed colour scale from lo to hi (default: the data's own range)").real("lo").real("hi");
+        c.keyword("background", 2, "background colour").one_of("colour", kBackgrounds).defaults("white");
+        c.keyword("set", 3, "keep this command's size, view, background and map for later plots; draw nothing");
+        c.range("which blocks (and the contacts between them) to draw: see 'help range'");
+        c.describe(
+            "Items are 'block', 'vector', 'principal' and 'contact', each with an optional quantity after it; "
+            "several may be given and are layered in one picture (blocks, then contacts, principal stresses "
+            "and vectors; blocks turn translucent under contacts and arrows). 'plot' alone is 'plot block disp'. "
+            "Without 'block', the other items are drawn over the block edges. 'history n ... [vs m]' draws a "
+            "line chart instead, with 'file', 'size' and 'background' as its only options. "
+            "Block quantities: disp, xdis, ydis, zdis (m), vel, xvel, yvel, zvel (m/s), group, material, region. "
+            "Contact quantities: nstress (normal stress, compression positive), sstress (shear stress), ndis "
+            "(normal displacement, opening positive), sdis (shear displacement), state (elastic, slipping, open, "
+            "failed). 'principal' draws, on each sub-contact, the normal stress along the normal and the shear "
+            "stress along its direction as bars coloured by the signed value (compression negative). "
+            "'cut plane dip d dd a [origin x,y,z]' cuts the model by a plane given as in 'jset' and removes what "
+            "lies above it (on the side of its upward normal); unless a view is given, the eye looks straight "
+            "at the cut face from that side, so 'cut plane dip 90 dd 180' removes the south half and shows the "
+            "section from the south, and 'cut plane dip 0 dd 0 origin 0,0,2' shows a plan at z = 2 from above. "
+            "Without 'file' the picture goes to the next free plot-0001.png, plot-0002.png, ... in the working "
+            "directory, and the path is printed; with 'set echo on' the time the picture took is printed too. "
+            "'plot set size w h view ... background ... map ...' keeps those options for later plots (until "
+            "changed; 'new' keeps them) and draws nothing; 'plot set' alone prints them.");
+        c.example("plot block disp");
+        c.example("plot block zdis vector vel file 'slide.png' size 800 600 view -y");
+        c.example("plot contact sstress range z 0 5");
+        c.example("plot block group cut plane dip 90 dd 180 origin 0,2,0");
+        c.example("plot hist 2 vs 1 file 'fall.png'");
+        c.example("plot set size 1280 960 view eye 20,-30,15 background black map viridis");
+        c.handle(handle_plot);
         return c;
     }();
     return spec;

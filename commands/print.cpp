@@ -1,6 +1,7 @@
 #include "commands.h"
 #include "common.h"
 #include "engine/blocks.h"
+#include "engine/contact.h"
 #include "engine/cycle.h"
 
 #include <cmath>
@@ -61,6 +62,81 @@ void print_histories(CommandContext& ctx, const Args& a) {
     }
 }
 
+void print_contacts(CommandContext& ctx, const Args& a) {
+    const Model& m = ctx.model;
+    std::ostream& o = ctx.out;
+    o << col("id", 6) << col("block a", 8) << col("block b", 8) << col("centroid x", 12) << col("y", 12) << col("z", 12)
+      << col("area", 11) << col("nstress", 12) << col("sstress", 12) << col("ndis", 12) << col("sdis", 12)
+      << col("jmat", 5) << "  state\n";
+    int n = 0;
+    for (int c = 0; c < m.contacts.size(); ++c) {
+        const ContactInfo ci = contact_info(m, c);
+        if (a.has_range && !a.range.contains_contact(m, ci.centroid, ci.block_a, ci.block_b)) continue;
+        ++n;
+        o << col(std::to_string(ci.id), 6) << col(std::to_string(m.blocks.id[ci.block_a]), 8)
+          << col(std::to_string(m.blocks.id[ci.block_b]), 8) << col(num(ci.centroid.x()), 12)
+          << col(num(ci.centroid.y()), 12) << col(num(ci.centroid.z()), 12) << col(num(ci.area), 11)
+          << col(num(ci.normal_stress), 12) << col(num(ci.shear_stress), 12) << col(num(ci.normal_disp), 12)
+          << col(num(ci.shear_disp), 12) << col(std::to_string(ci.jmat), 5) << "  " << contact_state_name(ci.state)
+          << (ci.joined ? ",joined" : "") << "\n";
+    }
+    o << n << " of " << m.contacts.size() << " contacts (stresses in Pa, compression positive; displacements in m)\n";
+}
+
+void print_max(CommandContext& ctx) {
+    const Model& m = ctx.model;
+    const BlockSet& s = m.blocks;
+    std::ostream& o = ctx.out;
+    struct Max {
+        double value = 0;
+        int where = -1;
+    } disp, vel, unbal, nstress, sstress, ndis, sdis;
+    auto take = [](Max& mx, double v, int i) {
+        if (mx.where < 0 || v > mx.value) {
+            mx.value = v;
+            mx.where = i;
+        }
+    };
+    for (int b = 0; b < s.size(); ++b) {
+        if (s.flags[b] & kExcavated) continue;
+        take(disp, s.disp[b].norm(), b);
+        take(vel, velocity_at_t(m, b).norm(), b);
+        if (!(s.flags[b] & kFixed)) take(unbal, s.force[b].norm(), b);
+    }
+    for (int c = 0; c < m.contacts.size(); ++c) {
+        const ContactInfo ci = contact_info(m, c);
+        take(nstress, ci.normal_stress, c);
+        take(sstress, ci.shear_stress, c);
+        take(ndis, ci.normal_disp, c);
+        take(sdis, ci.shear_disp, c);
+    }
+    auto block_line = [&](const char* what, const Max& mx, const char* unit) {
+        o << col(what, 26) << "  ";
+        if (mx.where < 0) {
+            o << "-\n";
+            return;
+        }
+        o << num(mx.value) << " " << unit << " at block " << s.id[mx.where] << " " << vec_text(s.centroid[mx.where]) << "\n";
+    };
+    auto contact_line = [&](const char* what, const Max& mx, const char* unit) {
+        o << col(what, 26) << "  ";
+        if (mx.where < 0) {
+            o << "-\n";
+            return;
+        }
+        const ContactInfo ci = contact_info(m, mx.where);
+        o << num(mx.value) << " " << unit << " at contact " << ci.id << " " << vec_text(ci.centroid) << "\n";
+    };
+    block_line("displacement", disp, "m");
+    block_line("velocity", vel, "m/s");
+    block_line("unbalanced force", unbal, "N");
+    contact_line("joint normal stress", nstress, "Pa");
+    contact_line("joint shear stress", sstress, "Pa");
+    contact_line("joint normal closure", ndis, "m");
+    contact_line("joint shear displacement", sdis, "m");
+    o << col("mean unbalanced ratio", 26) << "  " << num(unbalanced_ratio(m)) << "\n";
+}
+
 void print_info(CommandContext& ctx) {
     const Model& m = ctx.model;
     std::ostream& o = ctx.out;
@@ -116,8 +192,9 @@ void print_info(CommandContext& ctx) {
         o << "cycle profile over " << p.steps << " steps (" << num(total) << " s, " << num(p.steps / total)
           << " steps/s):\n";
         for (int k = 0; k < static_cast<int>(Stage::Count); ++k) {
-            o << "  " << col(stage_name(static_cast<Stage>(k)), 16) << col(num(100.0 * p.seconds[k] / total), 8)
-              << " %\n";
+            char buf[96];
+            std::snprintf(buf, sizeof buf, "  %-16s %6.1f %%\n", stage_name(static_cast<Stage>(k)), 100.0 * p.seconds[k] / total);
+            o << buf;
         }
     }
 }
@@ -130,14 +207,20 @@ const CommandSpec& print_command() {
         c.keyword("block", 2, "blocks: centroid, displacement, velocity, mass, material, state").in_choice(1);
         c.keyword("history", 2, "the samples of histories n ...").integer("n", 1).repeat().in_choice(1);
         c.keyword("info", 2, "a summary of the model, its settings and where cycling time goes").in_choice(1);
+        c.keyword("contact", 2, "contacts: blocks, centroid, area, stresses, displacements, state").in_choice(1);
+        c.keyword("max", 2, "the largest displacement, velocity, unbalanced force and joint quantities, and where").in_choice(1);
         c.range();
         c.require_one_of(1);
         c.example("print block range z 0 10");
         c.example("print hist 1 2");
         c.handle([](CommandContext& ctx, const Args& a) {
             const std::string what = a.chosen(1);
-            if (a.has_range && what != "block") fail(a.range_loc, "'range' goes with 'print block'", {}, "print");
+            if (a.has_range && what != "block" && what != "contact") {
+                fail(a.range_loc, "'range' goes with 'print block' and 'print contact'", {}, "print");
+            }
             if (what == "block") print_blocks(ctx, a);
+            else if (what == "contact") print_contacts(ctx, a);
+            else if (what == "max") print_max(ctx);
             else if (what == "history") print_histories(ctx, a);
             else print_info(ctx);
         });

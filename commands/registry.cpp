@@ -7,11 +7,20 @@ const CommandTable& command_table() {
     static const CommandTable table = [] {
         CommandTable t;
         t.commands = {
-            &new_command(),    &title_command(), &call_command(),  &return_command(), &quit_command(),
-            &help_command_spec(), &poly_command(), &prop_command(), &change_command(), &grav_command(),
-            &fix_command(),    &free_command(),  &ini_command(),   &damp_command(),   &set_command(),
-            &step_command(),   &hist_command(),  &print_command(),
-            &plot_command(),   &export_command(), &save_command(),  &restore_command(),
+            // the session
+            &new_command(), &title_command(), &call_command(), &return_command(), &quit_command(),
+            &help_command_spec(),
+            // geometry
+            &poly_command(), &jset_command(), &delete_command(), &excavate_command(), &fill_command(),
+            &group_command(), &hide_command(), &seek_command(), &join_command(),
+            // properties and conditions
+            &prop_command(), &change_command(), &grav_command(), &fix_command(), &free_command(),
+            &bound_command(), &ini_command(), &table_command(), &damp_command(), &set_command(),
+            // solution
+            &step_command(), &solve_command(), &reset_command(),
+            // results
+            &hist_command(), &print_command(), &plot_command(), &export_command(), &save_command(),
+            &restore_command(),
         };
         return t;
     }();

@@ -1,13 +1,33 @@
 #include "commands.h"
 #include "common.h"
+#include "io/save.h"
 
 namespace odec {
 
-// Placeholder: being written.
 const CommandSpec& restore_command() {
     static const CommandSpec spec = [] {
-        CommandSpec c("restore", 4, "(being written)");
-        c.handle([](CommandContext&, const Args& a) { fail(a.loc, "'restore' is not available yet"); });
+        CommandSpec c("restore", 4, "replace the model with one written by 'save'");
+        c.positional.string("file");
+        c.describe("Replaces the whole model (blocks, contacts, materials, histories, tables, settings, step "
+                   "and time) with the one in the file; cycling on gives the same numbers, to the last bit, as "
+                   "the run that saved it would have. The extension '.sav' is added when the name has none; a "
+                   "relative name is taken from the working directory. A file that is truncated, damaged (its "
+                   "checksum does not match), not a save file at all, or written in a newer save format than "
+                   "this odec reads is refused with the reason, and the current model is kept.");
+        c.example("restore gravity");
+        c.example("rest 'runs/settled.sav'");
+        c.handle([](CommandContext& ctx, const Args& a) {
+            const Value& file = a.positional[0];
+            if (file.text.empty()) fail(file.loc, "'restore' needs a file name", {}, "restore");
+            const std::string path = save_file_name(file.text);
+            std::string error;
+            if (!restore_model(path, ctx.model, error)) fail(file.loc, error, {}, "restore");
+            const Model& m = ctx.model;
+            if (!ctx.interp.quiet) {
+                ctx.out << "restored '" << path << "': " << m.blocks.size() << " blocks, " << m.contacts.size()
+                        << " contacts, step " << m.step << ", time " << num(m.time) << " s\n";
+            }
+        });
         return c;
     }();
     return spec;

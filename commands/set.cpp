@@ -12,6 +12,8 @@ const CommandSpec& set_command() {
         c.keyword("echo", 2, "echo script commands with their file and line").one_of("state", {"on", "off"}).defaults("on");
         c.keyword("gravity", 3, "gravity vector, m/s^2 (same as 'grav')").vec("g");
         c.keyword("ncyc", 2, "steps between history samples").integer("n", 1).defaults("10");
+        c.keyword("jmat", 4, "joint material of contacts made from now on").integer("n", 1, 1000000).defaults("1");
+        c.keyword("jcons", 4, "joint model of contacts made from now on").integer("j", 1, 2).defaults("1");
         c.keyword("large", 2, "large-displacement mode (rigid blocks always are)");
         c.keyword("small", 2, "small-displacement mode (not available for rigid blocks)");
         c.example("set dt 1e-4 echo off");
@@ -37,6 +39,8 @@ const CommandSpec& set_command() {
             if (a.has("echo")) ctx.interp.echo = a.text("echo") == "on";
             if (a.has("gravity")) m.gravity = a.vec("gravity");
             if (a.has("ncyc")) m.histories.ncyc = a.integer("ncyc");
+            if (a.has("jmat")) m.settings.default_jmat = a.integer("jmat");
+            if (a.has("jcons")) m.settings.default_jcons = a.integer("jcons");
         });
         return c;
     }();

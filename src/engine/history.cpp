@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "engine/blocks.h"
+#include "engine/contact.h"
 #include "engine/cycle.h"
 #include "engine/model.h"
 
@@ -14,6 +15,20 @@ double history_value(const Model& m, const History& h) {
     case HistoryKind::Time: return m.time;
     case HistoryKind::Step: return static_cast<double>(m.step);
     case HistoryKind::Ratio: return unbalanced_ratio(m);
+    case HistoryKind::NStress:
+    case HistoryKind::SStress:
+    case HistoryKind::NDis:
+    case HistoryKind::SDis: {
+        // Follow the contact by id; when it has gone (blocks parted and met again), the one at the point.
+        int c = contact_index(m, h.contact_id);
+        if (c < 0) c = find_contact_at(m, h.point);
+        if (c < 0) return 0.0;
+        const ContactInfo ci = contact_info(m, c);
+        if (h.kind == HistoryKind::NStress) return ci.normal_stress;
+        if (h.kind == HistoryKind::SStress) return ci.shear_stress;
+        if (h.kind == HistoryKind::NDis) return ci.normal_disp;
+        return ci.shear_disp;
+    }
     default: break;
     }
     const int b = m.block_index(h.block_id);
@@ -41,15 +56,22 @@ static const char* kind_word(HistoryKind k) {
     case HistoryKind::XVel: return "xvel";
     case HistoryKind::YVel: return "yvel";
     case HistoryKind::ZVel: return "zvel";
+    case HistoryKind::NStress: return "nstress";
+    case HistoryKind::SStress: return "sstress";
+    case HistoryKind::NDis: return "ndis";
+    case HistoryKind::SDis: return "sdis";
     }
     return "?";
 }
 
 std::string history_default_label(const History& h) {
     std::string s = kind_word(h.kind);
+    char buf[160];
     if (h.block_id > 0) {
-        char buf[160];
         std::snprintf(buf, sizeof buf, " (%g,%g,%g) block %d", h.point.x(), h.point.y(), h.point.z(), h.block_id);
+        s += buf;
+    } else if (h.contact_id > 0) {
+        std::snprintf(buf, sizeof buf, " (%g,%g,%g) contact %d", h.point.x(), h.point.y(), h.point.z(), h.contact_id);
         s += buf;
     }
     return s;

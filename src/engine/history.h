@@ -17,12 +17,15 @@ enum class HistoryKind {
     XDis, YDis, ZDis,   // block displacement, m
     XVel, YVel, ZVel,   // block velocity at t, m/s
     Ratio,      // mean unbalanced-force ratio
+    NStress, SStress,   // contact normal (compression positive) and shear stress, Pa
+    NDis, SDis,         // contact normal closure and shear displacement, m
 };
 
 struct History {
     HistoryKind kind = HistoryKind::Unbalanced;
     Eigen::Vector3d point = Eigen::Vector3d::Zero(); // where the user asked (block quantities)
     int block_id = 0;                                // block sampled (block quantities)
+    int contact_id = 0;                              // contact sampled (contact quantities)
     std::string label;                               // column title
     std::vector<double> values;                      // (n_samples)
 };

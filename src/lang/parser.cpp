@@ -369,7 +369,7 @@ private:
         (void)positional;
         for (size_t i = 0; i < spec.values.size(); ++i) {
             const ValueSpec& v = spec.values[i];
-            if (v.optional && !can_start(v)) break;
+            if (v.optional && !can_start(v)) continue;
             out.push_back(parse_value(v, owner, spec, kw));
         }
         if (spec.repeat_last && !spec.values.empty()) {

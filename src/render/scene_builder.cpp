@@ -538,6 +538,10 @@ std::string history_axis_title(HistoryKind k) {
     case HistoryKind::YVel: return "y velocity (m/s)";
     case HistoryKind::ZVel: return "z velocity (m/s)";
     case HistoryKind::Ratio: return "unbalanced force ratio";
+    case HistoryKind::NStress: return "joint normal stress (Pa)";
+    case HistoryKind::SStress: return "joint shear stress (Pa)";
+    case HistoryKind::NDis: return "joint normal closure (m)";
+    case HistoryKind::SDis: return "joint shear displacement (m)";
     }
     return "value";
 }

@@ -30,7 +30,7 @@ TEST(Errors, UnknownKeywordListsWhatIsExpected) {
               "    set dtfarc 0.1\n"
               "        ^~~~~~\n"
               "  did you mean 'dtfrac'?\n"
-              "  expected one of: dt, dtfrac, ctol, echo, gravity, ncyc, large, small\n"
+              "  expected one of: dt, dtfrac, ctol, echo, gravity, ncyc, jmat, jcons, large, small\n"
               "  see 'help set'\n");
 }
 
@@ -141,7 +141,7 @@ TEST(Errors, CallRecursion) {
 
 TEST(Errors, RequiredChoiceAndMisplacedProperty) {
     EXPECT_EQ(error_of("poly region 1"),
-              "t.dat:1:14: error: 'poly' needs one of: brick\n"
+              "t.dat:1:14: error: 'poly' needs one of: brick, prism, face, tetra\n"
               "    poly region 1\n"
               "                 ^\n"
               "  see 'help poly'\n");

@@ -55,16 +55,23 @@ public:
     // Exit status of the program, or -1 when it has not ended within 10 s (it is then killed).
     int wait_exit() {
         int status = 0;
-        for (int k = 0; k < 1000; ++k) {
+        const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+        while (std::chrono::steady_clock::now() < end) {
             // Keep draining output so that the program never blocks writing to the terminal.
             pollfd p{fd_, POLLIN, 0};
-            if (poll(&p, 1, 10) > 0) {
+            if (poll(&p, 1, 10) > 0 && (p.revents & POLLIN)) {
                 char buf[4096];
                 const ssize_t n = read(fd_, buf, sizeof buf);
                 if (n > 0) seen_.append(buf, n);
+            } else {
+                usleep(10000);
             }
             if (waitpid(pid_, &status, WNOHANG) == pid_) {
                 pid_ = -1;
+                if (WIFSIGNALED(status)) {
+                    seen_ += "\n[killed by signal " + std::to_string(WTERMSIG(status)) + "]";
+                    return -1000 - WTERMSIG(status);
+                }
                 return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
             }
         }
@@ -100,7 +107,7 @@ TEST(Prompt, CompletesCommandsAndKeywords) {
     ASSERT_TRUE(t.expect("materials:  1 (dens 2000)")) << t.seen();
     ASSERT_TRUE(t.expect("odec> ")) << t.seen();
     t.type("\x04"); // Ctrl-D leaves
-    EXPECT_EQ(t.wait_exit(), 0);
+    EXPECT_EQ(t.wait_exit(), 0) << t.seen();
 }
 
 TEST(Prompt, ContinuationPromptAfterAmpersand) {
@@ -115,7 +122,7 @@ TEST(Prompt, ContinuationPromptAfterAmpersand) {
     ASSERT_TRUE(t.expect("1 of 1 blocks")) << t.seen();
     ASSERT_TRUE(t.expect("odec> ")) << t.seen();
     t.type("quit\n");
-    EXPECT_EQ(t.wait_exit(), 0);
+    EXPECT_EQ(t.wait_exit(), 0) << t.seen();
     // The history file keeps the joined command for the next session.
     std::ifstream h(home + "/.odec_history");
     std::string all((std::istreambuf_iterator<char>(h)), std::istreambuf_iterator<char>());
@@ -137,7 +144,7 @@ TEST(Prompt, ErrorsDoNotEndTheSessionAndCtrlCClearsTheLine) {
     ASSERT_TRUE(t.expect("gravity:    (0,0,0)")) << t.seen();
     ASSERT_TRUE(t.expect("odec> ")) << t.seen();
     t.type("quit\n");
-    EXPECT_EQ(t.wait_exit(), 0);
+    EXPECT_EQ(t.wait_exit(), 0) << t.seen();
 }
 
 TEST(Prompt, CtrlCStopsALongStepAndTheSessionGoesOn) {
@@ -154,5 +161,5 @@ TEST(Prompt, CtrlCStopsALongStepAndTheSessionGoesOn) {
     ASSERT_TRUE(t.expect("step:")) << t.seen();
     ASSERT_TRUE(t.expect("odec> ")) << t.seen();
     t.type("quit\n");
-    EXPECT_EQ(t.wait_exit(), 0);
+    EXPECT_EQ(t.wait_exit(), 0) << t.seen();
 }

@@ -1,0 +1,57 @@
+#include "commands.h"
+#include "common.h"
+
+namespace odec {
+
+namespace {
+
+void set_excavated(CommandContext& ctx, const Args& a, bool on) {
+    BlockSet& s = ctx.model.blocks;
+    int n = 0;
+    for (int b : select_blocks(ctx.model, a.range, true)) {
+        const bool was = s.flags[b] & kExcavated;
+        if (was == on) continue;
+        if (on) {
+            s.flags[b] |= kExcavated;
+        } else {
+            s.flags[b] &= static_cast<std::uint8_t>(~kExcavated);
+            s.vel[b].setZero();
+            s.ang_vel[b].setZero();
+            s.half_kick[b] = 1;
+        }
+        ++n;
+    }
+    ctx.model.geometry_changed = true;
+    if (!ctx.interp.quiet) ctx.out << (on ? "excavated " : "filled ") << n << " blocks\n";
+}
+
+} // namespace
+
+const CommandSpec& excavate_command() {
+    static const CommandSpec spec = [] {
+        CommandSpec c("excavate", 3, "null blocks: they leave the model but are kept for 'fill'");
+        c.range();
+        c.describe("Excavated blocks carry no load and make no contacts; 'fill' brings them back where "
+                   "they were, at rest. This is how a cavern is excavated in stages.");
+        c.example("excavate range cylinder 0,-10,0 0,10,0 3");
+        c.handle([](CommandContext& ctx, const Args& a) {
+            if (!a.has_range) fail(a.loc, "'excavate' needs a range", {}, "excavate");
+            set_excavated(ctx, a, true);
+        });
+        return c;
+    }();
+    return spec;
+}
+
+const CommandSpec& fill_command() {
+    static const CommandSpec spec = [] {
+        CommandSpec c("fill", 3, "bring excavated blocks back");
+        c.range();
+        c.example("fill range group 'stage2'");
+        c.handle([](CommandContext& ctx, const Args& a) { set_excavated(ctx, a, false); });
+        return c;
+    }();
+    return spec;
+}
+
+} // namespace odec

@@ -1,0 +1,60 @@
+#include "commands.h"
+#include "common.h"
+#include "engine/jset.h"
+
+namespace odec {
+
+const CommandSpec& jset_command() {
+    static const CommandSpec spec = [] {
+        CommandSpec c("jset", 3, "cut blocks by a set of parallel joint planes");
+        c.keyword("dip", 2, "dip of the planes, degrees below horizontal").real("d", 0, 90);
+        c.keyword("dd", 2, "dip direction, degrees clockwise from north (+y)").real("a", -360, 360);
+        c.keyword("origin", 2, "a point on the middle plane").vec("x,y,z").defaults("0,0,0");
+        c.keyword("spacing", 2, "distance between neighbouring planes, m").real("s", 0, kInf, Limit::Open);
+        c.keyword("number", 2, "number of planes, placed symmetrically about the origin").integer("n", 1, 100000).defaults("1");
+        c.keyword("persistence", 2, "chance that a plane cuts a block it crosses").real("p", 0, 1, Limit::Open).defaults("1");
+        c.keyword("seed", 2, "seed of the persistence draws (same seed, same cuts)").integer("n", 0).defaults("1");
+        c.keyword("join", 2, "glue the two sides of every new cut (no slip, no opening)");
+        c.keyword("jmat", 4, "joint material of the contacts across these planes").integer("n", 1, 1000000);
+        c.range("which blocks to cut: see 'help range' (hidden blocks are never cut)");
+        c.describe("Each plane cuts every selected block it crosses into two. A cut that would leave a "
+                   "piece thinner than a millionth of the block is not made (it is counted; 'print info' "
+                   "shows how many). The orientation convention: the planes' upward normal is "
+                   "(sin dip sin dd, sin dip cos dd, cos dip), x east, y north, z up.");
+        c.example("jset dip 60 dd 90 origin 0,0,0 spacing 2 number 5");
+        c.example("jset dip 0 dd 0 origin 0,0,5 join");
+        c.handle([](CommandContext& ctx, const Args& a) {
+            Model& m = ctx.model;
+            if (!a.has("dip")) fail(a.loc, "'jset' needs 'dip d' (and 'dd a')", {}, "jset");
+            JointSetSpec s;
+            s.dip = a.real("dip");
+            s.dd = a.real_or("dd", 0);
+            if (a.has("origin")) s.origin = a.vec("origin");
+            s.number = a.has("number") ? a.integer("number") : 1;
+            s.spacing = a.real_or("spacing", 0);
+            if (s.number > 1 && !a.has("spacing")) {
+                fail(a.find("number")->loc, "more than one plane needs 'spacing s'", {}, "jset");
+            }
+            s.persistence = a.real_or("persistence", 1.0);
+            s.seed = static_cast<std::uint64_t>(a.real_or("seed", 1));
+            s.join = a.has("join");
+            // Size of the model, for the sliver tolerance.
+            double size = 0;
+            for (int b = 0; b < m.blocks.size(); ++b) size = std::max(size, std::cbrt(m.blocks.volume[b]));
+            const size_t first_plane = m.joint_planes.size();
+            const CutReport r = cut_joint_set(m, s, a.range, 1e-6 * std::max(size, 1e-3));
+            if (a.has("jmat")) {
+                for (size_t k = first_plane; k < m.joint_planes.size(); ++k) m.joint_planes[k].jmat = a.integer("jmat");
+            }
+            if (!ctx.interp.quiet) {
+                ctx.out << "joint set " << m.n_joint_sets << ": " << r.planes << " planes, " << r.blocks_cut
+                        << " cuts, " << r.slivers_skipped << " skipped as slivers; " << m.blocks.size()
+                        << " blocks\n";
+            }
+        });
+        return c;
+    }();
+    return spec;
+}
+
+} // namespace odec

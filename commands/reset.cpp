@@ -1,0 +1,45 @@
+#include "commands.h"
+#include "common.h"
+
+namespace odec {
+
+const CommandSpec& reset_command() {
+    static const CommandSpec spec = [] {
+        CommandSpec c("reset", 3, "set accumulated quantities back to zero");
+        c.keyword("displacement", 3, "block displacements and rotations");
+        c.keyword("jdisp", 2, "joint shear displacements (the stresses are kept)");
+        c.keyword("time", 2, "model time");
+        c.keyword("history", 3, "the samples of every history (the histories themselves stay)");
+        c.keyword("velocity", 3, "block velocities and spins");
+        c.example("reset disp jdisp time hist");
+        c.handle([](CommandContext& ctx, const Args& a) {
+            Model& m = ctx.model;
+            if (a.uses.empty()) fail(a.loc, "'reset' needs what to reset: displacement, jdisp, time, history or velocity", {}, "reset");
+            BlockSet& s = m.blocks;
+            if (a.has("displacement")) {
+                for (int b = 0; b < s.size(); ++b) {
+                    s.disp[b].setZero();
+                    s.rotation[b].setZero();
+                }
+            }
+            if (a.has("velocity")) {
+                for (int b = 0; b < s.size(); ++b) {
+                    s.vel[b].setZero();
+                    s.ang_vel[b].setZero();
+                    s.accel[b].setZero();
+                    s.ang_accel[b].setZero();
+                    s.half_kick[b] = 1;
+                }
+            }
+            if (a.has("jdisp")) {
+                for (auto& u : m.contacts.sub_us) u.setZero();
+            }
+            if (a.has("time")) m.time = 0;
+            if (a.has("history")) m.histories.clear_values();
+        });
+        return c;
+    }();
+    return spec;
+}
+
+} // namespace odec

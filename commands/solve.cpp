@@ -1,0 +1,59 @@
+#include "commands.h"
+#include "common.h"
+#include "engine/cycle.h"
+
+namespace odec {
+
+const CommandSpec& solve_command() {
+    static const CommandSpec spec = [] {
+        CommandSpec c("solve", 3, "cycle until the model is in equilibrium (or a limit is reached)");
+        c.keyword("ratio", 2, "stop when the mean unbalanced-force ratio falls below r")
+            .real("r", 0, 1, Limit::Open, Limit::Open)
+            .defaults("1e-5");
+        c.keyword("cycles", 2, "stop after n steps at most").integer("n", 1, 2e9).defaults("200000");
+        c.keyword("time", 2, "stop after model time t at most, s").real("t", 0, kInf, Limit::Open);
+        c.describe("The mean unbalanced-force ratio is the sum over free blocks of the unbalanced force "
+                   "divided by the sum of the magnitudes of all the forces acting on them. Progress is "
+                   "printed every 1000 steps; at the end, why it stopped. Ctrl-C stops it at the prompt.");
+        c.example("solve");
+        c.example("solve ratio 1e-6 cycles 50000");
+        c.handle([](CommandContext& ctx, const Args& a) {
+            Model& m = ctx.model;
+            CycleLimits lim;
+            lim.ratio = a.real_or("ratio", 1e-5);
+            lim.max_steps = a.has("cycles") ? static_cast<long>(a.real("cycles")) : (a.has("time") ? 0 : 200000);
+            lim.max_time = a.real_or("time", 0);
+            std::ostream& o = ctx.out;
+            const bool talk = !ctx.interp.quiet;
+            if (talk) o << "      step          time   max unbalanced    ratio\n";
+            auto line = [&](const Model& mm) {
+                char buf[160];
+                std::snprintf(buf, sizeof buf, "%10ld  %12.5g  %15.5g  %9.3e\n", mm.step, mm.time,
+                              max_unbalanced_force(mm), unbalanced_ratio(mm));
+                o << buf;
+                o.flush();
+            };
+            ctx.interp.interrupt = false;
+            const CycleResult r = cycle(m, lim, &ctx.interp.interrupt, talk ? ProgressFn(line) : ProgressFn(), 1000);
+            if (r.reason == StopReason::Error) fail(a.loc, r.message, {}, "solve");
+            if (r.reason == StopReason::BlowUp) {
+                fail(a.loc, "stopped: " + r.message, {"the model is left as it was at that step, for inspection"}, "solve");
+            }
+            if (!talk) return;
+            line(m);
+            switch (r.reason) {
+            case StopReason::Ratio: o << "solve: equilibrium, ratio " << num(unbalanced_ratio(m)) << " < " << num(lim.ratio); break;
+            case StopReason::Steps: o << "solve: stopped at the step limit (" << r.steps << " steps), ratio still " << num(unbalanced_ratio(m)); break;
+            case StopReason::Time: o << "solve: reached the time limit"; break;
+            case StopReason::Interrupted: o << "solve: interrupted"; break;
+            default: break;
+            }
+            o << " after " << r.steps << " steps\n";
+            ctx.interp.interrupt = false;
+        });
+        return c;
+    }();
+    return spec;
+}
+
+} // namespace odec

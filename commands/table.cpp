@@ -1,0 +1,73 @@
+#include "commands.h"
+#include "common.h"
+
+#include <fstream>
+#include <sstream>
+
+namespace odec {
+
+const CommandSpec& table_command() {
+    static const CommandSpec spec = [] {
+        CommandSpec c("table", 3, "define a piecewise-linear table of (x, y) points");
+        c.positional.integer("n", 1, 1000000).real("x y").optional().repeat();
+        c.keyword("read", 3, "read the points from a text file: two numbers a line").string("file");
+        c.keyword("delete", 3, "remove the table");
+        c.describe("Points follow the table number as x1 y1 x2 y2 ...; x must increase. Between points the "
+                   "value is linear, beyond the ends it is held. Tables drive boundary velocities in time "
+                   "('bound xvel v hist table n').");
+        c.example("table 1 0,0 0.5,1 1,0");
+        c.handle([](CommandContext& ctx, const Args& a) {
+            Model& m = ctx.model;
+            const int n = static_cast<int>(a.positional[0].number);
+            if (a.has("delete")) {
+                if (a.positional.size() > 1 || a.has("read")) fail(a.find("delete")->loc, "'delete' takes no points", {}, "table");
+                m.tables.tables.erase(n);
+                return;
+            }
+            Table t;
+            if (a.has("read")) {
+                const Value& f = a.find("read")->values[0];
+                std::string path = f.text;
+                if (!path.empty() && path[0] != '/' && f.loc.file && !f.loc.file->directory.empty()) {
+                    path = f.loc.file->directory + path;
+                }
+                std::ifstream in(path);
+                if (!in) fail(f.loc, "cannot open '" + f.text + "'", {}, "table");
+                std::string line;
+                int line_no = 0;
+                while (std::getline(in, line)) {
+                    ++line_no;
+                    for (char& ch : line) {
+                        if (ch == ',' || ch == '\t' || ch == ';') ch = ' ';
+                    }
+                    std::istringstream ls(line);
+                    double x, y;
+                    if (!(ls >> x)) continue; // blank or comment line
+                    if (!(ls >> y)) fail(f.loc, "'" + f.text + "' line " + std::to_string(line_no) + ": expected two numbers", {}, "table");
+                    t.points.emplace_back(x, y);
+                }
+            }
+            const size_t n_values = a.positional.size() - 1;
+            if (n_values % 2 != 0) {
+                fail(a.positional.back().loc, "table points come in pairs x y: this x has no y", {}, "table");
+            }
+            for (size_t k = 1; k + 1 < a.positional.size(); k += 2) {
+                t.points.emplace_back(a.positional[k].number, a.positional[k + 1].number);
+            }
+            for (size_t k = 1; k < t.points.size(); ++k) {
+                if (!(t.points[k].first > t.points[k - 1].first)) {
+                    const SourceLoc loc = n_values > 0 && 2 * k + 1 < a.positional.size() ? a.positional[2 * k + 1].loc : a.loc;
+                    fail(loc, "table x values must increase (point " + std::to_string(k + 1) + ": " +
+                                  num(t.points[k].first) + " after " + num(t.points[k - 1].first) + ")",
+                         {}, "table");
+                }
+            }
+            if (t.points.empty()) fail(a.loc, "table " + std::to_string(n) + " needs points (x y ...) or 'read file'", {}, "table");
+            m.tables.tables[n] = std::move(t);
+        });
+        return c;
+    }();
+    return spec;
+}
+
+} // namespace odec

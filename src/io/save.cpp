@@ -1,0 +1,656 @@
+// Save files: the whole model state, byte for byte.
+//
+// Layout (integers little-endian, doubles as their own IEEE-754 bytes):
+//
+//   magic            12 bytes  "ODEC-SAVE" CR LF ^Z
+//   format version   u32       kSaveFormatVersion
+//   program version  u64 n, then n bytes ("0.1.0")
+//   payload length   u64
+//   payload          sections in a fixed order, each: tag (4 bytes), body length (u64), body
+//   checksum         u64       FNV-1a 64 of every byte before it
+//
+// Why so. The magic and the two versions come first and will never move, so any odec can
+// tell a foreign file or a newer one and say which program wrote it; the CR LF ^Z tail of
+// the magic catches a file mangled by a text-mode copy. The payload length up front tells
+// a truncated file (and by how much) from a damaged one before anything is parsed, and the
+// checksum at the very end covers every byte before it, so a flipped bit anywhere is caught
+// before any of the model is believed. Each section carries its length and must be read to
+// its exact end, and every array carries its length, so a reader and a writer that disagree
+// on a field fail loudly instead of reading shifted bytes. Doubles are their bytes, never
+// text: a restored model must cycle on to the same bits as one that was never saved, so
+// everything the next step reads is written, down to the contact-detection caches (positions
+// at the last detection and refresh, block radii, the warm-start normals) and the adaptive
+// damping coefficient.
+//
+// Each struct's fields are listed once, in a `fields` function that both the writer and the
+// reader walk, so the two cannot drift apart.
+#include "io/save.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <map>
+#include <type_traits>
+#include <utility>
+
+#ifndef ODEC_VERSION
+#define ODEC_VERSION "0.1.0"
+#endif
+
+namespace odec {
+
+static_assert(std::numeric_limits<double>::is_iec559 && sizeof(double) == 8,
+              "save files hold doubles as IEEE-754 binary64 bytes");
+static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__,
+              "save files are little-endian and written as the platform's own bytes");
+
+const char* save_program_version() { return ODEC_VERSION; }
+
+std::string save_file_name(const std::string& name) {
+    const size_t slash = name.find_last_of('/');
+    const std::string base = slash == std::string::npos ? name : name.substr(slash + 1);
+    // A leading dot marks a hidden file, not an extension.
+    const size_t dot = base.find_last_of('.');
+    const bool has_extension = dot != std::string::npos && dot > 0 && dot + 1 < base.size();
+    return has_extension || base.empty() ? name : name + kSaveExtension;
+}
+
+namespace {
+
+constexpr char kMagic[12] = {'O', 'D', 'E', 'C', '-', 'S', 'A', 'V', 'E', '\r', '\n', '\x1a'};
+constexpr size_t kMagicSize = sizeof kMagic;
+constexpr size_t kChecksumSize = 8;
+constexpr std::uint64_t kMaxVersionText = 256;
+
+std::uint64_t fnv1a64(const char* p, size_t n) {
+    std::uint64_t h = 0xcbf29ce484222325ull;
+    for (size_t i = 0; i < n; ++i) {
+        h ^= static_cast<unsigned char>(p[i]);
+        h *= 0x100000001b3ull;
+    }
+    return h;
+}
+
+std::string hex(std::uint64_t x) {
+    char buf[24];
+    std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(x));
+    return buf;
+}
+
+// ---- the fields of each struct, walked by Writer and Reader alike ----
+
+template <class M, class T>
+using If = std::enable_if_t<std::is_same_v<std::remove_const_t<M>, T>>;
+
+template <class IO, class M>
+auto fields(IO& io, M& x) -> If<M, Material> {
+    io(x.defined); io(x.density); io(x.bulk); io(x.shear); io(x.cohesion); io(x.friction);
+    io(x.tension); io(x.dilation);
+}
+
+template <class IO, class M>
+auto fields(IO& io, M& x) -> If<M, JointMaterial> {
+    io(x.defined); io(x.kn); io(x.ks); io(x.friction); io(x.cohesion); io(x.tension);
+    io(x.dilation); io(x.zdilation); io(x.res_friction);
+}
+
+template <class IO, class M>
+auto fields(IO& io, M& x) -> If<M, JointPlane> {
+    io(x.set); io(x.joined); io(x.jmat);
+}
+
+template <class IO, class M>
+auto fields(IO& io, M& x) -> If<M, Polyhedron> {
+    io(x.vertices); io(x.face_offsets); io(x.face_vertices); io(x.face_joint);
+}
+
+template <class IO, class M>
+auto fields(IO& io, M& x) -> If<M, Table> {
+    io(x.points);
+}
+
+template <class IO, class M>
+auto fields(IO& io, M& x) -> If<M, History> {
+    io.enumeration(x.kind, static_cast<int>(HistoryKind::SDis) + 1); // the last kind
+    io(x.point); io(x.block_id); io(x.contact_id); io(x.label); io(x.values);
+}
+
+template <class IO, class M>
+auto fields(IO& io, M& x) -> If<M, HistorySet> {
+    io(x.ncyc); io(x.items); io(x.sample_steps);
+}
+
+template <class IO, class M>
+auto fields(IO& io, M& x) -> If<M, TableSet> {
+    io(x.tables);
+}
+
+template <class IO, class M>
+auto fields(IO& io, M& x) -> If<M, Settings> {
+    io(x.dt_fixed); io(x.dtfrac); io(x.ctol); io(x.default_jmat); io(x.default_jcons); io(x.large_strain);
+}
+
+template <class IO, class M>
+auto fields(IO& io, M& x) -> If<M, Damping> {
+    io.enumeration(x.mode, static_cast<int>(DampingMode::Off) + 1);
+    io(x.local); io(x.rayleigh_fraction); io(x.rayleigh_frequency); io(x.auto_coefficient);
+}
+
+template <class IO, class M>
+auto fields(IO& io, M& x) -> If<M, Profile> {
+    int n_stages = static_cast<int>(Stage::Count);
+    io(n_stages);
+    io.check(n_stages == static_cast<int>(Stage::Count), "the profile has " + std::to_string(n_stages) +
+                                                             " stages, this odec has " +
+                                                             std::to_string(static_cast<int>(Stage::Count)));
+    for (auto& s : x.seconds) io(s);
+    io(x.steps);
+}
+
+template <class IO, class M>
+auto fields(IO& io, M& x) -> If<M, BlockSet> {
+    io(x.id); io(x.shape); io(x.centroid); io(x.orientation); io(x.vel); io(x.ang_vel);
+    io(x.accel); io(x.ang_accel); io(x.force); io(x.moment); io(x.applied_force); io(x.force_scale);
+    io(x.disp); io(x.rotation); io(x.volume); io(x.mass); io(x.inertia_body); io(x.inertia_unit);
+    io(x.material); io(x.region); io(x.group); io(x.flags); io(x.vel_bc); io(x.vel_bc_value);
+    io(x.vel_bc_table); io(x.half_kick);
+    // Derived from the above, but written as they are so nothing is recomputed differently.
+    io(x.vertex_offset); io(x.world_vertices);
+}
+
+template <class IO, class M>
+auto fields(IO& io, M& x) -> If<M, ContactSet> {
+    io(x.id); io(x.block_a); io(x.block_b); io(x.normal); io(x.point); io(x.gap);
+    io(x.jmat); io(x.jcons); io(x.joined); io(x.sub_offset);
+    io(x.sub_contact); io(x.sub_side); io(x.sub_key); io(x.sub_vertex); io(x.sub_area); io(x.sub_local);
+    io(x.sub_un); io(x.sub_udil); io(x.sub_sn); io(x.sub_us); io(x.sub_ss); io(x.sub_flags);
+    io(x.ctol); io(x.next_id); io(x.detected);
+    io(x.ref_centroid); io(x.ref_orientation); io(x.geo_centroid); io(x.geo_orientation); io(x.radius);
+    io(x.n_detections);
+}
+
+// The scalars of the model itself.
+template <class IO, class M>
+void model_scalars(IO& io, M& m) {
+    io(m.title); io(m.step); io(m.time); io(m.dt); io(m.next_block_id); io(m.geometry_changed);
+    io(m.n_joint_sets); io(m.slivers_skipped); io(m.gravity);
+}
+
+// The whole model, section by section, in file order.
+template <class IO, class M>
+void model_sections(IO& io, M& m) {
+    io.section("MODL", [&] { model_scalars(io, m); });
+    io.section("SETS", [&] { io(m.settings); });
+    io.section("DAMP", [&] { io(m.damping); });
+    io.section("PROF", [&] { io(m.profile); });
+    io.section("MATS", [&] { io(m.materials); });
+    io.section("JMAT", [&] { io(m.joint_materials); });
+    io.section("GRPS", [&] { io(m.group_names); });
+    io.section("JPLN", [&] { io(m.joint_planes); });
+    io.section("BLKS", [&] { io(m.blocks); });
+    io.section("CONT", [&] { io(m.contacts); });
+    io.section("HIST", [&] { io(m.histories); });
+    io.section("TABL", [&] { io(m.tables); });
+}
+
+// ---- writing ----
+
+class Writer {
+public:
+    std::string buf;
+
+    void bytes(const void* p, size_t n) { buf.append(static_cast<const char*>(p), n); }
+    template <class U>
+    void raw(U x) {
+        static_assert(std::is_trivially_copyable_v<U>);
+        bytes(&x, sizeof x);
+    }
+
+    void operator()(const double& x) { raw(x); }
+    // Integers have a fixed size on file whatever their size in memory: bool and 8-bit ones
+    // one byte, int four, anything wider eight.
+    template <class T, std::enable_if_t<std::is_integral_v<T>, int> = 0>
+    void operator()(const T& x) {
+        if constexpr (std::is_same_v<T, bool>) raw(static_cast<std::uint8_t>(x ? 1 : 0));
+        else if constexpr (sizeof(T) == 1) raw(static_cast<std::uint8_t>(x));
+        else if constexpr (std::is_same_v<T, int>) raw(static_cast<std::int32_t>(x));
+        else {
+            static_assert(std::is_signed_v<T> && sizeof(T) <= 8);
+            raw(static_cast<std::int64_t>(x));
+        }
+    }
+    void operator()(const std::string& s) {
+        raw(static_cast<std::uint64_t>(s.size()));
+        bytes(s.data(), s.size());
+    }
+    void operator()(const Vec3& v) { for (int i = 0; i < 3; ++i) raw(v[i]); }
+    void operator()(const Quat& q) { for (int i = 0; i < 4; ++i) raw(q.coeffs()[i]); }
+    void operator()(const Mat3& a) { for (int i = 0; i < 9; ++i) raw(a.data()[i]); }
+    template <class A, class B>
+    void operator()(const std::pair<A, B>& p) { (*this)(p.first); (*this)(p.second); }
+    template <class T>
+    void operator()(const std::vector<T>& v) {
+        raw(static_cast<std::uint64_t>(v.size()));
+        for (const T& x : v) (*this)(x);
+    }
+    template <class K, class V>
+    void operator()(const std::map<K, V>& mp) {
+        raw(static_cast<std::uint64_t>(mp.size()));
+        for (const auto& kv : mp) { (*this)(kv.first); (*this)(kv.second); }
+    }
+    template <class T>
+    auto operator()(const T& x) -> decltype(fields(*this, x)) { fields(*this, x); }
+
+    template <class E>
+    void enumeration(const E& e, int) { raw(static_cast<std::int32_t>(e)); }
+    void check(bool, const std::string&) {}
+
+    template <class F>
+    void section(const char* tag, F&& body) {
+        bytes(tag, 4);
+        const size_t at = buf.size();
+        raw(std::uint64_t{0});
+        body();
+        const std::uint64_t len = buf.size() - at - 8;
+        std::memcpy(&buf[at], &len, 8);
+    }
+};
+
+// Write all of `data` to fd, through short writes and interrupted calls.
+bool write_all(int fd, const std::string& data) {
+    size_t done = 0;
+    while (done < data.size()) {
+        const ssize_t n = ::write(fd, data.data() + done, data.size() - done);
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            return false;
+        }
+        done += static_cast<size_t>(n);
+    }
+    return true;
+}
+
+// Write `data` to `path` so that `path` holds either its old bytes or all the new ones,
+// never a part: a temporary file beside it, flushed to disk, then renamed over it.
+bool write_file_atomically(const std::string& path, const std::string& data, std::string& error) {
+    static std::atomic<unsigned> counter{0};
+    const std::string tmp =
+        path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter.fetch_add(1));
+    const std::string where = "cannot save to '" + path + "': ";
+    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd < 0) {
+        error = where + "cannot create the temporary file '" + tmp + "': " + std::strerror(errno);
+        return false;
+    }
+    if (!write_all(fd, data) || ::fsync(fd) != 0) {
+        const int e = errno;
+        ::close(fd);
+        ::unlink(tmp.c_str());
+        error = where + "writing '" + tmp + "' failed: " + std::strerror(e) + " (the old file, if any, is unchanged)";
+        return false;
+    }
+    if (::close(fd) != 0) {
+        const int e = errno;
+        ::unlink(tmp.c_str());
+        error = where + "writing '" + tmp + "' failed: " + std::strerror(e) + " (the old file, if any, is unchanged)";
+        return false;
+    }
+    if (::rename(tmp.c_str(), path.c_str()) != 0) {
+        const int e = errno;
+        ::unlink(tmp.c_str());
+        error = where + std::strerror(e) + " (the old file, if any, is unchanged)";
+        return false;
+    }
+    // Make the rename itself durable; a failure here loses nothing already written.
+    const size_t slash = path.find_last_of('/');
+    const std::string dir = slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
+    const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (dfd >= 0) {
+        ::fsync(dfd);
+        ::close(dfd);
+    }
+    return true;
+}
+
+// ---- reading ----
+
+struct ReadError {
+    std::string what;
+};
+
+class Reader {
+public:
+    Reader(const char* begin, const char* end) : p_(begin), end_(end) {}
+
+    template <class U>
+    U raw() {
+        static_assert(std::is_trivially_copyable_v<U>);
+        need(sizeof(U));
+        U x;
+        std::memcpy(&x, p_, sizeof x);
+        p_ += sizeof x;
+        return x;
+    }
+
+    void operator()(double& x) { x = raw<double>(); }
+    template <class T, std::enable_if_t<std::is_integral_v<T>, int> = 0>
+    void operator()(T& x) {
+        if constexpr (std::is_same_v<T, bool>) {
+            const std::uint8_t b = raw<std::uint8_t>();
+            check(b <= 1, "a flag holds " + std::to_string(b));
+            x = b != 0;
+        } else if constexpr (sizeof(T) == 1) {
+            x = static_cast<T>(raw<std::uint8_t>());
+        } else if constexpr (std::is_same_v<T, int>) {
+            x = raw<std::int32_t>();
+        } else {
+            const std::int64_t v = raw<std::int64_t>();
+            check(v >= std::numeric_limits<T>::min() && v <= std::numeric_limits<T>::max(),
+                  "the number " + std::to_string(v) + " does not fit");
+            x = static_cast<T>(v);
+        }
+    }
+    void operator()(std::string& s) {
+        const size_t n = count(1);
+        s.assign(p_, n);
+        p_ += n;
+    }
+    void operator()(Vec3& v) { for (int i = 0; i < 3; ++i) v[i] = raw<double>(); }
+    void operator()(Quat& q) { for (int i = 0; i < 4; ++i) q.coeffs()[i] = raw<double>(); }
+    void operator()(Mat3& a) { for (int i = 0; i < 9; ++i) a.data()[i] = raw<double>(); }
+    template <class A, class B>
+    void operator()(std::pair<A, B>& p) { (*this)(p.first); (*this)(p.second); }
+    template <class T>
+    void operator()(std::vector<T>& v) {
+        // Every element takes at least a byte, so a length beyond the bytes left is damage,
+        // caught before it can ask for a huge allocation.
+        v.resize(count(1));
+        for (T& x : v) (*this)(x);
+    }
+    template <class K, class V>
+    void operator()(std::map<K, V>& mp) {
+        const size_t n = count(1);
+        mp.clear();
+        for (size_t i = 0; i < n; ++i) {
+            K k{};
+            (*this)(k);
+            check(mp.find(k) == mp.end(), "a key is repeated");
+            (*this)(mp[k]);
+        }
+    }
+    template <class T>
+    auto operator()(T& x) -> decltype(fields(*this, x)) { fields(*this, x); }
+
+    template <class E>
+    void enumeration(E& e, int n_values) {
+        const std::int32_t v = raw<std::int32_t>();
+        check(v >= 0 && v < n_values, "an enumeration holds " + std::to_string(v) + " (0 to " +
+                                          std::to_string(n_values - 1) + " allowed)");
+        e = static_cast<E>(v);
+    }
+    void check(bool ok, const std::string& what) {
+        if (!ok) throw ReadError{in_section() + what};
+    }
+
+    template <class F>
+    void section(const char* tag, F&& body) {
+        need(4);
+        if (std::memcmp(p_, tag, 4) != 0) {
+            throw ReadError{"section '" + std::string(tag, 4) + "' expected, found '" + printable(p_, 4) + "'"};
+        }
+        p_ += 4;
+        const std::uint64_t len = raw<std::uint64_t>();
+        need(len);
+        const char* const outer_end = end_;
+        end_ = p_ + len;
+        tag_ = tag;
+        body();
+        check(p_ == end_, std::to_string(end_ - p_) + " bytes are left over at its end");
+        end_ = outer_end;
+        tag_.clear();
+    }
+
+    size_t left() const { return static_cast<size_t>(end_ - p_); }
+
+private:
+    const char* p_;
+    const char* end_;
+    std::string tag_;
+
+    std::string in_section() const { return tag_.empty() ? "" : "section '" + tag_ + "': "; }
+    void need(std::uint64_t n) {
+        if (left() < n) {
+            throw ReadError{in_section() + "it ends early (" + std::to_string(n) + " bytes needed, " +
+                            std::to_string(left()) + " left)"};
+        }
+    }
+    size_t count(size_t min_element_bytes) {
+        const std::uint64_t n = raw<std::uint64_t>();
+        check(n <= left() / min_element_bytes,
+              "an array claims " + std::to_string(n) + " elements but only " + std::to_string(left()) +
+                  " bytes are left");
+        return static_cast<size_t>(n);
+    }
+    static std::string printable(const char* p, size_t n) {
+        std::string s;
+        for (size_t i = 0; i < n; ++i) s += (p[i] >= 32 && p[i] < 127) ? p[i] : '?';
+        return s;
+    }
+};
+
+// Sizes and indices that the cycle trusts without checking, so that a file which passed its
+// checksum but was written wrongly cannot make the cycle read out of bounds.
+std::string check_consistent(const Model& m) {
+    const BlockSet& s = m.blocks;
+    const size_t n = s.id.size();
+    bool sizes_ok = true;
+    auto same = [&](size_t k) { sizes_ok = sizes_ok && k == n; };
+    same(s.shape.size()); same(s.centroid.size()); same(s.orientation.size()); same(s.vel.size());
+    same(s.ang_vel.size()); same(s.accel.size()); same(s.ang_accel.size()); same(s.force.size());
+    same(s.moment.size()); same(s.applied_force.size()); same(s.force_scale.size()); same(s.disp.size());
+    same(s.rotation.size()); same(s.volume.size()); same(s.mass.size()); same(s.inertia_body.size());
+    same(s.inertia_unit.size()); same(s.material.size()); same(s.region.size()); same(s.group.size());
+    same(s.flags.size()); same(s.vel_bc.size()); same(s.vel_bc_value.size()); same(s.vel_bc_table.size());
+    same(s.half_kick.size());
+    if (!sizes_ok) return "the block arrays differ in length";
+    if (!s.vertex_offset.empty()) {
+        if (s.vertex_offset.size() != n + 1 || s.vertex_offset[0] != 0) return "the world vertex offsets are wrong";
+        for (size_t b = 0; b < n; ++b) {
+            if (s.vertex_offset[b + 1] - s.vertex_offset[b] != s.shape[b].n_vertices()) {
+                return "the world vertex offsets do not match the block shapes";
+            }
+        }
+        if (static_cast<size_t>(s.vertex_offset[n]) != s.world_vertices.size()) return "the world vertices are missing";
+    }
+    for (size_t b = 0; b < n; ++b) {
+        const Polyhedron& p = s.shape[b];
+        const int nf = p.n_faces();
+        if (nf > 0 && (p.face_offsets[0] != 0 ||
+                       static_cast<size_t>(p.face_offsets[nf]) != p.face_vertices.size())) {
+            return "the faces of block " + std::to_string(s.id[b]) + " are wrong";
+        }
+        for (int f = 0; f < nf; ++f) {
+            if (p.face_offsets[f + 1] < p.face_offsets[f]) return "the faces of block " + std::to_string(s.id[b]) + " are wrong";
+        }
+        for (int v : p.face_vertices) {
+            if (v < 0 || v >= p.n_vertices()) return "block " + std::to_string(s.id[b]) + " has a face vertex out of range";
+        }
+        if (!p.face_joint.empty() && static_cast<int>(p.face_joint.size()) != nf) {
+            return "the face joint tags of block " + std::to_string(s.id[b]) + " are wrong";
+        }
+        if (s.group[b] < -1 || s.group[b] >= static_cast<int>(m.group_names.size())) {
+            return "block " + std::to_string(s.id[b]) + " is in a group that does not exist";
+        }
+    }
+
+    const ContactSet& c = m.contacts;
+    const size_t nc = c.block_a.size();
+    if (c.id.size() != nc || c.block_b.size() != nc || c.normal.size() != nc || c.point.size() != nc ||
+        c.gap.size() != nc || c.jmat.size() != nc || c.jcons.size() != nc || c.joined.size() != nc) {
+        return "the contact arrays differ in length";
+    }
+    const size_t ns = c.sub_contact.size();
+    if (c.sub_side.size() != ns || c.sub_key.size() != ns || c.sub_vertex.size() != ns ||
+        c.sub_area.size() != ns || c.sub_local.size() != ns || c.sub_un.size() != ns || c.sub_udil.size() != ns ||
+        c.sub_sn.size() != ns || c.sub_us.size() != ns || c.sub_ss.size() != ns || c.sub_flags.size() != ns) {
+        return "the sub-contact arrays differ in length";
+    }
+    if (c.sub_offset.empty() ? (nc != 0 || ns != 0)
+                             : (c.sub_offset.size() != nc + 1 || c.sub_offset[0] != 0 ||
+                                static_cast<size_t>(c.sub_offset[nc]) != ns)) {
+        return "the sub-contact offsets are wrong";
+    }
+    for (size_t k = 0; k < nc; ++k) {
+        if (c.sub_offset[k + 1] < c.sub_offset[k]) return "the sub-contact offsets are wrong";
+        if (c.block_a[k] < 0 || c.block_b[k] < 0 || static_cast<size_t>(c.block_a[k]) >= n ||
+            static_cast<size_t>(c.block_b[k]) >= n) {
+            return "contact " + std::to_string(c.id[k]) + " refers to a block that does not exist";
+        }
+    }
+    for (size_t k = 0; k < ns; ++k) {
+        if (c.sub_contact[k] < 0 || static_cast<size_t>(c.sub_contact[k]) >= nc) {
+            return "a sub-contact refers to a contact that does not exist";
+        }
+    }
+    if (c.ref_orientation.size() != c.ref_centroid.size()) return "the detection caches differ in length";
+    if (c.ref_centroid.size() == n &&
+        (c.geo_centroid.size() != n || c.geo_orientation.size() != n || c.radius.size() != n)) {
+        return "the detection caches differ in length";
+    }
+    const HistorySet& h = m.histories;
+    for (const History& item : h.items) {
+        if (item.values.size() > h.sample_steps.size()) return "a history has more values than samples";
+    }
+    return "";
+}
+
+bool read_whole_file(const std::string& path, std::string& data, std::string& error) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) {
+        error = "cannot restore '" + path + "': " + std::strerror(errno);
+        return false;
+    }
+    data.clear();
+    char buf[1 << 16];
+    for (;;) {
+        const ssize_t k = ::read(fd, buf, sizeof buf);
+        if (k < 0) {
+            if (errno == EINTR) continue;
+            error = "cannot restore '" + path + "': " + std::strerror(errno);
+            ::close(fd);
+            return false;
+        }
+        if (k == 0) break;
+        data.append(buf, static_cast<size_t>(k));
+    }
+    ::close(fd);
+    return true;
+}
+
+} // namespace
+
+bool save_model(const Model& m, const std::string& path, std::string& error) {
+    Writer w;
+    w.bytes(kMagic, kMagicSize);
+    w.raw(kSaveFormatVersion);
+    w(std::string(save_program_version()));
+    const size_t length_at = w.buf.size();
+    w.raw(std::uint64_t{0});
+    const size_t payload_at = w.buf.size();
+    model_sections(w, m);
+    const std::uint64_t payload = w.buf.size() - payload_at;
+    std::memcpy(&w.buf[length_at], &payload, 8);
+    w.raw(fnv1a64(w.buf.data(), w.buf.size()));
+    return write_file_atomically(path, w.buf, error);
+}
+
+bool restore_model(const std::string& path, Model& out, std::string& error) {
+    std::string data;
+    if (!read_whole_file(path, data, error)) return false;
+    const std::string who = "cannot restore '" + path + "': ";
+    const size_t size = data.size();
+    auto refuse = [&](const std::string& what) {
+        error = who + what;
+        return false;
+    };
+    auto truncated_header = [&] {
+        return refuse("the file is truncated: it ends at byte " + std::to_string(size) +
+                      ", inside the header");
+    };
+    if (size == 0) return refuse("the file is empty");
+    if (std::memcmp(data.data(), kMagic, std::min(size, kMagicSize)) != 0) {
+        return refuse("it is not an odec save file (it does not begin with 'ODEC-SAVE')");
+    }
+    if (size < kMagicSize + 4) return truncated_header();
+    Reader header(data.data() + kMagicSize, data.data() + size);
+    std::string writer_version;
+    try {
+        const std::uint32_t format = header.raw<std::uint32_t>();
+        // The program version is read before judging the format, to name the odec that wrote it.
+        std::string version_note;
+        if (header.left() >= 8) {
+            const std::uint64_t n = header.raw<std::uint64_t>();
+            if (n <= kMaxVersionText && header.left() >= n) {
+                writer_version.resize(static_cast<size_t>(n));
+                for (char& ch : writer_version) ch = header.raw<char>();
+                version_note = " by odec " + writer_version;
+            } else if (format <= kSaveFormatVersion && n > kMaxVersionText) {
+                return refuse("the file is damaged: its header gives a program version of " + std::to_string(n) +
+                              " bytes");
+            }
+        }
+        if (format > kSaveFormatVersion) {
+            return refuse("it was written" + version_note + " in save format " + std::to_string(format) +
+                          ", newer than this odec (" + save_program_version() + ") reads (format " +
+                          std::to_string(kSaveFormatVersion) + " and older); restore it with a newer odec");
+        }
+        if (format == 0) return refuse("the file is damaged: its header gives save format 0");
+        if (version_note.empty() || header.left() < 8) return truncated_header();
+    } catch (const ReadError&) {
+        return truncated_header();
+    }
+    const std::uint64_t payload = header.raw<std::uint64_t>();
+    const size_t header_size = size - header.left();
+    if (payload > std::numeric_limits<std::uint64_t>::max() - header_size - kChecksumSize) {
+        return refuse("the file is damaged: its header gives a payload of " + std::to_string(payload) + " bytes");
+    }
+    const std::uint64_t expected = header_size + payload + kChecksumSize;
+    if (size < expected) {
+        return refuse("the file is truncated: it has " + std::to_string(size) + " bytes, a complete save has " +
+                      std::to_string(expected));
+    }
+    if (size > expected) {
+        return refuse("the file is damaged: it has " + std::to_string(size - expected) +
+                      " bytes after the end of the save");
+    }
+    std::uint64_t stored;
+    std::memcpy(&stored, data.data() + size - kChecksumSize, kChecksumSize);
+    const std::uint64_t computed = fnv1a64(data.data(), size - kChecksumSize);
+    if (stored != computed) {
+        return refuse("the file is damaged: its checksum does not match its contents (stored " + hex(stored) +
+                      ", computed " + hex(computed) + ")");
+    }
+    Model fresh;
+    try {
+        Reader r(data.data() + header_size, data.data() + size - kChecksumSize);
+        model_sections(r, fresh);
+        if (r.left() != 0) {
+            return refuse("the file is damaged: " + std::to_string(r.left()) + " bytes follow the last section");
+        }
+    } catch (const ReadError& e) {
+        return refuse("the file is damaged or was written wrongly (by odec " + writer_version + "): " + e.what);
+    }
+    const std::string why = check_consistent(fresh);
+    if (!why.empty()) return refuse("the file is damaged or was written wrongly (by odec " + writer_version + "): " + why);
+    out = std::move(fresh);
+    return true;
+}
+
+} // namespace odec
