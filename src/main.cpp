@@ -9,6 +9,7 @@
 #include "lang/help.h"
 #include "lang/interpreter.h"
 #include "lang/prompt.h"
+#include "render/vtk_backend.h"
 
 namespace {
 
@@ -24,6 +25,11 @@ const char* kUsage =
     "  -V, --version       show the version and exit\n";
 
 } // namespace
+
+// Releases the off-screen GL context (if a picture made one) before the program ends.
+struct RendererGuard {
+    ~RendererGuard() { odec::render::shutdown_renderer(); }
+};
 
 int main(int argc, char** argv) {
     using namespace odec;
@@ -67,6 +73,7 @@ int main(int argc, char** argv) {
             items.push_back({false, a});
         }
     }
+    RendererGuard renderer_guard;
     Model model;
     Interpreter interp(model, command_table(), std::cout, std::cerr);
     interp.quiet = quiet;

@@ -24,6 +24,9 @@ struct StageTimer {
 
 double sign(double x) { return (x > 0) - (x < 0); }
 
+// (m/s)^2: a block moving faster than 1e5 m/s means the numbers have run away.
+constexpr double kMaxSpeed2 = 1e10;
+
 bool is_active(const BlockSet& s, int b) { return !(s.flags[b] & kExcavated); }
 
 void apply_loads(Model& m) {
@@ -141,7 +144,10 @@ int integrate(Model& m, double dt) {
             s.rotation[b] += dtheta;
         }
         s.half_kick[b] = 0;
-        if (bad < 0 && !(v.allFinite() && w.allFinite() && s.centroid[b].allFinite())) bad = b;
+        // Not finite, or faster than anything rock can move: the integration has become unstable.
+        if (bad < 0 && !(v.allFinite() && w.allFinite() && s.centroid[b].allFinite() && v.squaredNorm() < kMaxSpeed2)) {
+            bad = b;
+        }
     }
     if (auto_damp) adjust_auto_damping(m.damping, power, m.step, dt);
     return bad;
@@ -266,7 +272,7 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
         if (bad >= 0) {
             res.reason = StopReason::BlowUp;
             res.message = "the motion of block " + std::to_string(m.blocks.id[bad]) +
-                          " is no longer finite (step " + std::to_string(m.step) +
+                          " has run away (step " + std::to_string(m.step) +
                           "): the timestep is too large for the stiffnesses, or a load is unbounded";
             break;
         }

@@ -45,11 +45,21 @@ const char* kModel =
     "hist ncyc 10\n"
     "step 300\n";
 
-// A fresh directory under /tmp for one test's files.
+// A fresh directory under /tmp for one test's files, removed when the tests end.
 std::string temp_dir() {
+    struct Made {
+        std::vector<std::string> dirs;
+        ~Made() {
+            std::error_code ec;
+            for (const auto& d : dirs) fs::remove_all(d, ec);
+        }
+    };
+    static Made made;
     char name[] = "/tmp/odec-plot-test-XXXXXX";
     const char* dir = mkdtemp(name);
-    return dir ? dir : "/tmp";
+    if (!dir) return "/tmp";
+    made.dirs.push_back(dir);
+    return dir;
 }
 
 // A session with the model built, and its plot defaults back to the start when it ends

@@ -252,3 +252,21 @@ TEST(Verification, SameScriptSameBits) {
     }
     EXPECT_EQ(a.model.contacts.sub_sn, b.model.contacts.sub_sn);
 }
+
+TEST(Verification, AdaptiveDampingReachesTheSameEquilibrium) {
+    Session s;
+    ASSERT_TRUE(s.interp.run_text("t.dat", "call '" + kDir + "column-3.dat'", false)) << s.error();
+    const double local = -s.model.blocks.disp[s.model.block_index(4)].z();
+    Session a;
+    std::string text;
+    bool ok = false;
+    text = odec::read_file_text(kDir + "column-3.dat", ok);
+    ASSERT_TRUE(ok);
+    text.replace(text.find("solve ratio"), 0, "damp auto\n");
+    ASSERT_TRUE(a.run(text)) << a.error();
+    const double autod = -a.model.blocks.disp[a.model.block_index(4)].z();
+    report("3 column of 3 under damp auto: top settlement", autod, 0.012, "m");
+    EXPECT_NEAR(autod, 0.012, 0.01 * 0.012);
+    EXPECT_NEAR(local, 0.012, 0.01 * 0.012);
+    EXPECT_EQ(a.model.damping.mode, odec::DampingMode::Auto);
+}
