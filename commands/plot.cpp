@@ -372,17 +372,9 @@ void handle_plot(CommandContext& ctx, const Args& a) {
     draw(ctx, a, scene, path, t0);
 }
 
-// Keyed by address until the Interpreter holds its own (plot_settings.h).
-std::map<const Interpreter*, PlotSettings>& settings_table() {
-    static std::map<const Interpreter*, PlotSettings> table;
-    return table;
-}
-
 } // namespace
 
-PlotSettings& plot_settings(const Interpreter& interp) { return settings_table()[&interp]; }
-
-void forget_plot_settings(const Interpreter& interp) { settings_table().erase(&interp); }
+PlotSettings& plot_settings(const Interpreter& interp) { return const_cast<Interpreter&>(interp).plot; }
 
 const CommandSpec& plot_command() {
     static const CommandSpec spec = [] {

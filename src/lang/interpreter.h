@@ -6,6 +6,8 @@
 
 #include <atomic>
 #include <iosfwd>
+
+#include <Eigen/Dense>
 #include <string>
 #include <vector>
 
@@ -16,6 +18,16 @@
 namespace odec {
 
 class Interpreter;
+
+// Picture options kept between plots of a session (`plot set ...`).
+struct PlotSettings {
+    int width = 1024, height = 768;          // pixels
+    std::string view = "iso";                // iso, x, -x, y, -y, z, -z or eye
+    Eigen::Vector3d eye = Eigen::Vector3d::Zero(); // m, when view is "eye"
+    bool view_set = false;                   // a stored view wins over a cut's own view
+    std::string background = "white";        // white, black or grey
+    std::string map = "auto";                // auto (rainbow, or cool-warm for signed), rainbow, coolwarm, viridis, grey
+};
 
 // What a command handler works with.
 struct CommandContext {
@@ -50,6 +62,7 @@ public:
     bool return_requested = false;// `return`: leave the current file
     std::atomic<bool> interrupt{false}; // raised by Ctrl-C; cycling stops between steps
     bool at_prompt = false;       // commands typed at the prompt are not echoed
+    PlotSettings plot;            // kept between plots
 
 private:
     std::vector<std::string> call_stack_; // canonical paths of the files being run

@@ -66,7 +66,7 @@ std::string temp_dir() {
 // (they are kept per interpreter, and a later session may sit at the same address).
 struct PlotSession : Session {
     PlotSession() { EXPECT_TRUE(run(kModel)) << error(); }
-    ~PlotSession() { odec::forget_plot_settings(interp); }
+    ~PlotSession() = default;
 };
 
 bool is_red(const odec::render::Rgb& c) { return c[0] > 0.6 && c[1] < 0.35 && c[2] < 0.35; }
@@ -286,7 +286,7 @@ TEST(PlotErrors, NothingToPlot) {
               "    ^~~~\n"
               "  make blocks first, e.g. 'poly brick 0 1 0 1 0 1'\n"
               "  see 'help plot'\n");
-    odec::forget_plot_settings(s.interp);
+    s.interp.plot = odec::PlotSettings();
 }
 
 TEST(PlotErrors, FileNotWritableAndUnknownItem) {
