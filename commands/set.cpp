@@ -14,6 +14,7 @@ const CommandSpec& set_command() {
         c.keyword("ncyc", 2, "steps between history samples").integer("n", 1).defaults("10");
         c.keyword("jmat", 4, "joint material of contacts made from now on").integer("n", 1, 1000000).defaults("1");
         c.keyword("jcons", 4, "joint model of contacts made from now on").integer("j", 1, 2).defaults("1");
+        c.keyword("plot", 2, "picture options kept between plots: the options of 'plot set'").forward_to("plot");
         c.keyword("large", 2, "large-displacement mode (rigid blocks always are)");
         c.keyword("small", 2, "small-displacement mode (not available for rigid blocks)");
         c.example("set dt 1e-4 echo off");
@@ -24,6 +25,21 @@ const CommandSpec& set_command() {
                                             "large displacements", {}, "set");
             }
             if (a.uses.empty()) fail(a.loc, "'set' needs a setting", {"type 'help set' for the settings"}, "set");
+            if (const KeywordUse* p = a.find("plot")) {
+                // `set plot size 800 600 view -y` is `plot set size 800 600 view -y`.
+                std::vector<Token> toks;
+                Token verb;
+                verb.kind = TokenKind::Word;
+                verb.text = verb.lower = "plot";
+                verb.loc = p->loc;
+                toks.push_back(verb);
+                Token set = verb;
+                set.text = set.lower = "set";
+                toks.push_back(set);
+                toks.insert(toks.end(), p->rest.begin(), p->rest.end());
+                const Args fwd = parse_command(ctx.interp.table, toks);
+                fwd.command->handler(ctx, fwd);
+            }
             if (a.has("dt")) {
                 m.settings.dt_fixed = a.real("dt");
                 m.geometry_changed = true;

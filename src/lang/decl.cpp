@@ -122,6 +122,11 @@ KeywordSpec& KeywordSpec::in_choice(int group) {
     return *this;
 }
 
+KeywordSpec& KeywordSpec::forward_to(std::string command) {
+    rest_of = std::move(command);
+    return *this;
+}
+
 KeywordSpec& KeywordSpec::defaults(std::string text) {
     default_text = std::move(text);
     return *this;
@@ -130,6 +135,7 @@ KeywordSpec& KeywordSpec::defaults(std::string text) {
 std::string KeywordSpec::synopsis() const {
     std::string s = name;
     if (is_range) return s + " <filters>";
+    if (!rest_of.empty()) return s + " <" + rest_of + " options>";
     for (const ValueSpec& v : values) s += " " + value_synopsis(v);
     if (repeat_last) s += " ...";
     return s;
@@ -198,7 +204,7 @@ std::string CommandSpec::synopsis() const {
             for (int g : required_choices) required = required || g == k.choice;
             s += required ? " {" + alt + "}" : " [" + alt + "]";
         } else {
-            s += " [" + k.name + (k.is_range || !k.values.empty() ? " ..." : "") + "]";
+            s += " [" + k.name + (k.is_range || !k.values.empty() || !k.rest_of.empty() ? " ..." : "") + "]";
         }
     }
     return s;

@@ -56,6 +56,7 @@ struct KeywordSpec {
     bool repeat_last = false;    // the last value may be given any number of times (>= 1)
     bool repeatable = false;     // the keyword may appear more than once
     bool is_range = false;       // takes the range phrase
+    std::string rest_of;         // takes every word after it, to be parsed as this command's
     int choice = 0;              // nonzero: keywords sharing it exclude each other
     std::string default_text;    // for keywords that stand for a setting with a default
 
@@ -74,6 +75,8 @@ struct KeywordSpec {
     KeywordSpec& many();          // the keyword may be repeated
     KeywordSpec& in_choice(int group);
     KeywordSpec& defaults(std::string text);
+    // The words after this keyword belong to another command (`set plot ...` -> `plot set ...`).
+    KeywordSpec& forward_to(std::string command);
     // "brick x1 x2 y1 y2 z1 z2"
     std::string synopsis() const;
 };

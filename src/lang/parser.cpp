@@ -119,7 +119,10 @@ public:
             KeywordUse use;
             use.spec = &spec;
             use.loc = w.loc;
-            if (spec.is_range) {
+            if (!spec.rest_of.empty()) {
+                use.rest.assign(t_.begin() + static_cast<long>(pos_), t_.end());
+                pos_ = t_.size();
+            } else if (spec.is_range) {
                 parse_range(w, a.range);
                 a.has_range = true;
                 a.range_loc = w.loc;

@@ -28,6 +28,7 @@ struct KeywordUse {
     const KeywordSpec* spec = nullptr;
     SourceLoc loc;
     std::vector<Value> values;
+    std::vector<Token> rest;      // for a keyword that forwards the words after it
 };
 
 struct Args {

@@ -157,3 +157,77 @@ TEST(Manual, PagesAreGeneratedForEveryCommand) {
         EXPECT_NE(index.find("[`" + c->name + "`](" + c->name + ".md)"), std::string::npos) << c->name;
     }
 }
+
+TEST(Commands, SetPlotKeepsPictureOptions) {
+    Session s;
+    ASSERT_TRUE(s.run("set plot size 640 480 view -y background black")) << s.error();
+    EXPECT_EQ(s.interp.plot.width, 640);
+    EXPECT_EQ(s.interp.plot.height, 480);
+    EXPECT_EQ(s.interp.plot.view, "-y");
+    EXPECT_EQ(s.interp.plot.background, "black");
+    // Errors point into the forwarded words, and change nothing.
+    EXPECT_FALSE(s.run("set plot size 10 10"));
+    EXPECT_NE(s.error().find("t.dat:1:15: error: 'size' w must be 16 to 8192 (got 10)"), std::string::npos) << s.error();
+    EXPECT_EQ(s.interp.plot.width, 640);
+}
+
+TEST(Commands, JsetCutsAndCountsAndRejectsBadInput) {
+    Session s;
+    ASSERT_TRUE(s.run("poly brick 0 10 0 10 0 10\njset dip 0 dd 0 origin 0,0,5 spacing 2 number 3\n"
+                      "jset dip 90 dd 90 origin 5,0,0"));
+    EXPECT_EQ(s.model.blocks.size(), 8);
+    EXPECT_EQ(s.model.n_joint_sets, 2);
+    double volume = 0;
+    for (double v : s.model.blocks.volume) volume += v;
+    EXPECT_NEAR(volume, 1000.0, 1e-9);
+    EXPECT_FALSE(s.run("jset dip 100 dd 0"));
+    EXPECT_NE(s.error().find("error: 'dip' must be 0 to 90 (got 100)"), std::string::npos) << s.error();
+    Session t;
+    EXPECT_FALSE(t.run("jset dip 30 dd 0 number 3"));
+    EXPECT_NE(t.error().find("error: more than one plane needs 'spacing s'"), std::string::npos) << t.error();
+    EXPECT_FALSE(t.run("jset dd 30"));
+    EXPECT_NE(t.error().find("error: 'jset' needs 'dip d' (and 'dd a')"), std::string::npos) << t.error();
+}
+
+TEST(Commands, ExcavateFillDeleteAndGroup) {
+    Session s;
+    ASSERT_TRUE(s.run("poly brick 0 1 0 1 0 1\npoly brick 0 1 0 1 1 2\npoly brick 0 1 0 1 2 3\n"
+                      "group 'top' range z 2 3\nexcavate range group 'top'"));
+    EXPECT_TRUE(s.model.blocks.flags[2] & odec::kExcavated);
+    ASSERT_TRUE(s.run("fill\ndelete range id 1"));
+    EXPECT_FALSE(s.model.blocks.flags[1] & odec::kExcavated);
+    EXPECT_EQ(s.model.blocks.size(), 2);
+    EXPECT_EQ(s.model.blocks.id[0], 2); // ids are not reused or shifted
+    EXPECT_FALSE(s.run("delete"));
+    EXPECT_NE(s.error().find("error: 'delete' needs a range (to delete everything, use 'new')"), std::string::npos);
+}
+
+TEST(Commands, TableAndBoundaryVelocityFollowingIt) {
+    Session s;
+    ASSERT_TRUE(s.run("poly brick 0 1 0 1 0 1\nprop mat=1 dens=1000\ndamp off\nset dt 1e-3\n"
+                      "table 1 0,0 1,2\nbound xvel 1 hist table 1\nstep 1000"))
+        << s.error();
+    // v(t) = 2 t: x = t^2 after 1 s (central differences sample the table at each step).
+    EXPECT_NEAR(s.model.blocks.disp[0].x(), 1.0, 2e-3);
+    EXPECT_FALSE(s.run("table 2 0,0 1"));
+    EXPECT_NE(s.error().find("error: table points come in pairs x y: this x has no y"), std::string::npos) << s.error();
+    EXPECT_FALSE(s.run("table 2 0,0 0,1"));
+    EXPECT_NE(s.error().find("error: table x values must increase (point 2: 0 after 0)"), std::string::npos) << s.error();
+    EXPECT_FALSE(s.run("bound xvel 1 hist table 7"));
+    EXPECT_NE(s.error().find("error: there is no table 7"), std::string::npos) << s.error();
+}
+
+TEST(Commands, SolveStopsAtEquilibriumAndSaysWhy) {
+    odec::Model model;
+    std::ostringstream out, err;
+    odec::Interpreter interp(model, odec::command_table(), out, err);
+    ASSERT_TRUE(interp.run_text("t.dat",
+                                "poly brick 0 1 0 1 -1 0 region 1\npoly brick 0 1 0 1 0 1\nprop mat=1 dens=2000\n"
+                                "prop jmat=1 jkn=1e7 jks=1e7 jfric=30\ngrav 0 0 -10\nfix range region 1\nsolve",
+                                false))
+        << err.str();
+    EXPECT_NE(out.str().find("solve: equilibrium, ratio"), std::string::npos) << out.str();
+    EXPECT_NE(out.str().find("      step          time   max unbalanced    ratio"), std::string::npos);
+    ASSERT_TRUE(interp.run_text("t.dat", "solve cycles 3 ratio 1e-12", false));
+    EXPECT_NE(out.str().find("solve: stopped at the step limit (3 steps)"), std::string::npos) << out.str();
+}
