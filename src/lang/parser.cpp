@@ -102,8 +102,23 @@ public:
                 fail(w.loc, "unexpected '" + w.text + "': expected a keyword of '" + c->name + "'",
                      {"expected one of: " + keyword_list()}, c->name);
             }
-            const int k = match_word(w.lower, names, cand);
-            if (k < 0) unknown_keyword(w, k, cand, names);
+            int k = match_word(w.lower, names, cand);
+            if (k < 0) {
+                // Classic scripts often leave out the word `range`: `fix region 1`, `hide reg 2`.
+                const KeywordSpec* range_kw = nullptr;
+                for (const KeywordSpec& ks : c->keywords) {
+                    if (ks.is_range) range_kw = &ks;
+                }
+                std::vector<std::pair<std::string, int>> filters;
+                for (const KeywordSpec& f : range_filters()) filters.emplace_back(f.name, f.min);
+                std::vector<std::string> fc;
+                if (range_kw && !a.has_range && match_word(w.lower, filters, fc) >= 0) {
+                    k = static_cast<int>(range_kw - c->keywords.data());
+                    --pos_; // the filter word is read again by the range phrase
+                } else {
+                    unknown_keyword(w, k, cand, names);
+                }
+            }
             const KeywordSpec& spec = c->keywords[k];
             ++pos_;
             for (const KeywordUse& u : a.uses) {
