@@ -4,46 +4,7 @@
 
 namespace odec {
 
-static bool test_filter(const Model& m, int b, const Filter& f) {
-    const Vec3& c = m.blocks.centroid[b];
-    // Interval ends are widened by a relative hair so that `z 0 1` keeps a centroid at exactly 1.
-    auto within = [](double v, double lo, double hi) {
-        const double eps = 1e-9 * (1.0 + std::abs(lo) + std::abs(hi));
-        return v >= lo - eps && v <= hi + eps;
-    };
-    switch (f.kind) {
-    case FilterKind::X: return within(c.x(), f.lo, f.hi);
-    case FilterKind::Y: return within(c.y(), f.lo, f.hi);
-    case FilterKind::Z: return within(c.z(), f.lo, f.hi);
-    case FilterKind::Region: return m.blocks.region[b] == static_cast<int>(f.lo);
-    case FilterKind::Group: {
-        const int g = m.blocks.group[b];
-        return g >= 0 && m.group_names[g] == f.name;
-    }
-    case FilterKind::Id: return m.blocks.id[b] >= f.lo && m.blocks.id[b] <= f.hi;
-    case FilterKind::Sphere: return (c - f.a).norm() <= f.radius;
-    case FilterKind::Cylinder: {
-        const Vec3 axis = f.b - f.a;
-        const double len2 = axis.squaredNorm();
-        if (len2 == 0) return false;
-        const double t = (c - f.a).dot(axis) / len2;
-        if (t < 0 || t > 1) return false;
-        return (c - (f.a + t * axis)).norm() <= f.radius;
-    }
-    case FilterKind::PlaneAbove: return (c - f.a).dot(f.b) >= 0;
-    case FilterKind::PlaneBelow: return (c - f.a).dot(f.b) <= 0;
-    }
-    return false;
-}
-
-bool Range::contains_block(const Model& m, int b) const {
-    for (const Filter& f : filters) {
-        if (test_filter(m, b, f) == f.negate) return false;
-    }
-    return true;
-}
-
-// Filters that test a location, applied to a point instead of a block centroid.
+// Filters that test a location (a block centroid or a contact point).
 static bool test_point_filter(const Vec3& c, const Filter& f) {
     auto within = [](double v, double lo, double hi) {
         const double eps = 1e-9 * (1.0 + std::abs(lo) + std::abs(hi));
@@ -67,6 +28,26 @@ static bool test_point_filter(const Vec3& c, const Filter& f) {
     default: return false;
     }
 }
+
+static bool test_filter(const Model& m, int b, const Filter& f) {
+    switch (f.kind) {
+    case FilterKind::Region: return m.blocks.region[b] == static_cast<int>(f.lo);
+    case FilterKind::Group: {
+        const int g = m.blocks.group[b];
+        return g >= 0 && m.group_names[g] == f.name;
+    }
+    case FilterKind::Id: return m.blocks.id[b] >= f.lo && m.blocks.id[b] <= f.hi;
+    default: return test_point_filter(m.blocks.centroid[b], f);
+    }
+}
+
+bool Range::contains_block(const Model& m, int b) const {
+    for (const Filter& f : filters) {
+        if (test_filter(m, b, f) == f.negate) return false;
+    }
+    return true;
+}
+
 
 bool Range::contains_contact(const Model& m, const Vec3& point, int a, int b) const {
     for (const Filter& f : filters) {
