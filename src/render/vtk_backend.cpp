@@ -725,8 +725,8 @@ bool build_chart(Backend& b, const Scene& scene, const Rgb& fg, int font, std::s
     chart->SetAutoSize(true);
     chart->SetShowLegend(true);
     // The legend sits inside the plot: put it in the corner the curves leave emptiest.
+    double x_lo = 1e300, x_hi = -1e300, y_lo = 1e300, y_hi = -1e300;
     {
-        double x_lo = 1e300, x_hi = -1e300, y_lo = 1e300, y_hi = -1e300;
         for (const auto& sr : scene.chart.series)
             for (size_t i = 0; i < std::min(sr.x.size(), sr.y.size()); ++i) {
                 x_lo = std::min(x_lo, sr.x[i]);
@@ -763,6 +763,13 @@ bool build_chart(Backend& b, const Scene& scene, const Rgb& fg, int font, std::s
         axes[k]->SetLabelFormat("%g");
         axes[k]->GetGridPen()->SetColorF(0.85, 0.85, 0.85);
         axes[k]->GetPen()->SetColorF(fg[0], fg[1], fg[2]);
+        // A quantity that never changed: give its axis some height, or every label reads the same.
+        const double lo = k == 0 ? x_lo : y_lo, hi = k == 0 ? x_hi : y_hi;
+        if (lo <= hi && hi - lo <= 1e-12 * std::max(1.0, std::abs(lo))) {
+            const double pad = lo != 0 ? 0.1 * std::abs(lo) : 1.0;
+            axes[k]->SetBehavior(vtkAxis::FIXED);
+            axes[k]->SetRange(lo - pad, hi + pad);
+        }
     }
     int n_plotted = 0;
     for (size_t s = 0; s < scene.chart.series.size(); ++s) {
