@@ -230,3 +230,26 @@ TEST(Errors, ABlowUpStopsCyclingAndNamesTheBlock) {
     // The model can still be inspected.
     EXPECT_TRUE(s.run("print block\nprint info"));
 }
+
+TEST(Errors, PolyNamesTheFaceThatIsNotPlanar) {
+    EXPECT_EQ(error_of("poly face (0,0,0) (1,0,0) (1,1,0.2) (0,1,0) &\n"
+                       "     face (0,0,1) (1,0,1) (1,1,1) (0,1,1) face (0,0,0) (1,0,0) (1,0,1) (0,0,1) &\n"
+                       "     face (1,0,0) (1,1,0) (1,1,1) (1,0,1) face (1,1,0) (0,1,0) (0,1,1) (1,1,1) &\n"
+                       "     face (0,1,0) (0,0,0) (0,0,1) (0,1,1)"),
+              "t.dat:1:6: error: face 1 is not planar\n"
+              "    poly face (0,0,0) (1,0,0) (1,1,0.2) (0,1,0) &\n"
+              "         ^~~~\n"
+              "  see 'help poly'\n");
+}
+
+TEST(Errors, PolyNamesTheFaceThatMakesTheSolidNotConvex) {
+    // A cube whose top is pushed down in the middle: a roof valley, not convex.
+    Session s;
+    EXPECT_FALSE(s.run("poly face (0,0,0) (0,1,0) (1,1,0) (1,0,0) face (0,0,1) (1,0,1) (0.5,0.5,0.5) "
+                       "face (1,0,1) (1,1,1) (0.5,0.5,0.5) face (1,1,1) (0,1,1) (0.5,0.5,0.5) "
+                       "face (0,1,1) (0,0,1) (0.5,0.5,0.5) face (0,0,0) (1,0,0) (1,0,1) (0,0,1) "
+                       "face (1,0,0) (1,1,0) (1,1,1) (1,0,1) face (1,1,0) (0,1,0) (0,1,1) (1,1,1) "
+                       "face (0,1,0) (0,0,0) (0,0,1) (0,1,1)"));
+    EXPECT_NE(s.error().find("the solid is not convex"), std::string::npos) << s.error();
+    EXPECT_EQ(s.model.blocks.size(), 0);
+}
