@@ -52,10 +52,12 @@ const CommandSpec& hist_command() {
                 .vec("x,y,z")
                 .in_choice(1);
         }
-        c.keyword("nstress", 2, "normal stress of the contact nearest the point, Pa (compression positive)").vec("x,y,z").in_choice(1);
-        c.keyword("sstress", 2, "shear stress of the contact nearest the point, Pa").vec("x,y,z").in_choice(1);
-        c.keyword("ndis", 2, "normal closure of the contact nearest the point, m").vec("x,y,z").in_choice(1);
-        c.keyword("sdis", 2, "shear displacement of the contact nearest the point, m").vec("x,y,z").in_choice(1);
+        c.keyword("nstress", 2, "normal stress of the contact nearest the point (or the one given by contact), Pa (compression positive)").vec("x,y,z").optional().in_choice(1);
+        c.keyword("sstress", 2, "shear stress of the contact nearest the point (or the one given by contact), Pa").vec("x,y,z").optional().in_choice(1);
+        c.keyword("ndis", 2, "normal closure of the contact nearest the point (or the one given by contact), m").vec("x,y,z").optional().in_choice(1);
+        c.keyword("sdis", 2, "shear displacement of the contact nearest the point (or the one given by contact), m").vec("x,y,z").optional().in_choice(1);
+        c.keyword("contact", 4, "with a contact quantity: follow the contact with this id instead of a point")
+            .integer("id", 1);
         c.keyword("write", 2, "write histories n ... to a CSV file").integer("n", 1).repeat().in_choice(1);
         c.keyword("vs", 2, "with 'write': history m as the first column instead of the step").integer("m", 1);
         c.keyword("file", 2, "with 'write': the CSV file").string("name");
@@ -70,6 +72,9 @@ const CommandSpec& hist_command() {
             Model& m = ctx.model;
             HistorySet& hs = m.histories;
             const std::string what = a.chosen(1);
+            if (a.has("contact") && what != "nstress" && what != "sstress" && what != "ndis" && what != "sdis") {
+                fail(a.find("contact")->loc, "'contact' goes with a contact quantity: nstress, sstress, ndis or sdis", {}, "history");
+            }
             if ((a.has("vs") || a.has("file")) && what != "write") {
                 const KeywordUse* u = a.has("vs") ? a.find("vs") : a.find("file");
                 fail(u->loc, "'" + u->spec->name + "' goes with 'write'", {}, "history");
@@ -128,11 +133,26 @@ const CommandSpec& hist_command() {
             for (const auto& q : contact_quantities) {
                 if (what != q.name) continue;
                 h.kind = q.kind;
-                h.point = a.vec(what);
+                const KeywordUse* u = a.find(what);
+                const KeywordUse* by_id = a.find("contact");
+                if (u->values.empty() == (by_id == nullptr)) {
+                    fail(u->loc, "'" + what + "' needs a point x,y,z or 'contact id', one of them", {}, "history");
+                }
                 refresh_world_vertices(m);
                 detect_contacts(m);
-                const int c = find_contact_at(m, h.point);
-                if (c < 0) fail(a.find(what)->loc, "there are no contacts to follow", {"blocks touch once they are made and cycled"}, "history");
+                int c = -1;
+                if (by_id) {
+                    c = contact_index(m, by_id->values[0].number > 0 ? static_cast<int>(by_id->values[0].number) : 0);
+                    if (c < 0) {
+                        fail(by_id->values[0].loc, "there is no contact " + std::to_string(static_cast<int>(by_id->values[0].number)),
+                             {"'print contact' lists them"}, "history");
+                    }
+                    h.point = contact_info(m, c).centroid;
+                } else {
+                    h.point = u->values[0].vec;
+                    c = find_contact_at(m, h.point);
+                    if (c < 0) fail(u->loc, "there are no contacts to follow", {"blocks touch once they are made and cycled"}, "history");
+                }
                 h.contact_id = m.contacts.id[c];
             }
             h.label = history_default_label(h);
