@@ -253,3 +253,23 @@ TEST(Errors, PolyNamesTheFaceThatMakesTheSolidNotConvex) {
     EXPECT_NE(s.error().find("the solid is not convex"), std::string::npos) << s.error();
     EXPECT_EQ(s.model.blocks.size(), 0);
 }
+
+TEST(Errors, CommandsThatNeedSomethingToDoSaySo) {
+    EXPECT_NE(error_of("change range z 0 1").find("t.dat:1:1: error: 'change' needs 'mat=n', 'jmat=n' or 'jcons=j'"),
+              std::string::npos);
+    EXPECT_NE(error_of("ini range z 0 1").find("t.dat:1:1: error: 'initial' needs one of: xvel, yvel, zvel"),
+              std::string::npos);
+    EXPECT_NE(error_of("reset").find("t.dat:1:1: error: 'reset' needs what to reset: displacement, jdisp, time, "
+                                     "history or velocity"),
+              std::string::npos);
+    EXPECT_NE(error_of("bound range z 0 1").find("error: 'boundary' needs a velocity (xvel ...), a load (xload ...) or 'free'"),
+              std::string::npos);
+    EXPECT_NE(error_of("excavate").find("t.dat:1:1: error: 'excavate' needs a range"), std::string::npos);
+    EXPECT_NE(error_of("damp").find("t.dat:1:1: error: 'damping' needs one of: local, auto, mass, off"), std::string::npos);
+    EXPECT_NE(error_of("damp 0.05 mass").find("error: 'damp ... mass' needs the critical damping fraction and the frequency"),
+              std::string::npos);
+    EXPECT_NE(error_of("set small").find("error: small-displacement mode is not available"), std::string::npos);
+    EXPECT_NE(error_of("change jcons 3").find("error: 'jcons' must be 1 to 2 (got 3)"), std::string::npos);
+    EXPECT_NE(error_of("poly prism a (0,0,0) (1,0,0) (0,1,0)").find("error: 'prism' needs both ends"), std::string::npos);
+    EXPECT_NE(error_of("poly brick 0 1 0 1 0 1 a (0,0,0)").find("error: 'a' goes with 'prism'"), std::string::npos);
+}
