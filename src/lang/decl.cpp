@@ -25,7 +25,7 @@ std::string value_synopsis(const ValueSpec& v) {
     if (v.type == ValueType::Choice) {
         for (size_t k = 0; k < v.choices.size(); ++k) s += (k ? "|" : "") + v.choices[k];
     }
-    if (v.type == ValueType::Vec3) s = v.labelled ? "x,y,z" : v.name + "(x,y,z)";
+    if (v.type == ValueType::Vec3) s = (v.labelled || v.name == "x,y,z") ? "x,y,z" : v.name + "(x,y,z)";
     if (v.labelled) s = v.name + " " + (v.type == ValueType::Vec3 ? s : std::string("v"));
     return v.optional ? "[" + s + "]" : s;
 }
