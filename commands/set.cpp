@@ -10,6 +10,8 @@ const CommandSpec& set_command() {
         c.keyword("dtfrac", 3, "fraction of the critical timestep used").real("f", 0, 1, Limit::Open).defaults("0.1");
         c.keyword("ctol", 2, "contact tolerance, m (0: chosen from block sizes)").real("tol", 0);
         c.keyword("echo", 2, "echo script commands with their file and line").one_of("state", {"on", "off"}).defaults("on");
+        c.keyword("log", 3, "copy the commands and what they print into the log file").one_of("state", {"on", "off"}).defaults("off");
+        c.keyword("logfile", 4, "the log file (appended to)").string("name").defaults("odec.log");
         c.keyword("gravity", 3, "gravity vector, m/s^2 (same as 'grav')").vec("g");
         c.keyword("ncyc", 2, "steps between history samples").integer("n", 1).defaults("10");
         c.keyword("jmat", 4, "joint material of contacts made from now on").integer("n", 1, 1000000).defaults("1");
@@ -39,6 +41,29 @@ const CommandSpec& set_command() {
                 toks.insert(toks.end(), p->rest.begin(), p->rest.end());
                 const Args fwd = parse_command(ctx.interp.table, toks);
                 fwd.command->handler(ctx, fwd);
+            }
+            const std::string old_log_path = ctx.interp.log_path;
+            if (a.has("logfile")) {
+                const bool was_on = ctx.interp.log_is_on();
+                const std::string old = ctx.interp.log_path;
+                ctx.interp.log_path = a.text("logfile");
+                std::string error;
+                if (was_on && !ctx.interp.open_log(error)) {
+                    ctx.interp.log_path = old;
+                    ctx.interp.open_log(error);
+                    fail(a.find("logfile")->values[0].loc, error, {}, "set");
+                }
+            }
+            if (a.has("log")) {
+                if (a.text("log") == "on") {
+                    std::string error;
+                    if (!ctx.interp.open_log(error)) {
+                        ctx.interp.log_path = old_log_path; // a failed command changes nothing
+                        fail(a.find("log")->values[0].loc, error, {}, "set");
+                    }
+                } else {
+                    ctx.interp.close_log();
+                }
             }
             if (a.has("dt")) {
                 m.settings.dt_fixed = a.real("dt");

@@ -35,8 +35,46 @@ std::string read_file_text(const std::string& path, bool& ok) {
     return s.str();
 }
 
+int TeeBuffer::overflow(int c) {
+    if (c == traits_type::eof()) return traits_type::not_eof(c);
+    if (log_) log_->sputc(static_cast<char>(c));
+    return main_->sputc(static_cast<char>(c));
+}
+
+std::streamsize TeeBuffer::xsputn(const char* s, std::streamsize n) {
+    if (log_) log_->sputn(s, n);
+    return main_->sputn(s, n);
+}
+
+int TeeBuffer::sync() {
+    if (log_) log_->pubsync();
+    return main_->pubsync();
+}
+
 Interpreter::Interpreter(Model& m, const CommandTable& t, std::ostream& o, std::ostream& e)
-    : model(m), table(t), out(o), err(e) {}
+    : model(m), table(t), out_tee_(o.rdbuf()), err_tee_(e.rdbuf()), out(&out_tee_), err(&err_tee_) {}
+
+Interpreter::~Interpreter() { close_log(); }
+
+bool Interpreter::open_log(std::string& error) {
+    close_log();
+    log_file_.open(log_path, std::ios::app);
+    if (!log_file_) {
+        error = "cannot open the log file '" + log_path + "': " + std::strerror(errno);
+        return false;
+    }
+    out_tee_.set_log(log_file_.rdbuf());
+    err_tee_.set_log(log_file_.rdbuf());
+    return true;
+}
+
+void Interpreter::close_log() {
+    out.flush();
+    err.flush();
+    out_tee_.set_log(nullptr);
+    err_tee_.set_log(nullptr);
+    if (log_file_.is_open()) log_file_.close();
+}
 
 bool Interpreter::execute(const LexedCommand& cmd, bool echo_command) {
     if (echo_command && echo && !quiet) {
@@ -50,6 +88,11 @@ bool Interpreter::execute(const LexedCommand& cmd, bool echo_command) {
             }
         }
         out.flush();
+    }
+    if (log_is_on() && !(echo_command && echo && !quiet)) {
+        // The log reads like a session: each command before its output.
+        const auto& file = cmd.tokens.front().loc.file;
+        for (int l = cmd.first_line; l <= cmd.last_line; ++l) log_file_ << "odec> " << file->lines[l - 1] << "\n";
     }
     try {
         const Args args = parse_command(table, cmd.tokens);

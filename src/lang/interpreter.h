@@ -5,7 +5,10 @@
 #pragma once
 
 #include <atomic>
+#include <fstream>
 #include <iosfwd>
+#include <ostream>
+#include <streambuf>
 
 #include <Eigen/Dense>
 #include <string>
@@ -36,12 +39,36 @@ struct CommandContext {
     std::ostream& out;
 };
 
+// Copies everything written to it into a second buffer while a log is open (`set log on`).
+class TeeBuffer : public std::streambuf {
+public:
+    explicit TeeBuffer(std::streambuf* main) : main_(main) {}
+    void set_log(std::streambuf* log) { log_ = log; }
+
+protected:
+    int overflow(int c) override;
+    std::streamsize xsputn(const char* s, std::streamsize n) override;
+    int sync() override;
+
+private:
+    std::streambuf* main_;
+    std::streambuf* log_ = nullptr;
+};
+
 // Thrown by `call` when the called file failed (its error is already reported).
 struct ScriptFailed {};
 
 class Interpreter {
 public:
     Interpreter(Model& model, const CommandTable& table, std::ostream& out, std::ostream& err);
+    ~Interpreter();
+
+    // `set logfile name` and `set log on|off`: a copy of the output and of the commands, appended
+    // to the file while on. Returns false with `error` when the file cannot be opened.
+    bool open_log(std::string& error);
+    void close_log();
+    bool log_is_on() const { return log_file_.is_open(); }
+    std::string log_path = "odec.log";
 
     // Run a script; returns false at its first error, which is reported on err.
     // `from` is the `call` command that asked for it (nullptr for top-level files).
@@ -53,8 +80,14 @@ public:
 
     Model& model;
     const CommandTable& table;
-    std::ostream& out;
-    std::ostream& err;
+
+private:
+    TeeBuffer out_tee_, err_tee_;
+    std::ofstream log_file_;
+
+public:
+    std::ostream out;   // the output stream given, copied into the log while it is on
+    std::ostream err;
 
     bool echo = true;             // `set echo on|off`: echo script commands with file and line
     bool quiet = false;           // --quiet: no echo, no banner

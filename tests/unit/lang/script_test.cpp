@@ -245,3 +245,22 @@ TEST(Commands, ContactHistoriesByPointOrId) {
     EXPECT_FALSE(s.run("hist sstress contact 9"));
     EXPECT_NE(s.error().find("error: there is no contact 9"), std::string::npos) << s.error();
 }
+
+TEST(Commands, SetLogCopiesCommandsAndOutputToTheLogFile) {
+    const std::string path = testing::TempDir() + "odec-test.log";
+    std::remove(path.c_str());
+    Session s;
+    s.interp.quiet = false;
+    ASSERT_TRUE(s.run("set logfile '" + path + "'\nset log on\npoly brick 0 1 0 1 0 1\nprint block\nset log off\ngrav 0 0 -10"))
+        << s.error();
+    std::ifstream in(path);
+    const std::string log((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_NE(log.find("odec> poly brick 0 1 0 1 0 1"), std::string::npos) << log;
+    EXPECT_NE(log.find("1 of 1 blocks"), std::string::npos) << log;
+    EXPECT_EQ(log.find("grav 0 0 -10"), std::string::npos) << log;
+    // The screen got the same output.
+    EXPECT_NE(s.out.str().find("1 of 1 blocks"), std::string::npos);
+    EXPECT_FALSE(s.run("set logfile '/nonexistent-dir/x.log' log on"));
+    EXPECT_NE(s.error().find("error: cannot open the log file '/nonexistent-dir/x.log'"), std::string::npos) << s.error();
+    EXPECT_EQ(s.interp.log_path, path);
+}
