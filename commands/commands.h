@@ -40,6 +40,7 @@ const CommandSpec& table_command();
 const CommandSpec& bound_command();
 const CommandSpec& solve_command();
 const CommandSpec& reset_command();
+const CommandSpec& range_command();
 const CommandSpec& save_command();
 const CommandSpec& restore_command();
 const CommandSpec& plot_command();

@@ -12,7 +12,7 @@ const CommandTable& command_table() {
             &help_command_spec(),
             // geometry
             &poly_command(), &jset_command(), &delete_command(), &excavate_command(), &fill_command(),
-            &group_command(), &hide_command(), &seek_command(), &join_command(),
+            &group_command(), &hide_command(), &seek_command(), &join_command(), &range_command(),
             // properties and conditions
             &prop_command(), &change_command(), &grav_command(), &fix_command(), &free_command(),
             &bound_command(), &ini_command(), &table_command(), &damp_command(), &set_command(),

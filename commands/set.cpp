@@ -39,7 +39,7 @@ const CommandSpec& set_command() {
                 set.text = set.lower = "set";
                 toks.push_back(set);
                 toks.insert(toks.end(), p->rest.begin(), p->rest.end());
-                const Args fwd = parse_command(ctx.interp.table, toks);
+                const Args fwd = parse_command(ctx.interp.table, toks, &ctx.interp.named_ranges);
                 fwd.command->handler(ctx, fwd);
             }
             const std::string old_log_path = ctx.interp.log_path;

@@ -37,6 +37,11 @@ static bool test_filter(const Model& m, int b, const Filter& f) {
         return g >= 0 && m.group_names[g] == f.name;
     }
     case FilterKind::Id: return m.blocks.id[b] >= f.lo && m.blocks.id[b] <= f.hi;
+    case FilterKind::AnyOf:
+        for (const Range& r : f.any_of) {
+            if (r.contains_block(m, b)) return true;
+        }
+        return false;
     default: return test_point_filter(m.blocks.centroid[b], f);
     }
 }
@@ -56,6 +61,10 @@ bool Range::contains_contact(const Model& m, const Vec3& point, int a, int b) co
         case FilterKind::Region:
         case FilterKind::Group:
         case FilterKind::Id: pass = test_filter(m, a, f) || test_filter(m, b, f); break;
+        case FilterKind::AnyOf:
+            pass = false;
+            for (const Range& r : f.any_of) pass = pass || r.contains_contact(m, point, a, b);
+            break;
         default: pass = test_point_filter(point, f); break;
         }
         if (pass == f.negate) return false;

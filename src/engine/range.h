@@ -11,7 +11,9 @@ namespace odec {
 
 struct Model;
 
-enum class FilterKind { X, Y, Z, Region, Group, Id, Sphere, Cylinder, PlaneAbove, PlaneBelow };
+enum class FilterKind { X, Y, Z, Region, Group, Id, Sphere, Cylinder, PlaneAbove, PlaneBelow, AnyOf };
+
+struct Range;
 
 struct Filter {
     FilterKind kind = FilterKind::X;
@@ -21,6 +23,7 @@ struct Filter {
     Eigen::Vector3d a = Eigen::Vector3d::Zero(); // sphere centre; cylinder end 1; plane origin
     Eigen::Vector3d b = Eigen::Vector3d::Zero(); // cylinder end 2; plane upward normal
     double radius = 0;                // sphere/cylinder
+    std::vector<Range> any_of;        // AnyOf: passes when one of these ranges holds (named ranges' union)
 };
 
 struct Range {

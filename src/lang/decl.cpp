@@ -241,6 +241,8 @@ const std::vector<KeywordSpec>& range_filters() {
             .real("dd", -360, 360).labelled()
             .vec("origin").labelled()
             .one_of("side", {"above", "below"});
+        add("nrange", 2, "blocks in every one of the ranges named by 'range name'").word("name").repeat();
+        add("union", 2, "before 'nrange': blocks in any one of the named ranges instead");
         add("not", 3, "invert the filter that follows");
         return f;
     }();

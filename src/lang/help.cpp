@@ -108,7 +108,7 @@ std::string manual_page(const CommandSpec& c) {
         s += "## Keywords\n\n| keyword | shortest | values | meaning |\n|---|---|---|---|\n";
         for (const KeywordSpec& k : c.keywords) {
             std::string vals;
-            if (k.is_range) vals = "the range phrase (see [range](range.md))";
+            if (k.is_range) vals = "the range phrase (see [the range phrase](range-phrase.md))";
             if (!k.rest_of.empty()) vals = "the options of `" + k.rest_of + " set` (see [" + k.rest_of + "](" + k.rest_of + ".md))";
             for (const ValueSpec& v : k.values) vals += (vals.empty() ? "" : "; ") + value_line(v);
             if (k.repeat_last && !k.values.empty()) vals += " (repeatable)";
@@ -134,12 +134,12 @@ std::string manual_index(const CommandTable& table) {
     for (const CommandSpec* c : table.commands) {
         s += "| [`" + c->name + "`](" + c->name + ".md) | " + c->summary + " |\n";
     }
-    s += "| [`range`](range.md) | the range phrase that selects blocks |\n";
+    s += "\nThe range phrase that selects blocks: [range-phrase](range-phrase.md).\n";
     return s;
 }
 
 static std::string range_page() {
-    std::string s = "# range\n\nThe range phrase selects blocks by their centroid, region, group or id. "
+    std::string s = "# The range phrase\n\nThe range phrase selects blocks by their centroid, region, group or id. "
                     "It follows the keyword `range` in the commands that take one; every filter must hold, "
                     "and `not` inverts the filter after it.\n\n| filter | values | meaning |\n|---|---|---|\n";
     for (const KeywordSpec& f : range_filters()) {
@@ -164,7 +164,7 @@ bool write_manual(const CommandTable& table, const std::string& dir, std::string
         return std::fclose(f) == 0;
     };
     if (!write("index.md", manual_index(table))) return false;
-    if (!write("range.md", range_page())) return false;
+    if (!write("range-phrase.md", range_page())) return false;
     for (const CommandSpec* c : table.commands) {
         if (!write(c->name + ".md", manual_page(*c))) return false;
     }

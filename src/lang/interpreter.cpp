@@ -95,7 +95,7 @@ bool Interpreter::execute(const LexedCommand& cmd, bool echo_command) {
         for (int l = cmd.first_line; l <= cmd.last_line; ++l) log_file_ << "odec> " << file->lines[l - 1] << "\n";
     }
     try {
-        const Args args = parse_command(table, cmd.tokens);
+        const Args args = parse_command(table, cmd.tokens, &named_ranges);
         CommandContext ctx{model, *this, out};
         args.command->handler(ctx, args);
         out.flush();

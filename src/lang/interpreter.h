@@ -96,6 +96,7 @@ public:
     std::atomic<bool> interrupt{false}; // raised by Ctrl-C; cycling stops between steps
     bool at_prompt = false;       // commands typed at the prompt are not echoed
     PlotSettings plot;            // kept between plots
+    NamedRanges named_ranges;     // `range name X ...`, for `nrange X`
 
 private:
     std::vector<std::string> call_stack_; // canonical paths of the files being run

@@ -73,7 +73,8 @@ size_t edit_distance(const std::string& a, const std::string& b) {
 
 class Parser {
 public:
-    Parser(const CommandTable& table, const std::vector<Token>& toks) : table_(table), t_(toks) {}
+    Parser(const CommandTable& table, const std::vector<Token>& toks, const NamedRanges* named)
+        : table_(table), t_(toks), named_(named) {}
 
     Args run() {
         Args a;
@@ -160,6 +161,7 @@ public:
 private:
     const CommandTable& table_;
     const std::vector<Token>& t_;
+    const NamedRanges* named_;
     const CommandSpec* cmd_ = nullptr;
     size_t pos_ = 0;
 
@@ -402,6 +404,7 @@ private:
         for (const KeywordSpec& f : filters) names.emplace_back(f.name, f.min);
         bool negate = false;
         const Token* not_tok = nullptr;
+        const Token* union_tok = nullptr;
         size_t n_filters = 0;
         std::vector<std::string> cand;
         while (pos_ < t_.size()) {
@@ -426,18 +429,53 @@ private:
                 not_tok = &w;
                 continue;
             }
+            if (spec.name == "union") {
+                if (union_tok) fail(w.loc, "'union' given twice", {}, "range");
+                union_tok = &w;
+                continue;
+            }
             std::vector<Value> vals;
             parse_values(spec, spec.name, w, vals, false);
-            r.filters.push_back(make_filter(spec, vals, negate, w));
+            if (union_tok && spec.name != "nrange") {
+                fail(union_tok->loc, "'union' must be followed by 'nrange' and the names to join", {}, "range");
+            }
+            r.filters.push_back(spec.name == "nrange" ? named_filter(vals, union_tok != nullptr, negate)
+                                                      : make_filter(spec, vals, negate, w));
+            union_tok = nullptr;
             negate = false;
             ++n_filters;
         }
         if (negate) fail(end_loc(*not_tok), "'not' must be followed by a range filter", {}, "range");
+        if (union_tok) fail(union_tok->loc, "'union' must be followed by 'nrange' and the names to join", {}, "range");
         if (n_filters == 0) {
             std::vector<std::string> all;
             for (const auto& n : names) all.push_back(n.first);
             fail(end_loc(kw), "missing range filter after 'range'", {"expected one of: " + join(all)}, "range");
         }
+    }
+
+    // `nrange a b`: in ranges a and b; `union nrange a b`: in range a or b.
+    Filter named_filter(const std::vector<Value>& names, bool any, bool negate) {
+        Filter f;
+        f.kind = FilterKind::AnyOf;
+        f.negate = negate;
+        Range all;
+        for (const Value& v : names) {
+            std::string key = v.text;
+            for (char& ch : key) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+            const auto it = named_ ? named_->find(key) : NamedRanges::const_iterator();
+            if (!named_ || it == named_->end()) {
+                fail(v.loc, "there is no range named '" + v.text + "'", {"name one first: range name " + v.text + " <filters>"},
+                     "range");
+            }
+            if (any) {
+                f.any_of.push_back(it->second);
+            } else {
+                all.filters.insert(all.filters.end(), it->second.filters.begin(), it->second.filters.end());
+            }
+        }
+        if (!any) f.any_of.push_back(std::move(all));
+        return f;
     }
 
     Filter make_filter(const KeywordSpec& spec, const std::vector<Value>& v, bool negate, const Token& w) {
@@ -557,8 +595,8 @@ const CommandSpec* CommandTable::find(const std::string& full_name) const {
     return nullptr;
 }
 
-Args parse_command(const CommandTable& table, const std::vector<Token>& tokens) {
-    Parser p(table, tokens);
+Args parse_command(const CommandTable& table, const std::vector<Token>& tokens, const NamedRanges* named) {
+    Parser p(table, tokens, named);
     return p.run();
 }
 

@@ -5,6 +5,7 @@
 // and limits here, so handlers read typed values and never raw text.
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -64,8 +65,11 @@ struct CommandTable {
     const CommandSpec* find(const std::string& full_name) const;
 };
 
+// Ranges given a name by `range name X ...`, by lower-case name; `nrange X` refers to them.
+using NamedRanges = std::map<std::string, Range>;
+
 // Parse one command. Throws CommandError with a located, explained message.
-Args parse_command(const CommandTable& table, const std::vector<Token>& tokens);
+Args parse_command(const CommandTable& table, const std::vector<Token>& tokens, const NamedRanges* named = nullptr);
 
 // Closest words to `word` among `candidates` by edit distance (for "did you mean").
 std::vector<std::string> closest_words(const std::string& word, const std::vector<std::string>& candidates,

@@ -264,3 +264,22 @@ TEST(Commands, SetLogCopiesCommandsAndOutputToTheLogFile) {
     EXPECT_NE(s.error().find("error: cannot open the log file '/nonexistent-dir/x.log'"), std::string::npos) << s.error();
     EXPECT_EQ(s.interp.log_path, path);
 }
+
+TEST(Commands, NamedRangesAndTheirUnion) {
+    Session s;
+    ASSERT_TRUE(s.run("poly brick 0 1 0 1 0 1 region 1\npoly brick 0 1 0 1 1 2 region 2\npoly brick 0 1 0 1 2 3 region 3\n"
+                      "range name low region 1\nrange name High z 2 3\nrange name ends union nrange low high\n"
+                      "fix range nrange ends"))
+        << s.error();
+    EXPECT_TRUE(s.model.blocks.flags[0] & odec::kFixed);
+    EXPECT_FALSE(s.model.blocks.flags[1] & odec::kFixed);
+    EXPECT_TRUE(s.model.blocks.flags[2] & odec::kFixed);
+    ASSERT_TRUE(s.run("free\nfix range nrange low high")); // in both: none
+    for (int b = 0; b < 3; ++b) EXPECT_FALSE(s.model.blocks.flags[b] & odec::kFixed);
+    ASSERT_TRUE(s.run("fix range not nrange ends"));
+    EXPECT_TRUE(s.model.blocks.flags[1] & odec::kFixed);
+    EXPECT_FALSE(s.run("change mat 2 range nrange bogus"));
+    EXPECT_NE(s.error().find("t.dat:1:27: error: there is no range named 'bogus'"), std::string::npos) << s.error();
+    EXPECT_FALSE(s.run("fix range union region 1"));
+    EXPECT_NE(s.error().find("error: 'union' must be followed by 'nrange' and the names to join"), std::string::npos);
+}
