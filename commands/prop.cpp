@@ -29,6 +29,7 @@ const CommandSpec& prop_command() {
         c.keyword("jtension", 3, "joint tensile strength, Pa (lost once the joint fails)").real("t", 0);
         c.keyword("jdilation", 3, "joint dilation angle, degrees").real("psi", 0, 90, Limit::Closed, Limit::Open);
         c.keyword("jzdilation", 3, "shear displacement at which dilation stops, m (0: never)").real("u", 0);
+        c.keyword("zdilation", 3, "same as 'jzdilation' (the older name)").real("u", 0);
         c.keyword("jres_friction", 4, "residual friction angle after failure, degrees (joint model 2)")
             .real("phi", 0, 90, Limit::Closed, Limit::Open);
         c.require_one_of(1);
@@ -44,7 +45,7 @@ const CommandSpec& prop_command() {
             for (const KeywordUse& u : a.uses) {
                 const std::string& n = u.spec->name;
                 if (n == "material" || n == "jmat") continue;
-                const bool is_joint = n[0] == 'j';
+                const bool is_joint = n[0] == 'j' || n == "zdilation";
                 if (is_joint != joint) {
                     fail(u.loc, "'" + n + "' is a " + (is_joint ? "joint" : "block") + " property: give it with '" +
                                     (is_joint ? "jmat" : "mat") + "=n'",
@@ -66,7 +67,7 @@ const CommandSpec& prop_command() {
                 j.cohesion = a.real_or("jcohesion", j.cohesion);
                 j.tension = a.real_or("jtension", j.tension);
                 j.dilation = a.real_or("jdilation", j.dilation);
-                j.zdilation = a.real_or("jzdilation", j.zdilation);
+                j.zdilation = a.real_or("zdilation", a.real_or("jzdilation", j.zdilation));
                 j.res_friction = a.real_or("jres_friction", j.res_friction);
                 m.geometry_changed = true; // stiffness may change the timestep
                 return;

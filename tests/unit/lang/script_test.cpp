@@ -283,3 +283,10 @@ TEST(Commands, NamedRangesAndTheirUnion) {
     EXPECT_FALSE(s.run("fix range union region 1"));
     EXPECT_NE(s.error().find("error: 'union' must be followed by 'nrange' and the names to join"), std::string::npos);
 }
+
+TEST(Commands, OlderJointPropertyName) {
+    Session s;
+    ASSERT_TRUE(s.run("prop jmat 1 jkn 2.95e9 jks 1.47e9 jfriction 35.0 jcohesion 0 jdilation 0 zdilation 0.01"));
+    EXPECT_EQ(s.model.joint_materials[1].zdilation, 0.01);
+    EXPECT_EQ(s.model.joint_materials[1].friction, 35.0);
+}
