@@ -14,7 +14,8 @@ const CommandSpec& solve_command() {
         c.keyword("time", 2, "stop after model time t at most, s").real("t", 0, kInf, Limit::Open);
         c.describe("The mean unbalanced-force ratio is the sum over free blocks of the unbalanced force "
                    "divided by the sum of the magnitudes of all the forces acting on them. Progress is "
-                   "printed every 1000 steps; at the end, why it stopped. Ctrl-C stops it at the prompt.");
+                   "printed after 1000, 2000, 5000, 10000, 20000, 50000 steps and every 50000 after that; "
+                   "at the end, why it stopped. Ctrl-C stops it at the prompt.");
         c.example("solve");
         c.example("solve ratio 1e-6 cycles 50000");
         c.handle([](CommandContext& ctx, const Args& a) {
@@ -33,8 +34,18 @@ const CommandSpec& solve_command() {
                 o << buf;
                 o.flush();
             };
+            // Progress after 1000, 2000, 5000, 10000, ... steps of this solve, then every 50000.
+            const long first_step = m.step;
+            long next_report = 1000;
+            auto report = [&](const Model& mm) {
+                if (mm.step - first_step < next_report) return;
+                const char lead = std::to_string(next_report)[0];
+                next_report = next_report >= 50000 ? next_report + 50000
+                                                   : (lead == '2' ? next_report * 5 / 2 : next_report * 2);
+                line(mm);
+            };
             ctx.interp.interrupt = false;
-            const CycleResult r = cycle(m, lim, &ctx.interp.interrupt, talk ? ProgressFn(line) : ProgressFn(), 1000);
+            const CycleResult r = cycle(m, lim, &ctx.interp.interrupt, talk ? ProgressFn(report) : ProgressFn(), 1000);
             if (r.reason == StopReason::Error) fail(a.loc, r.message, {}, "solve");
             if (r.reason == StopReason::BlowUp) {
                 fail(a.loc, "stopped: " + r.message, {"the model is left as it was at that step, for inspection"}, "solve");
