@@ -16,6 +16,29 @@
 // refresh: between refreshes the sub-contact points ride on their blocks and the normal
 // stays put, which keeps the per-step work down to the joint law alone.
 //
+// Incremental passes. The work of a pass follows what moved, not how big the model is.
+// A block counts as moved when it went more than ctol/10 from where its contacts were
+// last built (geo_centroid, geo_orientation: per block, saved with the model). Both kinds
+// of pass then treat an existing contact alike: between two blocks that did not move it
+// is kept exactly as it is (same sub-contacts, same history, same arrays); a contact with
+// a moved block is rebuilt from its old plane (warm start, features near it only). What a
+// full pass adds is the broad phase (linear, cheap) and the narrow phase for candidate
+// pairs that have no contact yet, which are few in a packed rock mass (those are tested
+// even between blocks that hardly moved: skipped pass after pass, a slow creep could
+// close their gap unseen); a contact whose pair is no longer a candidate is dropped. Only a rebuilt block takes its current pose as
+// its new geometry reference; the ctol/2 reference for the broad phase moves for all. A
+// full pass starts from scratch (every pair built, every reference reset) only when the
+// model changed, nothing was detected yet, ctol changed, or the caches do not fit.
+// The result of a pass is a plan: per contact of the new list, an old contact kept or a
+// rebuilt one. It is carried out in place, front to back, so kept contacts ahead of the
+// first change in size are not touched at all and the rest only move down; only when a
+// rebuilt contact gains so many sub-contacts that it would overwrite old data not yet
+// read are the arrays assembled anew (unchanged runs copied in bulk). Both give the same
+// arrays.
+// Nothing here depends on more than block and contact order, so results stay
+// deterministic, and a restored model (which has the same references) continues with the
+// same passes and the same bits.
+//
 // Sub-contacts. Seen along the common-plane normal, each block presents the faces that
 // face the plane, cut down to the part within ctol of the plane (so that a face tilting
 // away fades out instead of vanishing: edge-face and vertex-face contacts get a small
@@ -313,6 +336,131 @@ void copy_contact(const ContactSet& from, int c, ContactSet& to) {
     to.sub_offset.push_back(to.n_subs());
 }
 
+// Copy old contacts [c0, c1) of `from` unchanged to the end of `to`, a run at a time.
+void copy_run(const ContactSet& from, int c0, int c1, ContactSet& to) {
+    if (c1 <= c0) return;
+    auto app = [](auto& dst, const auto& src, int i0, int i1) {
+        dst.insert(dst.end(), src.begin() + i0, src.begin() + i1);
+    };
+    const int nc = to.size(), ns = to.n_subs();
+    const int k0 = from.sub_offset[c0], k1 = from.sub_offset[c1];
+    app(to.id, from.id, c0, c1); app(to.block_a, from.block_a, c0, c1); app(to.block_b, from.block_b, c0, c1);
+    app(to.normal, from.normal, c0, c1); app(to.point, from.point, c0, c1); app(to.gap, from.gap, c0, c1);
+    app(to.jmat, from.jmat, c0, c1); app(to.jcons, from.jcons, c0, c1); app(to.joined, from.joined, c0, c1);
+    to.sub_offset.resize(nc + 1 + (c1 - c0));
+    int* off = to.sub_offset.data() + nc + 1;
+    for (int c = c0 + 1; c <= c1; ++c) *off++ = from.sub_offset[c] - k0 + ns;
+    to.sub_contact.resize(ns + (k1 - k0));
+    int* owner = to.sub_contact.data() + ns;
+    for (int k = k0; k < k1; ++k) *owner++ = from.sub_contact[k] - c0 + nc;
+    app(to.sub_side, from.sub_side, k0, k1); app(to.sub_key, from.sub_key, k0, k1);
+    app(to.sub_vertex, from.sub_vertex, k0, k1); app(to.sub_area, from.sub_area, k0, k1);
+    app(to.sub_local, from.sub_local, k0, k1); app(to.sub_un, from.sub_un, k0, k1);
+    app(to.sub_udil, from.sub_udil, k0, k1); app(to.sub_sn, from.sub_sn, k0, k1);
+    app(to.sub_us, from.sub_us, k0, k1); app(to.sub_ss, from.sub_ss, k0, k1);
+    app(to.sub_flags, from.sub_flags, k0, k1);
+}
+
+// Make cs the contacts `plan` lists, in its order: entry c >= 0 keeps old contact c as it
+// is, entry ~f takes contact f of `fresh`. Usually this is done in place, front to back:
+// kept contacts that have not shifted are not touched at all, and the rest move down
+// (rebuilt contacts tend to keep or lose sub-contacts, seldom gain). That works as long
+// as nothing is written over old data not yet read, which the first loop checks; when it
+// fails the arrays are assembled anew, unchanged runs of contacts copied in bulk. Either
+// way the result is the same arrays.
+bool apply_plan_in_place(ContactSet& cs, const ContactSet& fresh, const std::vector<int>& plan) {
+    int wc = 0, wk = 0;
+    for (const int e : plan) {
+        if (e >= 0) {
+            if (wc > e || wk > cs.sub_offset[e]) return false;
+            wk += cs.sub_offset[e + 1] - cs.sub_offset[e];
+        } else {
+            wk += fresh.sub_offset[~e + 1] - fresh.sub_offset[~e];
+        }
+        ++wc;
+    }
+    const int nc = wc, ns = wk;
+    const int nc_max = std::max(nc, cs.size()), ns_max = std::max(ns, cs.n_subs());
+    thread_local std::vector<int> old_off;
+    old_off = cs.sub_offset;
+    auto size_all = [&cs](int c, int k) {
+        cs.id.resize(c); cs.block_a.resize(c); cs.block_b.resize(c); cs.normal.resize(c); cs.point.resize(c);
+        cs.gap.resize(c); cs.jmat.resize(c); cs.jcons.resize(c); cs.joined.resize(c); cs.sub_offset.resize(c + 1);
+        cs.sub_contact.resize(k); cs.sub_side.resize(k); cs.sub_key.resize(k); cs.sub_vertex.resize(k);
+        cs.sub_area.resize(k); cs.sub_local.resize(k); cs.sub_un.resize(k); cs.sub_udil.resize(k);
+        cs.sub_sn.resize(k); cs.sub_us.resize(k); cs.sub_ss.resize(k); cs.sub_flags.resize(k);
+    };
+    size_all(nc_max, ns_max);
+    wc = 0;
+    wk = 0;
+    for (const int e : plan) {
+        if (e >= 0) {
+            const int k0 = old_off[e], k1 = old_off[e + 1];
+            if (wc != e) {
+                cs.id[wc] = cs.id[e]; cs.block_a[wc] = cs.block_a[e]; cs.block_b[wc] = cs.block_b[e];
+                cs.normal[wc] = cs.normal[e]; cs.point[wc] = cs.point[e]; cs.gap[wc] = cs.gap[e];
+                cs.jmat[wc] = cs.jmat[e]; cs.jcons[wc] = cs.jcons[e]; cs.joined[wc] = cs.joined[e];
+                for (int k = k0; k < k1; ++k) cs.sub_contact[k] = wc;
+            }
+            if (wk != k0) {
+                auto mv = [&](auto& v) { std::copy(v.begin() + k0, v.begin() + k1, v.begin() + wk); };
+                mv(cs.sub_contact); mv(cs.sub_side); mv(cs.sub_key); mv(cs.sub_vertex); mv(cs.sub_area);
+                mv(cs.sub_local); mv(cs.sub_un); mv(cs.sub_udil); mv(cs.sub_sn); mv(cs.sub_us); mv(cs.sub_ss);
+                mv(cs.sub_flags);
+            }
+            wk += k1 - k0;
+        } else {
+            const int f = ~e;
+            cs.id[wc] = fresh.id[f]; cs.block_a[wc] = fresh.block_a[f]; cs.block_b[wc] = fresh.block_b[f];
+            cs.normal[wc] = fresh.normal[f]; cs.point[wc] = fresh.point[f]; cs.gap[wc] = fresh.gap[f];
+            cs.jmat[wc] = fresh.jmat[f]; cs.jcons[wc] = fresh.jcons[f]; cs.joined[wc] = fresh.joined[f];
+            for (int j = fresh.sub_offset[f]; j < fresh.sub_offset[f + 1]; ++j, ++wk) {
+                cs.sub_contact[wk] = wc;
+                cs.sub_side[wk] = fresh.sub_side[j]; cs.sub_key[wk] = fresh.sub_key[j];
+                cs.sub_vertex[wk] = fresh.sub_vertex[j]; cs.sub_area[wk] = fresh.sub_area[j];
+                cs.sub_local[wk] = fresh.sub_local[j]; cs.sub_un[wk] = fresh.sub_un[j];
+                cs.sub_udil[wk] = fresh.sub_udil[j]; cs.sub_sn[wk] = fresh.sub_sn[j];
+                cs.sub_us[wk] = fresh.sub_us[j]; cs.sub_ss[wk] = fresh.sub_ss[j];
+                cs.sub_flags[wk] = fresh.sub_flags[j];
+            }
+        }
+        ++wc;
+        cs.sub_offset[wc] = wk;
+    }
+    size_all(nc, ns);
+    return true;
+}
+
+// The fallback: assemble the arrays anew, unchanged runs of contacts copied in bulk.
+void apply_plan_copy(ContactSet& cs, const ContactSet& fresh, const std::vector<int>& plan) {
+    const int np = static_cast<int>(plan.size());
+    thread_local ContactSet out;
+    clear_arrays(out);
+    const std::size_t nc = plan.size(), ns = cs.sub_contact.size() + fresh.sub_contact.size();
+    out.id.reserve(nc); out.block_a.reserve(nc); out.block_b.reserve(nc); out.normal.reserve(nc);
+    out.point.reserve(nc); out.gap.reserve(nc); out.jmat.reserve(nc); out.jcons.reserve(nc);
+    out.joined.reserve(nc); out.sub_offset.reserve(nc + 1);
+    out.sub_contact.reserve(ns); out.sub_side.reserve(ns); out.sub_key.reserve(ns); out.sub_vertex.reserve(ns);
+    out.sub_area.reserve(ns); out.sub_local.reserve(ns); out.sub_un.reserve(ns); out.sub_udil.reserve(ns);
+    out.sub_sn.reserve(ns); out.sub_us.reserve(ns); out.sub_ss.reserve(ns); out.sub_flags.reserve(ns);
+    for (int i = 0; i < np;) {
+        if (plan[i] < 0) {
+            copy_contact(fresh, ~plan[i], out);
+            ++i;
+            continue;
+        }
+        int j = i + 1;
+        while (j < np && plan[j] == plan[j - 1] + 1) ++j;
+        copy_run(cs, plan[i], plan[j - 1] + 1, out);
+        i = j;
+    }
+    swap_arrays(cs, out);
+}
+
+void apply_plan(ContactSet& cs, const ContactSet& fresh, const std::vector<int>& plan) {
+    if (!apply_plan_in_place(cs, fresh, plan)) apply_plan_copy(cs, fresh, plan);
+}
+
 // Carry a tangential vector onto the tangent plane of the new normal, keeping its length.
 Vec3 retangent(const Vec3& t, const Vec3& n) {
     const double len = t.norm();
@@ -327,7 +475,6 @@ struct Detector {
     ContactSet& cs;
     ContactSet& next;
     double tol;
-    std::vector<Mat3> rot; // (n_blocks) orientation matrices
     std::vector<Piece> pieces_a, pieces_b;
     std::vector<NewSub> subs;
     std::vector<double> face_area_a, face_area_b;
@@ -353,6 +500,7 @@ struct Detector {
 
         const int nc = next.size();
         const BlockSet& s = m.blocks;
+        const Mat3 rot[2] = {s.orientation[a].toRotationMatrix(), s.orientation[b].toRotationMatrix()};
         if (oc >= 0) {
             next.id.push_back(cs.id[oc]);
             next.jmat.push_back(cs.jmat[oc]);
@@ -397,7 +545,7 @@ struct Detector {
             while (k < k_end && cs.sub_key[k] < ns.key) ++k;
             const int side = key_side(ns.key);
             const int owner = side == 1 ? b : a;
-            const Vec3 local = rot[owner].transpose() * (ns.x - s.centroid[owner]);
+            const Vec3 local = rot[side == 1 ? 1 : 0].transpose() * (ns.x - s.centroid[owner]);
             const int vertex = side < 2 ? static_cast<int>(ns.key & ((std::int64_t{1} << 61) - 1)) : -1;
             push_sub(next, nc, side, ns.key, vertex, ns.area, local);
             if (k < k_end && cs.sub_key[k] == ns.key) {
@@ -527,6 +675,7 @@ void detect_contacts(Model& m) {
     thread_local ContactSet next;
     thread_local std::vector<std::int64_t> pairs;
     thread_local std::vector<char> moved;
+    thread_local std::vector<int> plan; // per contact of the result: old index, or ~index in `next`
     std::vector<Vec3>& geo_c = cs.geo_centroid;
     std::vector<Quat>& geo_q = cs.geo_orientation;
 
@@ -538,6 +687,7 @@ void detect_contacts(Model& m) {
             full = movement(cs, s, b, cs.ref_centroid, cs.ref_orientation) > limit;
         }
     }
+    const double old_ctol = cs.ctol;
     if (full) {
         cs.ctol = contact_tolerance(m);
         cs.radius.resize(n);
@@ -547,12 +697,22 @@ void detect_contacts(Model& m) {
             cs.radius[b] = r;
         }
     }
-    Detector d{m, cs, next, cs.ctol, {}, {}, {}, {}, {}, {}};
-    d.rot.resize(n);
-    for (int b = 0; b < n; ++b) d.rot[b] = s.orientation[b].toRotationMatrix();
+    Detector d{m, cs, next, cs.ctol, {}, {}, {}, {}, {}};
+    plan.clear();
     clear_arrays(next);
 
     if (full) {
+        // From scratch when the model changed or the caches do not fit; otherwise only the
+        // contacts of blocks that moved since their last refresh are rebuilt (see the top).
+        const bool scratch = full_needed || cs.ctol != old_ctol || static_cast<int>(geo_c.size()) != n ||
+                             static_cast<int>(geo_q.size()) != n;
+        moved.assign(n, 1);
+        if (!scratch) {
+            const double limit = 0.1 * cs.ctol;
+            for (int b = 0; b < n; ++b) {
+                moved[b] = !(s.flags[b] & kExcavated) && movement(cs, s, b, geo_c, geo_q) > limit;
+            }
+        }
         broad_phase(m, cs.ctol, pairs);
         int oc = 0;
         const int n_old = cs.size();
@@ -560,12 +720,19 @@ void detect_contacts(Model& m) {
             const int a = static_cast<int>(key / n), b = static_cast<int>(key % n);
             while (oc < n_old && (cs.block_a[oc] < a || (cs.block_a[oc] == a && cs.block_b[oc] < b))) ++oc;
             const bool have = oc < n_old && cs.block_a[oc] == a && cs.block_b[oc] == b;
-            d.build(a, b, have ? oc : -1, true);
+            if (have && !moved[a] && !moved[b]) plan.push_back(oc);
+            else if (d.build(a, b, have ? oc : -1, true)) plan.push_back(~(next.size() - 1));
         }
         cs.ref_centroid = s.centroid;
         cs.ref_orientation = s.orientation;
-        geo_c = s.centroid;
-        geo_q = s.orientation;
+        if (scratch) {
+            geo_c = s.centroid;
+            geo_q = s.orientation;
+        } else {
+            for (int b = 0; b < n; ++b) {
+                if (moved[b]) { geo_c[b] = s.centroid[b]; geo_q[b] = s.orientation[b]; }
+            }
+        }
         cs.detected = true;
         ++cs.n_detections;
     } else {
@@ -579,14 +746,14 @@ void detect_contacts(Model& m) {
         if (!any) return;
         for (int c = 0; c < cs.size(); ++c) {
             const int a = cs.block_a[c], b = cs.block_b[c];
-            if (moved[a] || moved[b]) d.build(a, b, c, true);
-            else copy_contact(cs, c, next);
+            if (!(moved[a] || moved[b])) plan.push_back(c);
+            else if (d.build(a, b, c, true)) plan.push_back(~(next.size() - 1));
         }
         for (int b = 0; b < n; ++b) {
             if (moved[b]) { geo_c[b] = s.centroid[b]; geo_q[b] = s.orientation[b]; }
         }
     }
-    swap_arrays(cs, next);
+    apply_plan(cs, next, plan);
 }
 
 } // namespace odec
