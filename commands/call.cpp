@@ -12,9 +12,7 @@ const CommandSpec& call_command() {
                    "through others. The first error stops every file being run.");
         c.example("call 'geometry.dat'");
         c.handle([](CommandContext& ctx, const Args& a) {
-            std::string path = a.positional[0].text;
-            const auto& file = a.loc.file;
-            if (!path.empty() && path[0] != '/' && file && !file->directory.empty()) path = file->directory + path;
+            const std::string path = relative_to_script(a.loc, a.positional[0].text);
             if (!ctx.interp.run_file(path, &a.positional[0].loc)) throw ScriptFailed{};
         });
         return c;

@@ -16,6 +16,13 @@ inline std::vector<int> blocks_in_range(const CommandContext& ctx, const Args& a
     return select_blocks(ctx.model, args.range);
 }
 
+// A relative path given in a script is taken from that script's directory (at the prompt and
+// on the command line, from the working directory).
+inline std::string relative_to_script(const SourceLoc& loc, const std::string& path) {
+    if (!path.empty() && path[0] != '/' && loc.file && !loc.file->directory.empty()) return loc.file->directory + path;
+    return path;
+}
+
 // Grow a property table so that index n exists.
 template <class T>
 void ensure_index(std::vector<T>& v, int n) {

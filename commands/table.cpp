@@ -27,10 +27,7 @@ const CommandSpec& table_command() {
             Table t;
             if (a.has("read")) {
                 const Value& f = a.find("read")->values[0];
-                std::string path = f.text;
-                if (!path.empty() && path[0] != '/' && f.loc.file && !f.loc.file->directory.empty()) {
-                    path = f.loc.file->directory + path;
-                }
+                const std::string path = relative_to_script(f.loc, f.text);
                 std::ifstream in(path);
                 if (!in) fail(f.loc, "cannot open '" + f.text + "'", {}, "table");
                 std::string line;
