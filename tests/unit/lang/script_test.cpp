@@ -290,3 +290,21 @@ TEST(Commands, OlderJointPropertyName) {
     EXPECT_EQ(s.model.joint_materials[1].zdilation, 0.01);
     EXPECT_EQ(s.model.joint_materials[1].friction, 35.0);
 }
+
+TEST(Commands, TableReadsPointsFromAFile) {
+    const std::string path = testing::TempDir() + "odec-table.txt";
+    {
+        std::ofstream f(path);
+        f << "; time velocity\n0 0\n0.5, 1\n1\t0\n";
+    }
+    Session s;
+    ASSERT_TRUE(s.run("table 3 read '" + path + "'")) << s.error();
+    const odec::Table* t = s.model.tables.find(3);
+    ASSERT_NE(t, nullptr);
+    ASSERT_EQ(t->points.size(), 3u);
+    EXPECT_DOUBLE_EQ(t->at(0.25), 0.5);
+    EXPECT_DOUBLE_EQ(t->at(0.75), 0.5);
+    EXPECT_DOUBLE_EQ(t->at(2.0), 0.0);
+    EXPECT_FALSE(s.run("table 4 read 'no-such-table.txt'"));
+    EXPECT_NE(s.error().find("error: cannot open 'no-such-table.txt'"), std::string::npos) << s.error();
+}
