@@ -23,6 +23,18 @@ inline std::string relative_to_script(const SourceLoc& loc, const std::string& p
     return path;
 }
 
+// The history number a value gives, checked to exist (histories are numbered from 1 as made).
+inline int history_number(const Model& m, const Value& v, const std::string& help_topic) {
+    const int n = static_cast<int>(v.number);
+    const int count = static_cast<int>(m.histories.items.size());
+    if (n < 1 || n > count) {
+        fail(v.loc, "there is no history " + std::to_string(n) + " (there " +
+                        (count == 1 ? std::string("is 1") : "are " + std::to_string(count)) + ")",
+             {"make histories with 'hist', e.g. 'hist zdis 0,0,1'"}, help_topic);
+    }
+    return n;
+}
+
 // Grow a property table so that index n exists.
 template <class T>
 void ensure_index(std::vector<T>& v, int n) {

@@ -20,20 +20,6 @@ const BlockQuantity kBlockQuantities[] = {
     {"xvelocity", HistoryKind::XVel},     {"yvelocity", HistoryKind::YVel},     {"zvelocity", HistoryKind::ZVel},
 };
 
-// The history numbers of a keyword's values, checked to exist.
-std::vector<int> history_numbers(const Model& m, const KeywordUse& u) {
-    std::vector<int> out;
-    for (const Value& v : u.values) {
-        const int n = static_cast<int>(v.number);
-        if (n < 1 || n > static_cast<int>(m.histories.items.size())) {
-            fail(v.loc, "there is no history " + std::to_string(n) + " (there are " +
-                            std::to_string(m.histories.items.size()) + ")",
-                 {}, "history");
-        }
-        out.push_back(n);
-    }
-    return out;
-}
 
 } // namespace
 
@@ -80,11 +66,9 @@ const CommandSpec& hist_command() {
                 fail(u->loc, "'" + u->spec->name + "' goes with 'write'", {}, "history");
             }
             if (what == "write") {
-                const std::vector<int> numbers = history_numbers(m, *a.find("write"));
-                int vs = 0;
-                if (a.has("vs")) {
-                    vs = history_numbers(m, *a.find("vs"))[0];
-                }
+                std::vector<int> numbers;
+                for (const Value& v : a.find("write")->values) numbers.push_back(history_number(m, v, "history"));
+                const int vs = a.has("vs") ? history_number(m, a.find("vs")->values[0], "history") : 0;
                 if (!a.has("file")) fail(a.find("write")->loc, "'write' needs 'file name.csv'", {}, "history");
                 std::string error;
                 if (!write_histories_csv(hs, numbers, vs, a.text("file"), error)) {
@@ -96,13 +80,7 @@ const CommandSpec& hist_command() {
                 }
                 return;
             }
-            if (a.has("label")) {
-                const KeywordUse* u = a.find("label");
-                const int n = static_cast<int>(u->values[0].number);
-                if (n > static_cast<int>(hs.items.size())) {
-                    fail(u->values[0].loc, "there is no history " + std::to_string(n), {}, "history");
-                }
-            }
+            if (a.has("label")) history_number(m, a.find("label")->values[0], "history");
             if (a.has("ncyc")) hs.ncyc = a.integer("ncyc");
             if (a.has("label")) {
                 const KeywordUse* u = a.find("label");

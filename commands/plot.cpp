@@ -286,18 +286,8 @@ void handle_plot(CommandContext& ctx, const Args& a) {
     render::Scene scene;
     if (history) {
         std::vector<int> numbers;
-        const int n_items = static_cast<int>(m.histories.items.size());
-        auto check = [&](const Value& v) {
-            const int n = static_cast<int>(v.number);
-            if (n > n_items) {
-                fail(v.loc, "there is no history " + std::to_string(n) + " (there " +
-                                (n_items == 1 ? std::string("is 1") : "are " + std::to_string(n_items)) + ")",
-                     {"make histories with 'hist', e.g. 'hist zdis 0,0,1'"}, "plot");
-            }
-            return n;
-        };
-        for (const Value& v : history->values) numbers.push_back(check(v));
-        const int vs = a.has("vs") ? check(a.find("vs")->values[0]) : 0;
+        for (const Value& v : history->values) numbers.push_back(history_number(m, v, "plot"));
+        const int vs = a.has("vs") ? history_number(m, a.find("vs")->values[0], "plot") : 0;
         if (m.histories.sample_steps.empty()) {
             fail(history->loc, "the histories have no samples yet", {"take some steps first"}, "plot");
         }

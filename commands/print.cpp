@@ -38,14 +38,7 @@ void print_histories(CommandContext& ctx, const Args& a) {
     const Model& m = ctx.model;
     const HistorySet& hs = m.histories;
     std::vector<int> numbers;
-    for (const Value& v : a.find("history")->values) {
-        const int n = static_cast<int>(v.number);
-        if (n > static_cast<int>(hs.items.size())) {
-            fail(v.loc, "there is no history " + std::to_string(n) + " (there are " + std::to_string(hs.items.size()) + ")",
-                 {}, "print");
-        }
-        numbers.push_back(n);
-    }
+    for (const Value& v : a.find("history")->values) numbers.push_back(history_number(m, v, "print"));
     std::ostream& o = ctx.out;
     std::vector<size_t> width;
     o << col("step", 10);

@@ -144,12 +144,16 @@ std::string KeywordSpec::synopsis() const {
 CommandSpec::CommandSpec(std::string n, int min_abbrev, std::string one_line)
     : name(std::move(n)), min(min_abbrev), summary(std::move(one_line)) {}
 
-KeywordSpec& CommandSpec::keyword(std::string n, int min_abbrev, std::string help) {
+static KeywordSpec make_keyword(std::string n, int min_abbrev, std::string help) {
     KeywordSpec k;
     k.name = std::move(n);
     k.min = min_abbrev;
     k.help = std::move(help);
-    keywords.push_back(std::move(k));
+    return k;
+}
+
+KeywordSpec& CommandSpec::keyword(std::string n, int min_abbrev, std::string help) {
+    keywords.push_back(make_keyword(std::move(n), min_abbrev, std::move(help)));
     return keywords.back();
 }
 
@@ -221,11 +225,7 @@ const std::vector<KeywordSpec>& range_filters() {
     static const std::vector<KeywordSpec> filters = [] {
         std::vector<KeywordSpec> f;
         auto add = [&](std::string n, int min, std::string help) -> KeywordSpec& {
-            KeywordSpec k;
-            k.name = std::move(n);
-            k.min = min;
-            k.help = std::move(help);
-            f.push_back(std::move(k));
+            f.push_back(make_keyword(std::move(n), min, std::move(help)));
             return f.back();
         };
         add("x", 1, "centroid x between lo and hi").real("lo").real("hi");

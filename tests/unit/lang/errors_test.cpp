@@ -273,3 +273,14 @@ TEST(Errors, CommandsThatNeedSomethingToDoSaySo) {
     EXPECT_NE(error_of("poly prism a (0,0,0) (1,0,0) (0,1,0)").find("error: 'prism' needs both ends"), std::string::npos);
     EXPECT_NE(error_of("poly brick 0 1 0 1 0 1 a (0,0,0)").find("error: 'a' goes with 'prism'"), std::string::npos);
 }
+
+TEST(Errors, AHistoryThatDoesNotExistIsNamedTheSameEverywhere) {
+    EXPECT_EQ(error_of("hist time\nprint hist 1 2"),
+              "t.dat:2:14: error: there is no history 2 (there is 1)\n"
+              "    print hist 1 2\n"
+              "                 ^\n"
+              "  make histories with 'hist', e.g. 'hist zdis 0,0,1'\n"
+              "  see 'help print'\n");
+    EXPECT_NE(error_of("hist label 3 'x'").find("t.dat:1:12: error: there is no history 3 (there are 0)"),
+              std::string::npos);
+}
