@@ -202,7 +202,8 @@ Vec3 world_face_normal(const BlockView& s, int f, double* area) {
     return len > 0 ? Vec3(n / len) : Vec3(Vec3::Zero());
 }
 
-CommonPlane common_plane(const BlockView& a, const BlockView& b, const Vec3* warm, double band) {
+CommonPlane common_plane(const BlockView& a, const BlockView& b, const Vec3* warm, double band,
+                         double prefer_joint) {
     const Vec3 ca = mean_vertex(a), cb = mean_vertex(b);
     Vec3 n0 = warm ? *warm : Vec3(cb - ca);
     if (!(n0.norm() > 0)) n0 = Vec3::UnitZ();
@@ -235,14 +236,35 @@ CommonPlane common_plane(const BlockView& a, const BlockView& b, const Vec3* war
     };
     const Polyhedron& ta = *a.topo;
     const Polyhedron& tb = *b.topo;
+    thread_local std::vector<Vec3> normals_a, normals_b;
+    normals_a.clear();
+    normals_b.clear();
     for (int f = 0; f < ta.n_faces(); ++f) {
         if (!face_has_near(ta, f, near_a)) continue;
-        consider(world_face_normal(a, f));
+        normals_a.push_back(world_face_normal(a, f));
+        consider(normals_a.back());
     }
     for (int f = 0; f < tb.n_faces(); ++f) {
         if (!face_has_near(tb, f, near_b)) continue;
-        consider(-world_face_normal(b, f));
+        normals_b.push_back(-world_face_normal(b, f));
+        consider(normals_b.back());
     }
+    // Shared planes: a face of a facing a face of b across one plane (a joint). Either
+    // face's normal may serve; the one leaving the larger gap does.
+    Vec3 joint_n = Vec3::Zero();
+    double joint_gap = -std::numeric_limits<double>::infinity();
+    auto consider_joint = [&](const Vec3& n, const std::vector<Vec3>& others) {
+        bool shared = false;
+        for (const Vec3& o : others) shared = shared || o.dot(n) > 1 - 1e-6;
+        if (!shared) return;
+        const double g = gap_along(a, b, n);
+        if (g > joint_gap + tie || (g > joint_gap - tie && n.dot(n0) > joint_n.dot(n0))) {
+            joint_gap = g;
+            joint_n = n;
+        }
+    };
+    for (const Vec3& n : normals_a) consider_joint(n, normals_b);
+    for (const Vec3& n : normals_b) consider_joint(n, normals_a);
     Vec3 da[kMaxDirs], db[kMaxDirs];
     const int n_da = edge_directions(a, near_a, da, kMaxDirs);
     const int n_db = edge_directions(b, near_b, db, kMaxDirs);
@@ -269,12 +291,32 @@ CommonPlane common_plane(const BlockView& a, const BlockView& b, const Vec3* war
             for (int i = 0; i < a.n_vertices(); ++i) near_a[i] = best_n.dot(a.v[i]) >= ea.hi - w;
             for (int i = 0; i < b.n_vertices(); ++i) near_b[i] = best_n.dot(b.v[i]) <= eb.lo + w;
         }
+        // Blocks that touch (cut from one block, or resting on each other) have a gap of
+        // round-off size: the direction between their closest points is then noise, and
+        // the candidate plane is already the answer. The refined plane is taken only where
+        // it is meaningful and never when it leaves a smaller gap than the candidate.
         Vec3 pa, pb;
         const double d = closest_points(a, b, near_a, near_b, pa, pb);
-        if (d > 0 && d < std::numeric_limits<double>::infinity() && d >= best_gap - tie) {
-            best_n = (pb - pa) / d;
-            best_gap = gap_along(a, b, best_n);
+        const double noise = 1e-9 * (1.0 + (cb - ca).norm());
+        if (d > noise && d < std::numeric_limits<double>::infinity() && d >= best_gap - tie) {
+            const Vec3 n = (pb - pa) / d;
+            const double g = gap_along(a, b, n);
+            if (g >= best_gap) {
+                best_n = n;
+                best_gap = g;
+            }
         }
+    }
+
+    // Two blocks on either side of one plane (cut by it, or laid face to face) that meet
+    // only along an edge or at a corner of it: the gap is nearly as large across that
+    // plane as along any other direction, and the plane is the joint they can act
+    // through. Taking it keeps the normal on the joint as the blocks settle by small
+    // amounts, where the exact largest-gap direction would swing to a diagonal that reads
+    // settlement as closure.
+    if (joint_gap > -std::numeric_limits<double>::infinity() && best_gap - joint_gap <= prefer_joint) {
+        best_n = joint_n;
+        best_gap = joint_gap;
     }
 
     CommonPlane cp;
@@ -287,10 +329,11 @@ CommonPlane common_plane(const BlockView& a, const BlockView& b, const Vec3* war
     return cp;
 }
 
-CommonPlane find_common_plane(const Polyhedron& a, const Polyhedron& b, const Vec3* warm, double band) {
+CommonPlane find_common_plane(const Polyhedron& a, const Polyhedron& b, const Vec3* warm, double band,
+                              double prefer_joint) {
     BlockView va{a.vertices.data(), &a};
     BlockView vb{b.vertices.data(), &b};
-    return common_plane(va, vb, warm, band);
+    return common_plane(va, vb, warm, band, prefer_joint);
 }
 
 } // namespace odec

@@ -14,7 +14,8 @@ struct BlockView {
 };
 
 // See find_common_plane in contact.h; `band` <= 0 searches every feature.
-CommonPlane common_plane(const BlockView& a, const BlockView& b, const Vec3* warm, double band);
+CommonPlane common_plane(const BlockView& a, const BlockView& b, const Vec3* warm, double band,
+                         double prefer_joint = 0);
 
 // Outward unit normal of face f from world vertices (Newell), and its area.
 Vec3 world_face_normal(const BlockView& v, int f, double* area = nullptr);

@@ -78,7 +78,12 @@ inline std::int32_t edge_label(int side, int i, int j, int nv) {
     const int lo = std::min(i, j), hi = std::max(i, j);
     return (side ? kEdgeSideB : 0) | (lo * nv + hi);
 }
+constexpr std::int32_t kEdgeTouch = 1 << 28;
 inline std::int32_t band_label(int side, int face) { return (side ? kEdgeSideB : 0) | kEdgeBand | face; }
+// The line where a tilted face of a enters a face of b: the edge of their real overlap.
+inline std::int32_t touch_label(int face_a, int face_b) {
+    return kEdgeTouch | ((face_a & 0x3FFF) << 14) | (face_b & 0x3FFF);
+}
 inline std::int64_t corner_key(int side, int vertex) { return (static_cast<std::int64_t>(side) << 61) | vertex; }
 inline std::int64_t crossing_key(std::int32_t e1, std::int32_t e2) {
     const std::int64_t lo = std::min(e1, e2), hi = std::max(e1, e2);
@@ -162,6 +167,7 @@ struct Piece {
     double orient = 1;    // sign of the projected area
     double area = 0;      // projected area
     double h0 = 0, hu = 0, hv = 0; // face height above the common plane: h0 + hu u + hv v
+    bool flat = false;    // the whole face lies within the band: it is on the plane
     double height(double u, double v) const { return h0 + hu * u + hv * v; }
 };
 
@@ -201,11 +207,14 @@ void present_faces(const BlockView& s, const Frame& fr, int side, double tol, st
         const double c = sign * nf.dot(fr.n);
         if (c < 0.01) continue; // edge-on or facing away: no footprint
         face.n = m;
+        double hlo = std::numeric_limits<double>::infinity(), hhi = -hlo;
         for (int k = 0; k < m; ++k) {
             const int vi = p.face_vertex(f, k), vj = p.face_vertex(f, (k + 1) % m);
             fr.to_plane(s.v[vi], face.u[k], face.v[k], face.h[k]);
             face.vkey[k] = corner_key(side, vi);
             face.ekey[k] = edge_label(side, vi, vj, nv);
+            hlo = std::min(hlo, face.h[k]);
+            hhi = std::max(hhi, face.h[k]);
         }
         out.emplace_back();
         Piece& pc = out.back();
@@ -216,6 +225,7 @@ void present_faces(const BlockView& s, const Frame& fr, int side, double tol, st
             continue;
         }
         pc.face = f;
+        pc.flat = hhi - hlo <= tol;
         pc.orient = a > 0 ? 1.0 : -1.0;
         pc.area = std::abs(a);
         // Plane nf.x = nf.x0 written as a height over (u, v).
@@ -245,6 +255,16 @@ void polygon_subcontacts(const Frame& fr, const std::vector<Piece>& pa, const st
         for (const Piece& B : pb) {
             clip_convex(A.poly, B.poly, B.orient, eps, q, tmp);
             if (q.n < 3) continue;
+            if (!(A.flat && B.flat)) {
+                // A face tilted to the plane touches the other only where the two solids
+                // really overlap: keep the part where a's surface is at or above b's. Blocks
+                // meeting along an edge or at a corner then have the area of their overlap
+                // (none while they only touch), not that of a tolerance band.
+                clip_step(q, [&](int i) { return A.height(q.u[i], q.v[i]) - B.height(q.u[i], q.v[i]); }, eps,
+                          touch_label(A.face, B.face), tmp);
+                std::swap(q, tmp);
+                if (q.n < 3) continue;
+            }
             double cu = 0, cv = 0;
             for (int i = 0; i < q.n; ++i) { cu += q.u[i]; cv += q.v[i]; }
             cu /= q.n;
@@ -488,7 +508,7 @@ struct Detector {
     bool build(int a, int b, int oc, bool require_close) {
         const BlockView va = view(a), vb = view(b);
         const Vec3* warm = oc >= 0 ? &cs.normal[oc] : nullptr;
-        const CommonPlane cp = common_plane(va, vb, warm, oc >= 0 ? tol : 0.0);
+        const CommonPlane cp = common_plane(va, vb, warm, oc >= 0 ? tol : 0.0, 0.1 * tol);
         if (require_close && cp.gap > tol) return false;
         const Frame fr = make_frame(cp);
         present_faces(va, fr, 0, tol, pieces_a);
