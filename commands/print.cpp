@@ -98,6 +98,7 @@ void print_max(CommandContext& ctx) {
     }
     for (int c = 0; c < m.contacts.size(); ++c) {
         const ContactInfo ci = contact_info(m, c);
+        if (!(ci.area > 0)) continue; // blocks within reach of each other that touch nowhere
         take(nstress, ci.normal_stress, c);
         take(sstress, ci.shear_stress, c);
         take(ndis, ci.normal_disp, c);

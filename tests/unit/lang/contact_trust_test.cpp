@@ -1,0 +1,206 @@
+// Contacts report what the blocks really do: blocks cut from one block start without
+// force, edge and corner neighbours carry nothing through an area they do not have, and
+// the joints of a stack carry the weight above them.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include "engine/blocks.h"
+#include "engine/contact.h"
+#include "test_util.h"
+
+using odec::test::Session;
+using Vec3 = Eigen::Vector3d;
+
+namespace {
+
+// The model of the report: three joint sets, two of them not orthogonal to the others.
+const char* kThreeSets =
+    "poly brick 0 10 0 10 0 12\n"
+    "jset dip 0 dd 0 origin 0,0,1 spacing 1.5 number 6\n"
+    "jset dip 70 dd 90 origin 5,0,0 spacing 2 number 4\n"
+    "jset dip 80 dd 10 origin 0,5,0 spacing 2.5 number 3\n"
+    "prop mat=1 dens=2600\n"
+    "prop jmat=1 jkn=5e9 jks=2e9 jfric=30\n"
+    "fix range z 0 1\n"
+    "grav 0 0 -10\n";
+
+double largest_speed(const odec::Model& m) {
+    double v = 0;
+    for (int b = 0; b < m.blocks.size(); ++b) v = std::max(v, odec::velocity_at_t(m, b).norm());
+    return v;
+}
+
+// Vertical force (N) that contact c passes from block a to block b, upward positive on the upper block.
+double vertical_force(const odec::Model& m, int c) {
+    const odec::ContactInfo ci = odec::contact_info(m, c);
+    // Force on b: compression pushes b along the normal (from a to b), shear acts as stored.
+    const Vec3 f = ci.area * (ci.normal_stress * ci.normal + ci.shear_stress_vec);
+    const bool b_above = m.blocks.centroid[ci.block_b].z() > m.blocks.centroid[ci.block_a].z();
+    return b_above ? f.z() : -f.z();
+}
+
+struct LevelLoad {
+    double faces = 0;  // N carried by contacts whose normal is vertical
+    double others = 0; // N carried vertically by every other contact (edges, corners, sides)
+};
+
+// Vertical load carried across each horizontal joint level z (rounded to mm).
+std::map<long, LevelLoad> loads_by_level(const odec::Model& m) {
+    std::map<long, LevelLoad> out;
+    for (int c = 0; c < m.contacts.size(); ++c) {
+        const odec::ContactInfo ci = odec::contact_info(m, c);
+        const double za = m.blocks.centroid[ci.block_a].z(), zb = m.blocks.centroid[ci.block_b].z();
+        if (std::abs(za - zb) < 1e-6) continue; // side by side: no joint level between them
+        const long level = std::lround(1000 * ci.centroid.z());
+        if (std::abs(ci.normal.z()) > 1 - 1e-6) out[level].faces += vertical_force(m, c);
+        else out[level].others += vertical_force(m, c);
+    }
+    return out;
+}
+
+} // namespace
+
+TEST(ContactTrust, CutBlocksStartWithoutForce) {
+    Session s;
+    ASSERT_TRUE(s.run(std::string(kThreeSets) + "step 1")) << s.error();
+    const odec::ContactSet& cs = s.model.contacts;
+    ASSERT_GT(cs.size(), 500);
+    // After one step under gravity the joints have closed by g dt^2 at most: stresses of
+    // kn g dt^2 / 2 (a few mPa), nowhere near the 7e8 Pa that a wrong plane gave.
+    const double dt = s.model.dt, g = 10, kn = 5e9;
+    for (int k = 0; k < cs.n_subs(); ++k) {
+        EXPECT_LE(std::abs(cs.sub_sn[k]), kn * g * dt * dt) << "sub-contact " << k;
+        EXPECT_LE(cs.sub_un[k], g * dt * dt) << "sub-contact " << k;
+    }
+}
+
+TEST(ContactTrust, NoBlockOutrunsFreeFall) {
+    Session s;
+    ASSERT_TRUE(s.run(std::string(kThreeSets) + "step 200")) << s.error();
+    // Joints only hold blocks back: nothing may move faster than a block falling freely.
+    EXPECT_LE(largest_speed(s.model), 10.0 * s.model.time);
+}
+
+TEST(ContactTrust, StackJointsCarryTheWeightAbove) {
+    // 1 m cubes, 3 x 3 in plan and 3 high, on a fixed base.
+    Session s;
+    ASSERT_TRUE(s.run("poly brick 0 3 0 3 -1 3\n"
+                      "jset dip 0 dd 0 origin 0,0,1 spacing 1 number 3\n"
+                      "jset dip 90 dd 90 origin 1.5,0,0 spacing 1 number 2\n"
+                      "jset dip 90 dd 0 origin 0,1.5,0 spacing 1 number 2\n"
+                      "prop mat=1 dens=2000\nprop jmat=1 jkn=1e9 jks=1e9 jfric=30\ngrav 0 0 -10\n"
+                      "fix range z -1 0\nsolve ratio 1e-6"))
+        << s.error();
+    ASSERT_EQ(s.model.blocks.size(), 36);
+    const double rho_g = 2000 * 10.0;
+    // Every face contact of a horizontal joint at z carries rho g (3 - z) on its 1 m^2.
+    int n_faces = 0;
+    for (int c = 0; c < s.model.contacts.size(); ++c) {
+        const odec::ContactInfo ci = odec::contact_info(s.model, c);
+        if (std::abs(ci.normal.z()) < 1 - 1e-6 || ci.area < 0.5) continue;
+        const double z = std::round(ci.centroid.z());
+        EXPECT_NEAR(ci.normal_stress, rho_g * (3 - z), 0.005 * rho_g * (3 - z)) << "contact " << ci.id;
+        EXPECT_NEAR(ci.area, 1.0, 1e-9);
+        ++n_faces;
+    }
+    EXPECT_EQ(n_faces, 27);
+    // Edge and corner neighbours carry nothing of the load.
+    for (const auto& [level, load] : loads_by_level(s.model)) {
+        EXPECT_LE(std::abs(load.others), 0.005 * std::abs(load.faces)) << "level z " << level / 1000.0;
+    }
+}
+
+TEST(ContactTrust, RunningBondJointsCarryTheWeightAbove) {
+    // A wall of 2 x 1 x 1 m bricks laid in running bond, four courses on a fixed base.
+    std::ostringstream script;
+    script << "poly brick 0 6 0 1 -1 0\n";
+    for (int course = 0; course < 4; ++course) {
+        const double z0 = course, z1 = course + 1;
+        std::vector<double> x = course % 2 == 0 ? std::vector<double>{0, 2, 4, 6} : std::vector<double>{0, 1, 3, 5, 6};
+        for (size_t i = 0; i + 1 < x.size(); ++i) {
+            script << "poly brick " << x[i] << " " << x[i + 1] << " 0 1 " << z0 << " " << z1 << "\n";
+        }
+    }
+    script << "prop mat=1 dens=2500\nprop jmat=1 jkn=2e9 jks=1e9 jfric=35\ngrav 0 0 -10\nfix range z -1 0\n"
+              "solve ratio 1e-6";
+    Session s;
+    ASSERT_TRUE(s.run(script.str())) << s.error();
+    const double weight_per_course = 2500 * 10.0 * 6.0; // N: 6 m^3 a course
+    const auto loads = loads_by_level(s.model);
+    ASSERT_EQ(loads.size(), 4u);
+    for (const auto& [level, load] : loads) {
+        const double above = weight_per_course * (4 - level / 1000.0);
+        EXPECT_NEAR(load.faces, above, 0.005 * above) << "level z " << level / 1000.0;
+        EXPECT_LE(std::abs(load.others), 0.005 * above) << "level z " << level / 1000.0;
+    }
+}
+
+TEST(ContactTrust, JointedCubeContactsAreConsistent) {
+    // The tutorial's jointed block, settled for a while.
+    Session s;
+    ASSERT_TRUE(s.run("poly brick 0 6 0 6 -2 6\n"
+                      "jset dip 0 dd 0 origin 0,0,2 spacing 2 number 3\n"
+                      "jset dip 75 dd 90 origin 3,0,0 spacing 2 number 3\n"
+                      "jset dip 80 dd 0 origin 0,3,0 spacing 3 number 1\n"
+                      "prop mat=1 dens=2600\nprop jmat=1 jkn=5e9 jks=2e9 jfric=35 jcoh=0 jten=0\n"
+                      "grav 0 0 -10\nfix range z -2 0\ndelete range x 4.5 6 z 2 6\n"
+                      "solve ratio 1e-4 cycles 3000"))
+        << s.error();
+    const odec::Model& m = s.model;
+    const odec::ContactSet& cs = m.contacts;
+    const double kn = 5e9;
+    ASSERT_GT(cs.size(), 50);
+    for (int c = 0; c < cs.size(); ++c) {
+        const odec::ContactInfo ci = odec::contact_info(m, c);
+        EXPECT_NEAR(ci.normal.norm(), 1.0, 1e-12) << "contact " << ci.id;
+        if (ci.area == 0) {
+            // No touching area: nothing to carry.
+            EXPECT_EQ(ci.n_subs, 0) << "contact " << ci.id;
+            EXPECT_EQ(ci.normal_stress, 0) << "contact " << ci.id;
+            EXPECT_EQ(ci.shear_stress, 0) << "contact " << ci.id;
+        }
+        bool all_closed = ci.n_subs > 0;
+        for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
+            const double closure = cs.sub_un[k] + cs.sub_udil[k];
+            if (cs.sub_flags[k] & odec::kSubOpen) {
+                EXPECT_EQ(cs.sub_sn[k], 0) << "open sub-contact " << k << " of contact " << ci.id;
+                EXPECT_EQ(cs.sub_ss[k].norm(), 0) << "open sub-contact " << k << " of contact " << ci.id;
+                EXPECT_LE(closure, 0) << "open sub-contact " << k << " of contact " << ci.id;
+                all_closed = false;
+            } else {
+                // No cohesion, no tension: a stressed point is closed, by sn / kn exactly.
+                EXPECT_NEAR(cs.sub_sn[k], kn * closure, 1e-9 * kn * std::abs(closure) + 1e-9)
+                    << "sub-contact " << k << " of contact " << ci.id;
+            }
+        }
+        if (all_closed) {
+            EXPECT_NEAR(ci.normal_stress, kn * ci.normal_disp, 1e-9 * std::abs(ci.normal_stress) + 1e-6)
+                << "contact " << ci.id;
+        }
+        // Closures are a fraction of a millimetre here: nothing like the tolerance band.
+        EXPECT_LT(std::abs(ci.normal_disp), 1e-3) << "contact " << ci.id;
+    }
+}
+
+TEST(ContactTrust, PrintMaxIgnoresContactsWithoutArea) {
+    // Two cubes side by side and one diagonal to them, all resting on a base: the diagonal
+    // pair touches along an edge only, and must not be where any maximum is reported.
+    Session s;
+    ASSERT_TRUE(s.run("poly brick 0 1 0 1 -1 0\npoly brick 0 1 0 1 0 1\npoly brick 1 2 1 2 0 1\n"
+                      "poly brick 1 2 1 2 -1 0\nprop mat=1 dens=2000\nprop jmat=1 jkn=1e9 jks=1e9 jfric=30\n"
+                      "grav 0 0 -10\nfix range z -1 0\nsolve ratio 1e-6\nprint max"))
+        << s.error();
+    const std::string out = s.out.str();
+    int n_without_area = 0;
+    for (int c = 0; c < s.model.contacts.size(); ++c) {
+        const odec::ContactInfo ci = odec::contact_info(s.model, c);
+        if (ci.area > 0) continue;
+        ++n_without_area;
+        EXPECT_EQ(out.find("at contact " + std::to_string(ci.id) + " "), std::string::npos) << out;
+    }
+    EXPECT_GT(n_without_area, 0);
+    EXPECT_NE(out.find("joint normal stress  20000 Pa"), std::string::npos) << out;
+}
