@@ -40,7 +40,7 @@ const CommandSpec& bound_command() {
                 fail(a.find("history")->values[0].loc, "there is no table " + std::to_string(table),
                      {"define it first: table " + std::to_string(table) + " x1 y1 x2 y2 ..."}, "boundary");
             }
-            for (int b : blocks_in_range(ctx, a)) {
+            for (int b : blocks_to_change(ctx, a)) {
                 if (a.has("free")) {
                     s.vel_bc[b] = 0;
                     s.vel_bc_table[b] = 0;

@@ -26,7 +26,7 @@ const CommandSpec& change_command() {
                 fail(a.loc, "'change' needs 'mat=n', 'jmat=n' or 'jcons=j'", {}, "change");
             }
             if (a.has("jmat") || a.has("jcons")) {
-                const int jmat = a.has("jmat") ? a.integer("jmat") : 0;
+                const int jmat = a.has("jmat") ? defined_joint_material(m, a, "change") : 0;
                 const int jcons = a.has("jcons") ? a.integer("jcons") : 0;
                 // Contacts are found first when the model has not cycled since it changed.
                 refresh_world_vertices(m);
@@ -36,7 +36,7 @@ const CommandSpec& change_command() {
             }
             if (a.has("material")) {
                 const int n = a.integer("material");
-                for (int b : blocks_in_range(ctx, a)) m.blocks.material[b] = n;
+                for (int b : blocks_to_change(ctx, a)) m.blocks.material[b] = n;
                 update_masses(m);
             }
         });

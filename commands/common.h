@@ -16,6 +16,19 @@ inline std::vector<int> blocks_in_range(const CommandContext& ctx, const Args& a
     return select_blocks(ctx.model, args.range);
 }
 
+// The blocks a command changes. A range that selects none is said in one line, as a
+// warning (a mistyped range would otherwise pass unnoticed); the command goes on, doing nothing.
+inline std::vector<int> blocks_to_change(CommandContext& ctx, const Args& args, bool include_hidden = false) {
+    std::vector<int> blocks = select_blocks(ctx.model, args.range, include_hidden);
+    if (blocks.empty()) {
+        const SourceLoc& l = args.loc;
+        ctx.interp.err << (l.file ? l.file->name : std::string("<input>")) << ":" << l.line << ":" << l.col
+                       << ": warning: " << (ctx.model.blocks.size() == 0 ? "there are no blocks" : "the range selects no blocks")
+                       << ", nothing changed\n";
+    }
+    return blocks;
+}
+
 // A relative path given in a script is taken from that script's directory (at the prompt and
 // on the command line, from the working directory).
 inline std::string relative_to_script(const SourceLoc& loc, const std::string& path) {
@@ -31,6 +44,19 @@ inline int history_number(const Model& m, const Value& v, const std::string& hel
         fail(v.loc, "there is no history " + std::to_string(n) + " (there " +
                         (count == 1 ? std::string("is 1") : "are " + std::to_string(count)) + ")",
              {"make histories with 'hist', e.g. 'hist zdis 0,0,1'"}, help_topic);
+    }
+    return n;
+}
+
+// A joint material number given with `change jmat` or `set jmat`, checked to have properties:
+// contacts of a material never given would have no stiffness and let blocks sink through.
+inline int defined_joint_material(const Model& m, const Args& args, const std::string& help_topic) {
+    const KeywordUse* u = args.find("jmat");
+    const int n = args.integer("jmat");
+    const bool defined = n > 0 && n < static_cast<int>(m.joint_materials.size()) && m.joint_materials[n].defined;
+    if (!defined) {
+        fail(u->loc, "joint material " + std::to_string(n) + " has no properties",
+             {"give them first, e.g. 'prop jmat=" + std::to_string(n) + " jkn=1e9 jks=1e9 jfric=30'"}, help_topic);
     }
     return n;
 }

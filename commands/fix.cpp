@@ -12,11 +12,14 @@ const CommandSpec& fix_command() {
         c.example("fix range z -5 0");
         c.handle([](CommandContext& ctx, const Args& a) {
             BlockSet& s = ctx.model.blocks;
-            for (int b : blocks_in_range(ctx, a)) {
+            int n = 0;
+            for (int b : blocks_to_change(ctx, a)) {
+                n += !(s.flags[b] & kFixed);
                 s.flags[b] |= kFixed;
                 s.vel[b].setZero();
                 s.ang_vel[b].setZero();
             }
+            if (!ctx.interp.quiet) ctx.out << n << " blocks fixed\n";
         });
         return c;
     }();
@@ -30,12 +33,15 @@ const CommandSpec& free_command() {
         c.example("free range id 3");
         c.handle([](CommandContext& ctx, const Args& a) {
             BlockSet& s = ctx.model.blocks;
-            for (int b : blocks_in_range(ctx, a)) {
+            int n = 0;
+            for (int b : blocks_to_change(ctx, a)) {
                 if (s.flags[b] & kFixed) {
                     s.flags[b] &= static_cast<std::uint8_t>(~kFixed);
                     s.half_kick[b] = 1;
+                    ++n;
                 }
             }
+            if (!ctx.interp.quiet) ctx.out << n << " blocks freed\n";
         });
         return c;
     }();

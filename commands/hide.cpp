@@ -10,7 +10,7 @@ const CommandSpec& hide_command() {
         c.describe("Hidden blocks still move and carry load; 'seek' shows them all again.");
         c.example("hide range z -10 0");
         c.handle([](CommandContext& ctx, const Args& a) {
-            for (int b : select_blocks(ctx.model, a.range, true)) ctx.model.blocks.flags[b] |= kHidden;
+            for (int b : blocks_to_change(ctx, a, true)) ctx.model.blocks.flags[b] |= kHidden;
         });
         return c;
     }();

@@ -104,6 +104,7 @@ const CommandSpec& hist_command() {
                 const int b = find_block_at(m, h.point);
                 if (b < 0) fail(a.find(what)->loc, "there are no blocks to follow", {"create blocks first"}, "history");
                 h.block_id = m.blocks.id[b];
+                h.body_offset = m.blocks.orientation[b].conjugate() * (h.point - m.blocks.centroid[b]);
             }
             const struct { const char* name; HistoryKind kind; } contact_quantities[] = {
                 {"nstress", HistoryKind::NStress}, {"sstress", HistoryKind::SStress},

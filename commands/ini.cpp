@@ -18,7 +18,7 @@ const CommandSpec& ini_command() {
                 fail(a.loc, "'initial' needs one of: xvel, yvel, zvel", {}, "initial");
             }
             BlockSet& s = ctx.model.blocks;
-            for (int b : blocks_in_range(ctx, a)) {
+            for (int b : blocks_to_change(ctx, a)) {
                 if (s.flags[b] & kFixed) continue;
                 if (a.has("xvel")) s.vel[b].x() = a.real("xvel");
                 if (a.has("yvel")) s.vel[b].y() = a.real("yvel");

@@ -27,6 +27,7 @@ const CommandSpec& set_command() {
                                             "large displacements", {}, "set");
             }
             if (a.uses.empty()) fail(a.loc, "'set' needs a setting", {"type 'help set' for the settings"}, "set");
+            if (a.has("jmat")) defined_joint_material(m, a, "set");
             if (const KeywordUse* p = a.find("plot")) {
                 // `set plot size 800 600 view -y` is `plot set size 800 600 view -y`.
                 std::vector<Token> toks;

@@ -11,7 +11,8 @@ const CommandSpec& solve_command() {
             .real("r", 0, 1, Limit::Open, Limit::Open)
             .defaults("1e-5");
         c.keyword("cycles", 2, "stop after n steps at most").integer("n", 1, 2e9).defaults("200000");
-        c.keyword("time", 2, "stop after model time t at most, s").real("t", 0, kInf, Limit::Open);
+        c.keyword("time", 2, "run for model time t, s (with 'ratio' too: whichever comes first)")
+            .real("t", 0, kInf, Limit::Open);
         c.describe("The mean unbalanced-force ratio is the sum over free blocks of the unbalanced force "
                    "divided by the sum of the magnitudes of all the forces acting on them. Progress is "
                    "printed after 1000, 2000, 5000, 10000, 20000, 50000 steps and every 50000 after that; "
@@ -21,7 +22,9 @@ const CommandSpec& solve_command() {
         c.handle([](CommandContext& ctx, const Args& a) {
             Model& m = ctx.model;
             CycleLimits lim;
-            lim.ratio = a.real_or("ratio", 1e-5);
+            // 'solve time t' runs for t seconds of model time; with 'ratio' too, whichever
+            // comes first.
+            lim.ratio = a.has("ratio") ? a.real("ratio") : (a.has("time") ? 0.0 : 1e-5);
             lim.max_steps = a.has("cycles") ? static_cast<long>(a.real("cycles")) : (a.has("time") ? 0 : 200000);
             lim.max_time = a.real_or("time", 0);
             std::ostream& o = ctx.out;
@@ -55,7 +58,7 @@ const CommandSpec& solve_command() {
             switch (r.reason) {
             case StopReason::Ratio: o << "solve: equilibrium, ratio " << num(unbalanced_ratio(m)) << " < " << num(lim.ratio); break;
             case StopReason::Steps: o << "solve: stopped at the step limit (" << r.steps << " steps), ratio still " << num(unbalanced_ratio(m)); break;
-            case StopReason::Time: o << "solve: reached the time limit"; break;
+            case StopReason::Time: o << "solve: reached the time limit, ratio " << num(unbalanced_ratio(m)); break;
             case StopReason::Interrupted: o << "solve: interrupted"; break;
             default: break;
             }

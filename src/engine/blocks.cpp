@@ -114,9 +114,16 @@ Polyhedron world_shape(const Model& m, int b) {
 }
 
 Vec3 velocity_at_t(const Model& m, int b) {
-    if (m.blocks.flags[b] & kFixed) return Vec3::Zero();
+    if ((m.blocks.flags[b] & kFixed) && !m.blocks.vel_bc[b]) return Vec3::Zero();
     if (m.blocks.half_kick[b]) return m.blocks.vel[b];
     return m.blocks.vel[b] + 0.5 * m.dt * m.blocks.accel[b];
+}
+
+Vec3 velocity_at_point(const Model& m, int b, const Vec3& lever) {
+    const BlockSet& s = m.blocks;
+    if (s.flags[b] & kFixed) return velocity_at_t(m, b); // a fixed block does not turn
+    const Vec3 w = s.half_kick[b] ? s.ang_vel[b] : Vec3(s.ang_vel[b] + 0.5 * m.dt * s.ang_accel[b]);
+    return velocity_at_t(m, b) + w.cross(lever);
 }
 
 int find_block_at(const Model& m, const Vec3& x) {

@@ -25,6 +25,8 @@ Polyhedron world_shape(const Model& m, int block_index);
 
 // Velocity of a block at the time of its position (the integrator stores it half a step back).
 Vec3 velocity_at_t(const Model& m, int block_index);
+// Velocity at t of the material point at `lever` (world vector from the centroid).
+Vec3 velocity_at_point(const Model& m, int block_index, const Vec3& lever);
 
 // The block containing point x, or the one whose centroid is nearest; -1 when there are none.
 int find_block_at(const Model& m, const Vec3& x);

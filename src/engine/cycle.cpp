@@ -87,7 +87,23 @@ int integrate(Model& m, double dt) {
     for (int b = 0; b < s.size(); ++b) {
         if (!is_active(s, b)) continue;
         if (s.flags[b] & kFixed) {
-            s.vel[b].setZero();
+            // Held still, except for the velocity components a boundary condition drives
+            // (the fixed base of a shake table moves as its table says, without turning).
+            Vec3 v = Vec3::Zero();
+            if (s.vel_bc[b]) {
+                double scale = 1.0;
+                if (s.vel_bc_table[b] > 0) {
+                    const Table* t = m.tables.find(s.vel_bc_table[b]);
+                    scale = t ? t->at(m.time) : 0.0;
+                }
+                for (int i = 0; i < 3; ++i) {
+                    if (s.vel_bc[b] & (1 << i)) v[i] = s.vel_bc_value[b][i] * scale;
+                }
+                const Vec3 dx = v * dt;
+                s.centroid[b] += dx;
+                s.disp[b] += dx;
+            }
+            s.vel[b] = v;
             s.ang_vel[b].setZero();
             s.accel[b].setZero();
             s.ang_accel[b].setZero();

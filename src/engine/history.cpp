@@ -33,13 +33,18 @@ double history_value(const Model& m, const History& h) {
     }
     const int b = m.block_index(h.block_id);
     if (b < 0) return 0.0; // the block was deleted
+    // The material point: translation of the centroid plus the turn of the block about it.
+    // Displacement takes the accumulated rotation as a small rotation vector, as the
+    // block's own rotation record does.
+    const BlockSet& s = m.blocks;
+    const Eigen::Vector3d lever = s.orientation[b] * h.body_offset;
     switch (h.kind) {
-    case HistoryKind::XDis: return m.blocks.disp[b].x();
-    case HistoryKind::YDis: return m.blocks.disp[b].y();
-    case HistoryKind::ZDis: return m.blocks.disp[b].z();
-    case HistoryKind::XVel: return velocity_at_t(m, b).x();
-    case HistoryKind::YVel: return velocity_at_t(m, b).y();
-    case HistoryKind::ZVel: return velocity_at_t(m, b).z();
+    case HistoryKind::XDis: return (s.disp[b] + s.rotation[b].cross(lever)).x();
+    case HistoryKind::YDis: return (s.disp[b] + s.rotation[b].cross(lever)).y();
+    case HistoryKind::ZDis: return (s.disp[b] + s.rotation[b].cross(lever)).z();
+    case HistoryKind::XVel: return velocity_at_point(m, b, lever).x();
+    case HistoryKind::YVel: return velocity_at_point(m, b, lever).y();
+    case HistoryKind::ZVel: return velocity_at_point(m, b, lever).z();
     default: return 0.0;
     }
 }

@@ -14,8 +14,8 @@ enum class HistoryKind {
     Unbalanced, // largest unbalanced force over the blocks, N
     Time,       // model time, s
     Step,       // step number
-    XDis, YDis, ZDis,   // block displacement, m
-    XVel, YVel, ZVel,   // block velocity at t, m/s
+    XDis, YDis, ZDis,   // displacement of a material point of a block, m
+    XVel, YVel, ZVel,   // velocity of a material point of a block at t, m/s
     Ratio,      // mean unbalanced-force ratio
     NStress, SStress,   // contact normal (compression positive) and shear stress, Pa
     NDis, SDis,         // contact normal closure and shear displacement, m
@@ -25,6 +25,8 @@ struct History {
     HistoryKind kind = HistoryKind::Unbalanced;
     Eigen::Vector3d point = Eigen::Vector3d::Zero(); // where the user asked (block quantities)
     int block_id = 0;                                // block sampled (block quantities)
+    Eigen::Vector3d body_offset = Eigen::Vector3d::Zero(); // m, the sampled material point in the
+                                                     // block's body frame, from its centroid
     int contact_id = 0;                              // contact sampled (contact quantities)
     std::string label;                               // column title
     std::vector<double> values;                      // (n_samples)

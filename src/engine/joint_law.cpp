@@ -76,7 +76,7 @@ void update_contacts(Model& m, double dt) {
     for (int b = 0; b < n; ++b) {
         rot[b] = s.orientation[b].toRotationMatrix();
         // A block whose velocity was given at t has not moved with it yet.
-        const bool still = s.half_kick[b] || (s.flags[b] & kFixed);
+        const bool still = s.half_kick[b] || ((s.flags[b] & kFixed) && !s.vel_bc[b]);
         vel[b] = still ? Vec3::Zero() : s.vel[b];
         spin[b] = still ? Vec3::Zero() : s.ang_vel[b];
     }

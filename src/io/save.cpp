@@ -120,6 +120,9 @@ template <class IO, class M>
 auto fields(IO& io, M& x) -> If<M, History> {
     io.enumeration(x.kind, static_cast<int>(HistoryKind::SDis) + 1); // the last kind
     io(x.point); io(x.block_id); io(x.contact_id); io(x.label); io(x.values);
+    // Format 2: the material point a block history follows. Format 1 sampled the
+    // centroid; its files take the point's offset at the block's current pose.
+    if (io.format >= 2) io(x.body_offset);
 }
 
 template <class IO, class M>
@@ -205,6 +208,7 @@ void model_sections(IO& io, M& m) {
 class Writer {
 public:
     std::string buf;
+    std::uint32_t format = kSaveFormatVersion; // the format being written
 
     void bytes(const void* p, size_t n) { buf.append(static_cast<const char*>(p), n); }
     template <class U>
@@ -328,6 +332,7 @@ struct ReadError {
 class Reader {
 public:
     Reader(const char* begin, const char* end) : p_(begin), end_(end) {}
+    std::uint32_t format = kSaveFormatVersion; // the format of the file being read
 
     template <class U>
     U raw() {
@@ -591,8 +596,10 @@ bool restore_model(const std::string& path, Model& out, std::string& error) {
     if (size < kMagicSize + 4) return truncated_header();
     Reader header(data.data() + kMagicSize, data.data() + size);
     std::string writer_version;
+    std::uint32_t file_format = 0;
     try {
         const std::uint32_t format = header.raw<std::uint32_t>();
+        file_format = format;
         // The program version is read before judging the format, to name the odec that wrote it.
         std::string version_note;
         if (header.left() >= 8) {
@@ -640,7 +647,14 @@ bool restore_model(const std::string& path, Model& out, std::string& error) {
     Model fresh;
     try {
         Reader r(data.data() + header_size, data.data() + size - kChecksumSize);
+        r.format = file_format;
         model_sections(r, fresh);
+        if (file_format < 2) {
+            for (History& h : fresh.histories.items) {
+                const int b = fresh.block_index(h.block_id);
+                if (b >= 0) h.body_offset = fresh.blocks.orientation[b].conjugate() * (h.point - fresh.blocks.centroid[b]);
+            }
+        }
         if (r.left() != 0) {
             return refuse("the file is damaged: " + std::to_string(r.left()) + " bytes follow the last section");
         }

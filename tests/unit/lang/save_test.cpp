@@ -384,7 +384,7 @@ TEST(SaveLayout, EveryFieldIsSaved) {
     EXPECT_EQ(count_fields<Material>(), 8u) << fix;
     EXPECT_EQ(count_fields<JointMaterial>(), 9u) << fix;
     EXPECT_EQ(count_fields<JointPlane>(), 3u) << fix;
-    EXPECT_EQ(count_fields<History>(), 6u) << fix;
+    EXPECT_EQ(count_fields<History>(), 7u) << fix;
     EXPECT_EQ(count_fields<HistorySet>(), 3u) << fix;
     EXPECT_EQ(count_fields<Table>(), 1u) << fix;
     EXPECT_EQ(count_fields<TableSet>(), 1u) << fix;
