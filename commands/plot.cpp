@@ -413,7 +413,7 @@ const CommandSpec& plot_command() {
             "line chart instead, with 'file', 'size' and 'background' as its only options. "
             "Block quantities: disp, xdis, ydis, zdis (m), vel, xvel, yvel, zvel (m/s), group, material, region. "
             "Contact quantities: nstress (normal stress, compression positive), sstress (shear stress), ndis "
-            "(normal displacement, opening positive), sdis (shear displacement), state (elastic, slipping, open, "
+            "(normal closure, closing positive as in print and hist), sdis (shear displacement), state (elastic, slipping, open, "
             "failed). 'principal' draws, on each sub-contact, the normal stress along the normal and the shear "
             "stress along its direction as bars coloured by the signed value (compression negative). "
             "'cut plane dip d dd a [origin x,y,z]' cuts the model by a plane given as in 'jset' and removes what "

@@ -289,7 +289,7 @@ bool write_contacts_vtp(const ContactRows& rows, const std::vector<std::string>&
         for (const Vec3& t : rows.shear_stress) mag.push_back(t.norm());
         data.push_back(scalar_array("shear_stress_magnitude", mag, false));
     }
-    if (!rows.normal_disp.empty()) data.push_back(scalar_array("normal_displacement", rows.normal_disp, false));
+    if (!rows.normal_disp.empty()) data.push_back(scalar_array("normal_closure", rows.normal_disp, false));
     if (!rows.shear_disp.empty()) {
         data.push_back(vector_array("shear_displacement", rows.shear_disp));
         std::vector<double> mag;

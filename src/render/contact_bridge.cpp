@@ -61,7 +61,7 @@ ContactView make_contact_view(const Model& m, const std::vector<int>* contact_in
         rows.block2.push_back(id_b);
         rows.normal_stress.push_back(info.normal_stress);
         rows.shear_stress.push_back(info.shear_stress_vec);
-        rows.normal_disp.push_back(-info.normal_disp); // the engine's closure is the view's negative opening
+        rows.normal_disp.push_back(info.normal_disp); // closure positive, as print and hist
         rows.shear_disp.push_back(info.shear_disp_vec);
         rows.state.push_back(static_cast<int>(info.state));
 
@@ -79,7 +79,7 @@ ContactView make_contact_view(const Model& m, const std::vector<int>* contact_in
                 subs.block2.push_back(id_b);
                 subs.normal_stress.push_back(cs.sub_sn[k]);
                 subs.shear_stress.push_back(cs.sub_ss[k]);
-                subs.normal_disp.push_back(-(cs.sub_un[k] + cs.sub_udil[k]));
+                subs.normal_disp.push_back(cs.sub_un[k] + cs.sub_udil[k]);
                 subs.shear_disp.push_back(cs.sub_us[k]);
                 subs.force.push_back(f);
                 subs.state.push_back(static_cast<int>(sub_state(cs.sub_flags[k])));

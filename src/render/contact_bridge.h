@@ -2,7 +2,7 @@
 // and `export vtk` read (contact_view.h). No VTK here.
 //
 // The engine keeps sub-contacts in body frames with closure positive and shear stress as
-// felt by block b; a view speaks in world coordinates, block ids, opening positive and the
+// felt by block b; a view speaks in world coordinates, block ids, closure positive and the
 // force on block2 from block1. This file is the one place that translates, through the
 // engine's public arrays and contact_info(), so the pictures and files agree with
 // `print contact`.

@@ -20,7 +20,7 @@ struct ContactRows {
     std::vector<int> block1, block2;           // (n) block ids (not indices)
     std::vector<double> normal_stress;         // (n) Pa, compression positive
     std::vector<Eigen::Vector3d> shear_stress; // (n) Pa, in the plane
-    std::vector<double> normal_disp;           // (n) m, opening positive
+    std::vector<double> normal_disp;           // (n) m, closure positive (compression)
     std::vector<Eigen::Vector3d> shear_disp;   // (n) m, accumulated, in the plane
     std::vector<Eigen::Vector3d> force;        // (n) N, on block2 from block1
     std::vector<int> state;                    // (n) index into ContactView::state_names

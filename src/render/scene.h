@@ -53,6 +53,9 @@ struct PolygonLayer {
     // two solids share, or that turns away from the eye, cannot be seen when the layer is
     // opaque, and the backend skips it (most of the faces of a jointed rock mass).
     bool closed = false;
+    // Lit like solids (faces told apart by shading), or drawn in their true colour from
+    // either side: patches lying in a plane (contacts) must read the same from both.
+    bool lit = true;
 };
 
 // Arrows or bars at points: velocity and displacement vectors, principal stresses.

@@ -128,13 +128,13 @@ bool is_categorical(BlockColour by) {
     return by == BlockColour::Group || by == BlockColour::Material || by == BlockColour::Region;
 }
 
-// Continuous scale over the values: from 0 for magnitudes, symmetric about 0 for signed ones.
+// Continuous scale over the values drawn. A quantity that takes both signs in them gets a
+// diverging map centred at 0; one that takes one sign (a magnitude, or compressive joint
+// stresses) a sequential map from 0 to its extreme.
 ColourScale continuous_scale(const QuantityInfo& info, const std::vector<double>& values, const PlotOptions& opt) {
     ColourScale s;
     s.title = info.title;
     s.units = info.units;
-    s.map = opt.map ? *opt.map : (info.is_signed ? ColourMap::CoolWarm : ColourMap::Rainbow);
-    if (s.map == ColourMap::Categorical) s.map = ColourMap::Rainbow;
     double lo = 0, hi = 0;
     bool first = true;
     for (double v : values) {
@@ -144,14 +144,19 @@ ColourScale continuous_scale(const QuantityInfo& info, const std::vector<double>
         hi = std::max(hi, v);
         first = false;
     }
+    const bool two_signs = info.is_signed && lo < 0 && hi > 0;
+    s.map = opt.map ? *opt.map : (two_signs ? ColourMap::CoolWarm : ColourMap::Rainbow);
+    if (s.map == ColourMap::Categorical) s.map = ColourMap::Rainbow;
     if (opt.limits) {
         lo = opt.limits->first;
         hi = opt.limits->second;
-    } else if (info.is_signed && s.map == ColourMap::CoolWarm) {
+    } else if (two_signs && s.map == ColourMap::CoolWarm) {
         const double a = std::max(std::abs(lo), std::abs(hi));
         lo = -a;
         hi = a;
-    } else if (!info.is_signed) {
+    } else if (hi <= 0 && lo < 0) {
+        hi = 0;
+    } else {
         lo = std::min(0.0, lo);
     }
     s.lo = lo;
@@ -225,10 +230,10 @@ QuantityInfo block_colour_info(BlockColour by) {
 
 QuantityInfo contact_quantity_info(ContactQuantity q) {
     switch (q) {
-    case ContactQuantity::NormalStress: return {"contact normal stress", "Pa", true};
-    case ContactQuantity::ShearStress: return {"contact shear stress", "Pa", false};
-    case ContactQuantity::NormalDisp: return {"contact normal displacement", "m", true};
-    case ContactQuantity::ShearDisp: return {"contact shear displacement", "m", false};
+    case ContactQuantity::NormalStress: return {"joint normal stress, compression +", "Pa", true};
+    case ContactQuantity::ShearStress: return {"joint shear stress", "Pa", false};
+    case ContactQuantity::NormalDisp: return {"joint normal closure, closing +", "m", true};
+    case ContactQuantity::ShearDisp: return {"joint shear displacement", "m", false};
     case ContactQuantity::State: return {"contact state", "", false};
     }
     return {};
@@ -435,6 +440,7 @@ bool add_contacts(Scene& scene, const ContactView& view, ContactQuantity q, cons
     layer.name = "contacts";
     layer.offsets.push_back(0);
     layer.edges = false;
+    layer.lit = false;
     std::vector<double> values;
     for (int i = 0; i < n; ++i) {
         if (opt.cut && cut_n.dot(rows.centroid[i]) > cut_d) continue;
@@ -512,7 +518,7 @@ void add_principal(Scene& scene, const PrincipalField& field, const PlotOptions&
     }
     if (g.origins.empty()) return;
     g.max_length = field.typical_size;
-    g.scale = continuous_scale({"principal stress", "Pa", true}, g.scalars, opt);
+    g.scale = continuous_scale({"principal stress at contacts, tension +", "Pa", true}, g.scalars, opt);
     scene.glyphs.push_back(std::move(g));
 }
 

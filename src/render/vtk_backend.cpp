@@ -359,6 +359,7 @@ vtkSmartPointer<vtkActor> polygon_actor(const PolygonLayer& layer, double model_
     vtkProperty* p = actor->GetProperty();
     p->SetColor(layer.flat_colour[0], layer.flat_colour[1], layer.flat_colour[2]);
     p->SetOpacity(layer.opacity);
+    if (!layer.lit) p->LightingOff();
     // A closed solid's faces that turn away are hidden by its front faces.
     if (solid) p->BackfaceCullingOn();
     if (layer.edges) {

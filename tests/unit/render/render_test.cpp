@@ -83,7 +83,9 @@ TEST(Render, BlockDisplacementPicture) {
 }
 
 TEST(Render, SignedComponentUsesDivergingScale) {
-    const Model m = displaced_wall();
+    // Blocks moving up and down: a diverging map centred at 0.
+    Model m = displaced_wall();
+    for (int b = 0; b < m.blocks.size(); ++b) m.blocks.disp[b].z() = 0.002 * (m.blocks.centroid[b].z() - 1.0);
     PlotOptions opt;
     opt.width = 480;
     opt.height = 360;
@@ -92,9 +94,22 @@ TEST(Render, SignedComponentUsesDivergingScale) {
     const ColourScale& sc = s.polygons[0].scale;
     EXPECT_EQ(sc.map, ColourMap::CoolWarm);
     EXPECT_DOUBLE_EQ(sc.lo, -sc.hi);
-    EXPECT_NEAR(sc.hi, 0.002 * 2.5, 1e-12);
+    EXPECT_NEAR(sc.hi, 0.002 * 1.5, 1e-12);
     const Picture pic = draw(s, "block-zdis.png");
     EXPECT_GT(pic.count_near(colour_at(ColourMap::CoolWarm, 0.0), 0.02), 30);
+}
+
+TEST(Render, OneSignedComponentUsesSequentialScale) {
+    // Every block settles (zdis < 0): a sequential map from the largest settlement to 0,
+    // so the whole scale shows the values drawn.
+    const Model m = displaced_wall();
+    PlotOptions opt;
+    Scene s = begin_scene(m, opt);
+    add_blocks(s, m, BlockColour::ZDis, opt);
+    const ColourScale& sc = s.polygons[0].scale;
+    EXPECT_EQ(sc.map, ColourMap::Rainbow);
+    EXPECT_NEAR(sc.lo, -0.002 * 2.5, 1e-12);
+    EXPECT_EQ(sc.hi, 0.0);
 }
 
 TEST(Render, GroupColoursAndLegend) {
@@ -451,4 +466,34 @@ TEST(Render, ManualPictures) {
     std::string error;
     ASSERT_TRUE(add_history_chart(c, hs, {1, 2}, 0, error)) << error;
     draw(c, "manual-hist.png");
+}
+
+TEST(Render, ContactPatchesAreUnlitWithAScaleFromTheirValues) {
+    // Joint normal stresses of a model at rest are all compressive: a sequential scale
+    // from 0 to the largest drawn, and patches that read the same from either side.
+    ContactView view;
+    for (int i = 0; i < 3; ++i) {
+        view.contacts.centroid.push_back(Vec3(i, 0, 0));
+        view.contacts.normal.push_back(Vec3(0, 0, 1));
+        view.contacts.area.push_back(0.25);
+        view.contacts.block1.push_back(1);
+        view.contacts.block2.push_back(2 + i);
+        view.contacts.normal_stress.push_back(1e5 * (i + 1));
+        view.contacts.shear_stress.push_back(Vec3::Zero());
+        view.contacts.normal_disp.push_back(1e-5 * (i + 1));
+        view.contacts.shear_disp.push_back(Vec3::Zero());
+        view.contacts.force.push_back(Vec3::Zero());
+        view.contacts.state.push_back(0);
+    }
+    Model m = test::brick_model(3, 1, 1);
+    PlotOptions opt;
+    Scene s = begin_scene(m, opt);
+    std::string error;
+    ASSERT_TRUE(add_contacts(s, view, ContactQuantity::NormalStress, opt, error)) << error;
+    ASSERT_EQ(s.polygons.size(), 1u);
+    EXPECT_FALSE(s.polygons[0].lit);
+    EXPECT_EQ(s.polygons[0].scale.map, ColourMap::Rainbow);
+    EXPECT_EQ(s.polygons[0].scale.lo, 0.0);
+    EXPECT_EQ(s.polygons[0].scale.hi, 3e5);
+    EXPECT_NE(s.polygons[0].scale.title.find("compression +"), std::string::npos);
 }
