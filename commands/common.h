@@ -16,15 +16,21 @@ inline std::vector<int> blocks_in_range(const CommandContext& ctx, const Args& a
     return select_blocks(ctx.model, args.range);
 }
 
+// A warning in the form of an error (file:line:col: warning: ...), on the error stream, in
+// scripts and at the prompt alike; the command goes on.
+inline void warn(CommandContext& ctx, const SourceLoc& l, const std::string& what) {
+    ctx.interp.err << (l.file ? l.file->name : std::string("<input>")) << ":" << l.line << ":" << l.col
+                   << ": warning: " << what << "\n";
+}
+
 // The blocks a command changes. A range that selects none is said in one line, as a
 // warning (a mistyped range would otherwise pass unnoticed); the command goes on, doing nothing.
 inline std::vector<int> blocks_to_change(CommandContext& ctx, const Args& args, bool include_hidden = false) {
     std::vector<int> blocks = select_blocks(ctx.model, args.range, include_hidden);
     if (blocks.empty()) {
-        const SourceLoc& l = args.loc;
-        ctx.interp.err << (l.file ? l.file->name : std::string("<input>")) << ":" << l.line << ":" << l.col
-                       << ": warning: " << (ctx.model.blocks.size() == 0 ? "there are no blocks" : "the range selects no blocks")
-                       << ", nothing changed\n";
+        warn(ctx, args.loc,
+             std::string(ctx.model.blocks.size() == 0 ? "there are no blocks" : "the range selects no blocks") +
+                 ", nothing changed");
     }
     return blocks;
 }

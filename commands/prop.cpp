@@ -89,6 +89,16 @@ const CommandSpec& prop_command() {
             mat.tension = a.real_or("tension", mat.tension);
             mat.dilation = a.real_or("dilation", mat.dilation);
             if (a.has("density")) update_masses(m);
+            // Elastic and strength constants belong to deformable blocks, which odec does not
+            // model yet: they are kept (and saved) but change nothing. Say so once per command.
+            for (const char* k : {"bulk", "k", "shear", "g", "ymod", "prat", "cohesion", "friction", "tension", "dilation"}) {
+                if (const KeywordUse* u = a.find(k)) {
+                    warn(ctx, u->loc, "'" + u->spec->name + "' and the other elastic and strength properties of "
+                                      "a block material are kept for deformable blocks, which odec does not model "
+                                      "yet: rigid blocks use only 'density'");
+                    break;
+                }
+            }
         });
         return c;
     }();

@@ -1,6 +1,7 @@
 #include "commands.h"
 #include "common.h"
 #include "engine/cycle.h"
+#include "progress.h"
 
 namespace odec {
 
@@ -14,9 +15,10 @@ const CommandSpec& solve_command() {
         c.keyword("time", 2, "run for model time t, s (with 'ratio' too: whichever comes first)")
             .real("t", 0, kInf, Limit::Open);
         c.describe("The mean unbalanced-force ratio is the sum over free blocks of the unbalanced force "
-                   "divided by the sum of the magnitudes of all the forces acting on them. Progress is "
-                   "printed after 1000, 2000, 5000, 10000, 20000, 50000 steps and every 50000 after that; "
-                   "at the end, why it stopped. Ctrl-C stops it at the prompt.");
+                   "divided by the sum of the magnitudes of all the forces acting on them. A long run prints "
+                   "its progress every few seconds (step, time, ratio, and the time left when it runs to a "
+                   "number of steps or a time), unless --quiet or 'set echo off'; at the end, why it stopped. "
+                   "Ctrl-C stops it at the prompt.");
         c.example("solve");
         c.example("solve ratio 1e-6 cycles 50000");
         c.handle([](CommandContext& ctx, const Args& a) {
@@ -29,26 +31,21 @@ const CommandSpec& solve_command() {
             lim.max_time = a.real_or("time", 0);
             std::ostream& o = ctx.out;
             const bool talk = !ctx.interp.quiet;
-            if (talk) o << "      step          time   max unbalanced    ratio\n";
             auto line = [&](const Model& mm) {
                 char buf[160];
-                std::snprintf(buf, sizeof buf, "%10ld  %12.5g  %15.5g  %9.3e\n", mm.step, mm.time,
-                              max_unbalanced_force(mm), unbalanced_ratio(mm));
+                std::snprintf(buf, sizeof buf, "step %ld  time %.6g s  max unbalanced force %.6g N  ratio %.3e\n",
+                              mm.step, mm.time, max_unbalanced_force(mm), unbalanced_ratio(mm));
                 o << buf;
                 o.flush();
             };
-            // Progress after 1000, 2000, 5000, 10000, ... steps of this solve, then every 50000.
-            const long first_step = m.step;
-            long next_report = 1000;
-            auto report = [&](const Model& mm) {
-                if (mm.step - first_step < next_report) return;
-                const char lead = std::to_string(next_report)[0];
-                next_report = next_report >= 50000 ? next_report + 50000
-                                                   : (lead == '2' ? next_report * 5 / 2 : next_report * 2);
-                line(mm);
-            };
             ctx.interp.interrupt = false;
-            const CycleResult r = cycle(m, lim, &ctx.interp.interrupt, talk ? ProgressFn(report) : ProgressFn(), 1000);
+            // The time left is known only when the ratio cannot end the run first.
+            const bool known_end = !(lim.ratio > 0);
+            ProgressReporter progress(o, ctx.interp.progress_seconds, m.step, known_end ? lim.max_steps : 0, m.time,
+                                      known_end ? lim.max_time : 0);
+            const bool lines = talk && ctx.interp.echo;
+            const CycleResult r =
+                cycle(m, lim, &ctx.interp.interrupt, lines ? ProgressFn(std::ref(progress)) : ProgressFn(), 100);
             if (r.reason == StopReason::Error) fail(a.loc, r.message, {}, "solve");
             if (r.reason == StopReason::BlowUp) {
                 fail(a.loc, "stopped: " + r.message, {"the model is left as it was at that step, for inspection"}, "solve");

@@ -1,6 +1,7 @@
 #include "commands.h"
 #include "common.h"
 #include "engine/cycle.h"
+#include "progress.h"
 
 namespace odec {
 
@@ -11,7 +12,8 @@ const CommandSpec& step_command() {
         c.positional.integer("n", 1, 2e9).optional();
         c.keyword("time", 2, "advance the model time by t, s, instead").real("t", 0, kInf, Limit::Open);
         c.describe("Ctrl-C at the prompt stops the stepping between two steps; the model stays as it "
-                   "was after the last whole step.");
+                   "was after the last whole step. A long run prints its progress every few seconds (step, "
+                   "time, unbalanced ratio, time left), unless --quiet or 'set echo off'.");
         c.example("step 1000");
         c.example("cycle time 0.5");
         c.handle([](CommandContext& ctx, const Args& a) {
@@ -28,7 +30,10 @@ const CommandSpec& step_command() {
             }
             Model& m = ctx.model;
             ctx.interp.interrupt = false;
-            const CycleResult r = cycle(m, lim, &ctx.interp.interrupt);
+            const bool talk = !ctx.interp.quiet && ctx.interp.echo;
+            ProgressReporter progress(ctx.out, ctx.interp.progress_seconds, m.step, lim.max_steps, m.time, lim.max_time);
+            const CycleResult r =
+                cycle(m, lim, &ctx.interp.interrupt, talk ? ProgressFn(std::ref(progress)) : ProgressFn(), 100);
             if (r.reason == StopReason::Error) fail(a.loc, r.message, {}, "step");
             if (r.reason == StopReason::Interrupted) {
                 ctx.out << "interrupted after " << r.steps << " steps: step " << m.step << ", time " << num(m.time)

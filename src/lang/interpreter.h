@@ -90,6 +90,7 @@ public:
     std::ostream err;
 
     bool echo = true;             // `set echo on|off`: echo script commands with file and line
+    double progress_seconds = 3;  // wall time between progress lines of a long step or solve
     bool quiet = false;           // --quiet: no echo, no banner
     bool quit_requested = false;  // `quit`
     bool return_requested = false;// `return`: leave the current file

@@ -109,3 +109,15 @@ TEST(CommandMeaning, FixAndFreeSayHowManyBlocksChanged) {
     EXPECT_NE(o.find("1 blocks fixed"), std::string::npos) << o;
     EXPECT_NE(o.find("2 blocks freed"), std::string::npos) << o;
 }
+
+TEST(CommandMeaning, ElasticPropertiesOfRigidBlocksAreSaidToBeUnused) {
+    Session s;
+    ASSERT_TRUE(s.run("prop mat=1 dens=2000 ymod 1e9 prat 0.25")) << s.error();
+    EXPECT_NE(s.error().find("t.dat:1:21: warning: 'ymod' and the other elastic and strength properties"),
+              std::string::npos)
+        << s.error();
+    EXPECT_NE(s.error().find("rigid blocks use only 'density'"), std::string::npos);
+    Session q;
+    ASSERT_TRUE(q.run("prop mat=1 dens=2000")) << q.error();
+    EXPECT_EQ(q.error(), "");
+}
