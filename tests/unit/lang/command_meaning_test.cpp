@@ -113,7 +113,7 @@ TEST(CommandMeaning, FixAndFreeSayHowManyBlocksChanged) {
 TEST(CommandMeaning, ElasticPropertiesOfRigidBlocksAreSaidToBeUnused) {
     Session s;
     ASSERT_TRUE(s.run("prop mat=1 dens=2000 ymod 1e9 prat 0.25")) << s.error();
-    EXPECT_NE(s.error().find("t.dat:1:21: warning: 'ymod' and the other elastic and strength properties"),
+    EXPECT_NE(s.error().find("t.dat:1:22: warning: 'ymod' and the other elastic and strength properties"),
               std::string::npos)
         << s.error();
     EXPECT_NE(s.error().find("rigid blocks use only 'density'"), std::string::npos);
