@@ -12,26 +12,71 @@ namespace {
 
 std::string col(const std::string& s, size_t w) { return s.size() >= w ? s + " " : std::string(w - s.size(), ' ') + s; }
 
+// Tables fit in 100 columns: numbers to 3 significant figures (at most 9 characters, so a
+// column of width 10 always keeps a blank before the next); full precision is in 'hist',
+// 'export vtk' and the save file.
+std::string n3(double x) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g", x);
+    return buf;
+}
+
 void print_blocks(CommandContext& ctx, const Args& a) {
     const Model& m = ctx.model;
     const BlockSet& s = m.blocks;
     const std::vector<int> sel = select_blocks(m, a.range, true);
     std::ostream& o = ctx.out;
-    o << col("id", 6) << col("centroid x", 13) << col("y", 13) << col("z", 13) << col("disp x", 13) << col("y", 13)
-      << col("z", 13) << col("vel x", 13) << col("y", 13) << col("z", 13) << col("mass", 13) << col("mat", 5)
-      << col("reg", 5) << "  group  state\n";
+    o << col("id", 5) << col("x", 9) << col("y", 9) << col("z", 9) << col("xdis", 10) << col("ydis", 10)
+      << col("zdis", 10) << col("xvel", 10) << col("yvel", 10) << col("zvel", 10) << " state\n";
     for (int b : sel) {
         const Vec3 v = velocity_at_t(m, b);
-        std::string state = (s.flags[b] & kFixed) ? "fixed" : "free";
-        if (s.flags[b] & kExcavated) state = "excavated";
-        if (s.flags[b] & kHidden) state += ",hidden";
-        o << col(std::to_string(s.id[b]), 6) << col(num(s.centroid[b].x()), 13) << col(num(s.centroid[b].y()), 13)
-          << col(num(s.centroid[b].z()), 13) << col(num(s.disp[b].x()), 13) << col(num(s.disp[b].y()), 13)
-          << col(num(s.disp[b].z()), 13) << col(num(v.x()), 13) << col(num(v.y()), 13) << col(num(v.z()), 13)
-          << col(num(s.mass[b]), 13) << col(std::to_string(s.material[b]), 5) << col(std::to_string(s.region[b]), 5)
-          << "  " << (s.group[b] >= 0 ? m.group_names[s.group[b]] : "-") << "  " << state << "\n";
+        std::string state = (s.flags[b] & kFixed) ? "fix" : "free";
+        if (s.flags[b] & kExcavated) state = "null";
+        if (s.flags[b] & kHidden) state += ",h";
+        o << col(std::to_string(s.id[b]), 5) << col(n3(s.centroid[b].x()), 9) << col(n3(s.centroid[b].y()), 9)
+          << col(n3(s.centroid[b].z()), 9) << col(n3(s.disp[b].x()), 10) << col(n3(s.disp[b].y()), 10)
+          << col(n3(s.disp[b].z()), 10) << col(n3(v.x()), 10) << col(n3(v.y()), 10) << col(n3(v.z()), 10) << " "
+          << state << "\n";
     }
-    o << sel.size() << " of " << s.size() << " blocks\n";
+    o << "\n" << col("id", 5) << col("volume", 11) << col("mass", 10) << col("mat", 5) << col("region", 7)
+      << "  group\n";
+    for (int b : sel) {
+        o << col(std::to_string(s.id[b]), 5) << col(n3(s.volume[b]), 11) << col(n3(s.mass[b]), 10)
+          << col(std::to_string(s.material[b]), 5) << col(std::to_string(s.region[b]), 7) << "  "
+          << (s.group[b] >= 0 ? m.group_names[s.group[b]] : "-") << "\n";
+    }
+    o << sel.size() << " of " << s.size() << " blocks (x, y, z: centroid; m, m/s, m^3, kg; fix: fixed, null: excavated, h: hidden)\n";
+}
+
+void print_properties(CommandContext& ctx) {
+    const Model& m = ctx.model;
+    std::ostream& o = ctx.out;
+    o << "block materials (density kg/m^3; the others are kept for deformable blocks)\n";
+    o << col("mat", 5) << col("density", 10) << col("bulk", 10) << col("shear", 10) << col("cohesion", 10)
+      << col("friction", 10) << col("tension", 10) << col("dilation", 10) << "\n";
+    int n = 0;
+    for (size_t k = 1; k < m.materials.size(); ++k) {
+        const Material& p = m.materials[k];
+        if (!p.defined) continue;
+        ++n;
+        o << col(std::to_string(k), 5) << col(n3(p.density), 10) << col(n3(p.bulk), 10) << col(n3(p.shear), 10)
+          << col(n3(p.cohesion), 10) << col(n3(p.friction), 10) << col(n3(p.tension), 10) << col(n3(p.dilation), 10)
+          << "\n";
+    }
+    if (n == 0) o << "  none\n";
+    o << "joint materials (jkn, jks Pa/m; jcoh, jten Pa; angles deg; jzdil m)\n";
+    o << col("jmat", 5) << col("jkn", 10) << col("jks", 10) << col("jfric", 10) << col("jcoh", 10) << col("jten", 10)
+      << col("jdil", 10) << col("jzdil", 10) << col("jresfric", 10) << "\n";
+    n = 0;
+    for (size_t k = 1; k < m.joint_materials.size(); ++k) {
+        const JointMaterial& j = m.joint_materials[k];
+        if (!j.defined) continue;
+        ++n;
+        o << col(std::to_string(k), 5) << col(n3(j.kn), 10) << col(n3(j.ks), 10) << col(n3(j.friction), 10)
+          << col(n3(j.cohesion), 10) << col(n3(j.tension), 10) << col(n3(j.dilation), 10) << col(n3(j.zdilation), 10)
+          << col(n3(j.res_friction), 10) << "\n";
+    }
+    if (n == 0) o << "  none\n";
 }
 
 void print_histories(CommandContext& ctx, const Args& a) {
@@ -58,22 +103,23 @@ void print_histories(CommandContext& ctx, const Args& a) {
 void print_contacts(CommandContext& ctx, const Args& a) {
     const Model& m = ctx.model;
     std::ostream& o = ctx.out;
-    o << col("id", 6) << col("block a", 8) << col("block b", 8) << col("centroid x", 12) << col("y", 12) << col("z", 12)
-      << col("area", 11) << col("nstress", 12) << col("sstress", 12) << col("ndis", 12) << col("sdis", 12)
-      << col("jmat", 5) << "  state\n";
+    o << col("id", 5) << col("blk a", 5) << col("blk b", 5) << col("x", 9) << col("y", 9) << col("z", 9)
+      << col("area", 9) << col("nstress", 10) << col("sstress", 10) << col("ndis", 10) << col("sdis", 10)
+      << " state\n";
     int n = 0;
     for (int c = 0; c < m.contacts.size(); ++c) {
         const ContactInfo ci = contact_info(m, c);
         if (a.has_range && !a.range.contains_contact(m, ci.centroid, ci.block_a, ci.block_b)) continue;
         ++n;
-        o << col(std::to_string(ci.id), 6) << col(std::to_string(m.blocks.id[ci.block_a]), 8)
-          << col(std::to_string(m.blocks.id[ci.block_b]), 8) << col(num(ci.centroid.x()), 12)
-          << col(num(ci.centroid.y()), 12) << col(num(ci.centroid.z()), 12) << col(num(ci.area), 11)
-          << col(num(ci.normal_stress), 12) << col(num(ci.shear_stress), 12) << col(num(ci.normal_disp), 12)
-          << col(num(ci.shear_disp), 12) << col(std::to_string(ci.jmat), 5) << "  " << contact_state_name(ci.state)
+        o << col(std::to_string(ci.id), 5) << col(std::to_string(m.blocks.id[ci.block_a]), 5)
+          << col(std::to_string(m.blocks.id[ci.block_b]), 5) << col(n3(ci.centroid.x()), 9)
+          << col(n3(ci.centroid.y()), 9) << col(n3(ci.centroid.z()), 9) << col(n3(ci.area), 9)
+          << col(n3(ci.normal_stress), 10) << col(n3(ci.shear_stress), 10) << col(n3(ci.normal_disp), 10)
+          << col(n3(ci.shear_disp), 10) << " " << (ci.area > 0 ? contact_state_name(ci.state) : "apart")
           << (ci.joined ? ",joined" : "") << "\n";
     }
-    o << n << " of " << m.contacts.size() << " contacts (stresses in Pa, compression positive; displacements in m)\n";
+    o << n << " of " << m.contacts.size()
+      << " contacts (x, y, z: centroid; Pa, compression +; m, closure +; apart: near, not touching)\n";
 }
 
 void print_max(CommandContext& ctx) {
@@ -203,6 +249,7 @@ const CommandSpec& print_command() {
         c.keyword("info", 2, "a summary of the model, its settings and where cycling time goes").in_choice(1);
         c.keyword("contact", 2, "contacts: blocks, centroid, area, stresses, displacements, state").in_choice(1);
         c.keyword("max", 2, "the largest displacement, velocity, unbalanced force and joint quantities, and where").in_choice(1);
+        c.keyword("property", 3, "every block and joint material and its properties").in_choice(1);
         c.range();
         c.require_one_of(1);
         c.example("print block range z 0 10");
@@ -216,6 +263,7 @@ const CommandSpec& print_command() {
             else if (what == "contact") print_contacts(ctx, a);
             else if (what == "max") print_max(ctx);
             else if (what == "history") print_histories(ctx, a);
+            else if (what == "property") print_properties(ctx);
             else print_info(ctx);
         });
         return c;

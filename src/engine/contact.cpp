@@ -71,7 +71,7 @@ ContactInfo contact_info(const Model& m, int c) {
         info.shear_disp = info.shear_disp_vec.norm();
     } else {
         info.centroid = cs.point[c];
-        info.normal_disp = -cs.gap[c];
+        info.normal_disp = 0.0 - cs.gap[c]; // never -0
     }
     if (any_slip) info.state = ContactState::Slipping;
     else if (all_open) info.state = ContactState::Open;

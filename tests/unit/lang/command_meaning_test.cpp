@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <sstream>
 
 #include "engine/blocks.h"
 #include "test_util.h"
@@ -120,4 +121,27 @@ TEST(CommandMeaning, ElasticPropertiesOfRigidBlocksAreSaidToBeUnused) {
     Session q;
     ASSERT_TRUE(q.run("prop mat=1 dens=2000")) << q.error();
     EXPECT_EQ(q.error(), "");
+}
+
+TEST(CommandMeaning, PrintTablesFitA100ColumnTerminal) {
+    // Negative numbers in every column: a settled stack that was pushed about.
+    Session s;
+    s.interp.quiet = false;
+    s.interp.echo = false;
+    ASSERT_TRUE(s.run("poly brick -3 3 -3 3 -1 0\npoly brick -1 0 -1 0 0 1\npoly brick -1 0 -1 0 1 2\n"
+                      "prop mat=1 dens=2000 ymod 1e9 prat 0.2\nprop jmat=1 jkn=1e9 jks=1e9 jfric=30 jcoh=1e5\n"
+                      "grav 0 0 -10\nfix range z -1 0\nini xvel -1e-3 yvel -2e-4 range z 1 2\nstep 300\n"
+                      "print block\nprint contact\nprint prop\nprint max"))
+        << s.error();
+    std::istringstream lines(s.out.str());
+    std::string line;
+    int n = 0;
+    while (std::getline(lines, line)) {
+        EXPECT_LE(line.size(), 100u) << line;
+        ++n;
+    }
+    EXPECT_GT(n, 15);
+    EXPECT_NE(s.out.str().find("density"), std::string::npos);
+    EXPECT_NE(s.out.str().find("jcoh"), std::string::npos);
+    EXPECT_NE(s.out.str().find("1e+05"), std::string::npos); // the joint cohesion, listed
 }
