@@ -1,5 +1,6 @@
 #include "lang/interpreter.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <climits>
 #include <cstring>
@@ -35,20 +36,25 @@ std::string read_file_text(const std::string& path, bool& ok) {
     return s.str();
 }
 
+// A write succeeds when either copy took it: a failing screen (stdout on a full disk, a closed
+// pipe) must not put the stream in a failed state, which would silently end the log too.
 int TeeBuffer::overflow(int c) {
     if (c == traits_type::eof()) return traits_type::not_eof(c);
-    if (log_) log_->sputc(static_cast<char>(c));
-    return main_->sputc(static_cast<char>(c));
+    const char ch = static_cast<char>(c);
+    const bool logged = log_ && log_->sputc(ch) != traits_type::eof();
+    const bool shown = main_->sputc(ch) != traits_type::eof();
+    return logged || shown ? c : traits_type::eof();
 }
 
 std::streamsize TeeBuffer::xsputn(const char* s, std::streamsize n) {
-    if (log_) log_->sputn(s, n);
-    return main_->sputn(s, n);
+    const std::streamsize logged = log_ ? log_->sputn(s, n) : 0;
+    return std::max(logged, main_->sputn(s, n));
 }
 
 int TeeBuffer::sync() {
-    if (log_) log_->pubsync();
-    return main_->pubsync();
+    const bool logged = log_ && log_->pubsync() == 0;
+    const bool shown = main_->pubsync() == 0;
+    return logged || shown ? 0 : -1;
 }
 
 Interpreter::Interpreter(Model& m, const CommandTable& t, std::ostream& o, std::ostream& e)
@@ -65,6 +71,8 @@ bool Interpreter::open_log(std::string& error) {
     }
     out_tee_.set_log(log_file_.rdbuf());
     err_tee_.set_log(log_file_.rdbuf());
+    out.clear(); // a screen that failed before must not keep the log from starting
+    err.clear();
     return true;
 }
 

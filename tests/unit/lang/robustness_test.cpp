@@ -1,0 +1,70 @@
+// Inputs that used to crash odec or hang it: each must fail as an ordinary located error (or
+// work), and the session must go on.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <new>
+#include <stdexcept>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "lang/decl.h"
+#include "test_util.h"
+
+using odec::test::Session;
+
+namespace {
+
+std::string temp_path(const std::string& name) { return testing::TempDir() + "odec-robust-" + name; }
+
+void write_file(const std::string& path, const std::string& text) {
+    std::ofstream f(path, std::ios::trunc);
+    f << text;
+}
+
+std::string error_of(const std::string& text) {
+    Session s;
+    EXPECT_FALSE(s.run(text)) << text;
+    return s.error();
+}
+
+} // namespace
+
+// --- the log ------------------------------------------------------------------------------
+
+namespace {
+
+// A screen that takes nothing, like stdout on a full disk.
+struct FullBuffer : std::streambuf {
+    int overflow(int) override { return traits_type::eof(); }
+    std::streamsize xsputn(const char*, std::streamsize) override { return 0; }
+    int sync() override { return -1; }
+};
+
+} // namespace
+
+TEST(Robustness, LogGoesOnWhenTheScreenFails) {
+    // With stdout on a full disk the log used to stop at its first failed write (4096 bytes
+    // of stdout buffer), silently.
+    const std::string path = temp_path("screen.log");
+    std::remove(path.c_str());
+    FullBuffer full;
+    std::ostream screen(&full);
+    odec::Model model;
+    std::ostringstream err;
+    odec::Interpreter interp(model, odec::command_table(), screen, err);
+    interp.quiet = true;
+    std::string text = "print block\nset logfile '" + path + "'\nset log on\n";
+    for (int k = 0; k < 40; ++k) text += "poly brick 0 1 0 1 " + std::to_string(k) + " " + std::to_string(k + 1) + "\n";
+    text += "print block\ntitle 'last'\nprint block\nset log off\n";
+    ASSERT_TRUE(interp.run_text("t.dat", text, false)) << err.str();
+    std::ifstream in(path);
+    const std::string log((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_GT(log.size(), 8192u);
+    const size_t last = log.rfind("odec> print block");
+    ASSERT_NE(last, std::string::npos) << log;
+    EXPECT_NE(log.find("40 of 40 blocks", last), std::string::npos) << log.substr(last);
+    std::remove(path.c_str());
+}
