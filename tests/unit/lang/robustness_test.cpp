@@ -32,6 +32,37 @@ std::string error_of(const std::string& text) {
 
 } // namespace
 
+// --- non-finite numbers -----------------------------------------------------------------------
+
+TEST(Robustness, NonFiniteVectorComponentsAreRefused) {
+    EXPECT_EQ(error_of("grav 0 0 1e309"),
+              "t.dat:1:10: error: 'gravity' components must be finite numbers (got 1e309)\n"
+              "    grav 0 0 1e309\n"
+              "             ^~~~~\n"
+              "  see 'help gravity'\n");
+    EXPECT_NE(error_of("poly brick 0 1 0 1 0 1\njset dip 30 dd 0 origin 0,0,1e309")
+                  .find("t.dat:2:29: error: 'origin' components must be finite numbers (got 1e309)"),
+              std::string::npos);
+    EXPECT_NE(error_of("hist zdis 1e309,0,0").find("t.dat:1:11: error: 'zdisplacement' components must be finite numbers (got 1e309)"),
+              std::string::npos);
+    EXPECT_NE(error_of("plot view eye (-1e999,0,0)").find("error: 'view' point components must be finite numbers (got -1e999)"),
+              std::string::npos);
+    Session s;
+    EXPECT_FALSE(s.run("grav 0 0 -1e309"));
+    EXPECT_EQ(s.model.gravity, odec::Vec3::Zero());
+}
+
+TEST(Robustness, NonFiniteScalarSaysAFiniteNumberIsExpected) {
+    EXPECT_EQ(error_of("table 1 0 0 1 1e309"),
+              "t.dat:1:15: error: 'table' x y must be a finite number (got 1e309)\n"
+              "    table 1 0 0 1 1e309\n"
+              "                  ^~~~~\n"
+              "  see 'help table'\n");
+    EXPECT_NE(error_of("prop mat=1 dens=1e309").find("error: 'density' must be a finite number > 0 (got 1e309)"),
+              std::string::npos);
+    EXPECT_NE(error_of("jset dip 1e309 dd 0").find("error: 'dip' must be 0 to 90 (got 1e309)"), std::string::npos);
+}
+
 // --- the log ------------------------------------------------------------------------------
 
 namespace {
