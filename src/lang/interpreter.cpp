@@ -154,6 +154,16 @@ bool Interpreter::run_file(const std::string& path, const SourceLoc* from) {
             return false;
         }
     }
+    if (call_stack_.size() >= static_cast<size_t>(kMaxCallDepth)) {
+        // Each level of `call` takes C++ stack: thousands would overflow it.
+        Diagnostic d{from ? *from : SourceLoc{},
+                     "calls nest too deeply: calling '" + path + "' would make a chain of " +
+                         std::to_string(call_stack_.size() + 1) + " files (at most " + std::to_string(kMaxCallDepth) +
+                         ")",
+                     {"the chain starts at '" + display_stack_.front() + "'"}, "call"};
+        err << format_diagnostic(d);
+        return false;
+    }
     bool ok = false;
     const std::string text = read_file_text(path, ok);
     if (!ok) {

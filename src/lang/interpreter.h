@@ -98,6 +98,9 @@ public:
     PlotSettings plot;            // kept between plots
     NamedRanges named_ranges;     // `range name X ...`, for `nrange X`
 
+    // How many files may run at once through `call` (each level takes C++ stack).
+    static constexpr int kMaxCallDepth = 64;
+
 private:
     std::vector<std::string> call_stack_; // canonical paths of the files being run
     std::vector<std::string> display_stack_;

@@ -32,6 +32,32 @@ std::string error_of(const std::string& text) {
 
 } // namespace
 
+// --- call nesting -------------------------------------------------------------------------
+
+TEST(Robustness, DeepCallChainStopsWithALocatedError) {
+    // c1.dat calls c2.dat ... calls c200.dat: thousands of levels used to overflow the C++ stack.
+    const int n = 200;
+    for (int k = 1; k <= n; ++k) {
+        write_file(temp_path("c" + std::to_string(k) + ".dat"),
+                   k < n ? "call 'odec-robust-c" + std::to_string(k + 1) + ".dat'\n" : "title 'deepest'\n");
+    }
+    Session s;
+    EXPECT_FALSE(s.run("call '" + temp_path("c1.dat") + "'"));
+    const std::string dir = testing::TempDir();
+    const std::string caller = dir + "odec-robust-c64.dat";
+    const std::string callee = dir + "odec-robust-c65.dat";
+    EXPECT_EQ(s.error(), caller + ":1:6: error: calls nest too deeply: calling '" + callee +
+                             "' would make a chain of 65 files (at most 64)\n"
+                             "    call 'odec-robust-c65.dat'\n"
+                             "         ^~~~~~~~~~~~~~~~~~~~~\n"
+                             "  the chain starts at '" + dir + "odec-robust-c1.dat'\n"
+                             "  see 'help call'\n");
+    EXPECT_TRUE(s.model.title.empty());
+    // The session goes on, and a chain within the limit runs.
+    EXPECT_TRUE(s.run("call '" + temp_path("c" + std::to_string(n - 63) + ".dat") + "'")) << s.error();
+    EXPECT_EQ(s.model.title, "deepest");
+}
+
 // --- non-finite numbers -----------------------------------------------------------------------
 
 TEST(Robustness, NonFiniteVectorComponentsAreRefused) {
