@@ -9,6 +9,10 @@
 #include <iostream>
 #include <sstream>
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 namespace odec {
 
 namespace {
@@ -26,14 +30,73 @@ std::string canonical(const std::string& path) {
 
 } // namespace
 
+bool read_file_text(const std::string& path, std::string& text, std::string& error, std::size_t max_bytes) {
+    text.clear();
+    // O_NONBLOCK: opening a named pipe must not wait for a writer; it is refused below.
+    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) {
+        error = std::strerror(errno);
+        return false;
+    }
+    struct FdCloser {
+        int fd;
+        ~FdCloser() { ::close(fd); }
+    } closer{fd};
+    struct stat st;
+    if (::fstat(fd, &st) != 0) {
+        error = std::strerror(errno);
+        return false;
+    }
+    if (!S_ISREG(st.st_mode)) {
+        const char* what = S_ISDIR(st.st_mode)    ? "a directory"
+                           : S_ISFIFO(st.st_mode) ? "a named pipe"
+                           : S_ISCHR(st.st_mode)  ? "a character device"
+                           : S_ISBLK(st.st_mode)  ? "a block device"
+                           : S_ISSOCK(st.st_mode) ? "a socket"
+                                                  : "not a plain file";
+        error = std::string("it is ") + what + ", not a regular file";
+        return false;
+    }
+    const auto size = static_cast<unsigned long long>(st.st_size);
+    if (size > max_bytes) {
+        error = "the file is larger than " + std::to_string(max_bytes >> 20) + " MiB (" + std::to_string(size) +
+                " bytes)";
+        return false;
+    }
+    text.resize(static_cast<std::size_t>(size));
+    std::size_t got = 0;
+    char more[4096];
+    for (;;) {
+        // Into the space the size promised, then in chunks (a file may grow while it is read).
+        char* into = got < text.size() ? &text[got] : more;
+        const std::size_t room = got < text.size() ? text.size() - got : sizeof more;
+        const ssize_t r = ::read(fd, into, room);
+        if (r == 0) break;
+        if (r < 0) {
+            if (errno == EINTR) continue;
+            error = std::strerror(errno);
+            text.clear();
+            return false;
+        }
+        const auto n = static_cast<std::size_t>(r);
+        if (into == more) {
+            if (got + n > max_bytes) {
+                error = "the file is larger than " + std::to_string(max_bytes >> 20) + " MiB";
+                text.clear();
+                return false;
+            }
+            text.append(more, n);
+        }
+        got += n;
+    }
+    text.resize(got);
+    return true;
+}
+
 std::string read_file_text(const std::string& path, bool& ok) {
-    std::ifstream in(path, std::ios::binary);
-    ok = static_cast<bool>(in);
-    if (!ok) return {};
-    std::ostringstream s;
-    s << in.rdbuf();
-    ok = !in.bad();
-    return s.str();
+    std::string text, error;
+    ok = read_file_text(path, text, error);
+    return text;
 }
 
 // A write succeeds when either copy took it: a failing screen (stdout on a full disk, a closed
@@ -164,11 +227,9 @@ bool Interpreter::run_file(const std::string& path, const SourceLoc* from) {
         err << format_diagnostic(d);
         return false;
     }
-    bool ok = false;
-    const std::string text = read_file_text(path, ok);
-    if (!ok) {
-        Diagnostic d{from ? *from : SourceLoc{}, "cannot open '" + path + "': " + std::strerror(errno), {},
-                     from ? "call" : ""};
+    std::string text, why;
+    if (!read_file_text(path, text, why)) {
+        Diagnostic d{from ? *from : SourceLoc{}, "cannot open '" + path + "': " + why, {}, from ? "call" : ""};
         err << format_diagnostic(d);
         return false;
     }

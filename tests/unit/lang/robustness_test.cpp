@@ -58,6 +58,61 @@ TEST(Robustness, DeepCallChainStopsWithALocatedError) {
     EXPECT_EQ(s.model.title, "deepest");
 }
 
+// --- files that are not scripts -------------------------------------------------------------
+
+TEST(Robustness, CallRefusesADirectory) {
+    EXPECT_EQ(error_of("call '/tmp'"),
+              "t.dat:1:6: error: cannot open '/tmp': it is a directory, not a regular file\n"
+              "    call '/tmp'\n"
+              "         ^~~~~~\n"
+              "  see 'help call'\n");
+}
+
+TEST(Robustness, CallRefusesADeviceWithoutReadingIt) {
+    // /dev/zero never ends: reading it used to fill the memory.
+    EXPECT_NE(error_of("call '/dev/zero'").find("t.dat:1:6: error: cannot open '/dev/zero': it is a character device, "
+                                                "not a regular file\n"),
+              std::string::npos);
+}
+
+TEST(Robustness, CallRefusesANamedPipeWithoutWaiting) {
+    // Opening a FIFO for reading used to wait for a writer, forever.
+    const std::string path = temp_path("fifo");
+    std::remove(path.c_str());
+    ASSERT_EQ(mkfifo(path.c_str(), 0600), 0);
+    const std::string e = error_of("call '" + path + "'");
+    std::remove(path.c_str());
+    EXPECT_NE(e.find("error: cannot open '" + path + "': it is a named pipe, not a regular file"), std::string::npos) << e;
+}
+
+TEST(Robustness, CallRefusesAHugeFileWithoutReadingIt) {
+    const std::string path = temp_path("huge.dat");
+    write_file(path, "");
+    ASSERT_EQ(truncate(path.c_str(), (std::int64_t{64} << 20) + 1), 0); // sparse: no disk used
+    const std::string e = error_of("call '" + path + "'");
+    std::remove(path.c_str());
+    EXPECT_NE(e.find("error: cannot open '" + path + "': the file is larger than 64 MiB (67108865 bytes)"),
+              std::string::npos)
+        << e;
+}
+
+TEST(Robustness, TableReadRefusesWhatIsNotARegularFile) {
+    EXPECT_NE(error_of("table 1 read '/dev/zero'")
+                  .find("t.dat:1:14: error: cannot open '/dev/zero': it is a character device, not a regular file"),
+              std::string::npos);
+    EXPECT_NE(error_of("table 1 read '/tmp'").find("error: cannot open '/tmp': it is a directory, not a regular file"),
+              std::string::npos);
+}
+
+TEST(Robustness, TableReadRefusesNumbersTooLargeForADouble) {
+    const std::string path = temp_path("table.txt");
+    write_file(path, "; t v\n0 0\n1e309 1\n");
+    EXPECT_NE(error_of("table 1 read '" + path + "'").find("line 3: expected two finite numbers"), std::string::npos);
+    write_file(path, "0 0\n1 -1e400\n");
+    EXPECT_NE(error_of("table 1 read '" + path + "'").find("line 2: expected two finite numbers"), std::string::npos);
+    std::remove(path.c_str());
+}
+
 // --- non-finite numbers -----------------------------------------------------------------------
 
 TEST(Robustness, NonFiniteVectorComponentsAreRefused) {
