@@ -7,7 +7,9 @@
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <new>
 #include <sstream>
+#include <stdexcept>
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -178,7 +180,31 @@ bool Interpreter::execute(const LexedCommand& cmd, bool echo_command) {
         return false;
     } catch (const ScriptFailed&) {
         return false;
+    } catch (const std::bad_alloc&) {
+        out_of_memory(cmd);
+        return false;
+    } catch (const std::length_error&) { // a container asked for more than it can ever hold
+        out_of_memory(cmd);
+        return false;
     }
+}
+
+void Interpreter::out_of_memory(const LexedCommand& cmd) {
+    // What could not be allocated is gone by now, and it was usually large: the few small
+    // strings of the message still fit. If even they do not, say it without them.
+    out.flush();
+    try {
+        const Token& verb = cmd.tokens.front();
+        std::vector<std::string> cand;
+        const CommandSpec* spec = table.match(verb.lower, &cand);
+        const std::string name = spec ? spec->name : verb.text;
+        Diagnostic d{verb.loc, "out of memory while running '" + name + "'",
+                     {"the command stopped part way: the model may keep what it had done"}, spec ? spec->name : ""};
+        err << format_diagnostic(d);
+    } catch (const std::bad_alloc&) {
+        err << "error: out of memory\n";
+    }
+    err.flush();
 }
 
 bool Interpreter::run_text(const std::string& name, const std::string& text, bool echo_commands) {
@@ -228,7 +254,15 @@ bool Interpreter::run_file(const std::string& path, const SourceLoc* from) {
         return false;
     }
     std::string text, why;
-    if (!read_file_text(path, text, why)) {
+    bool ok = false;
+    try {
+        ok = read_file_text(path, text, why);
+    } catch (const std::bad_alloc&) {
+        why = "out of memory";
+    } catch (const std::length_error&) {
+        why = "out of memory";
+    }
+    if (!ok) {
         Diagnostic d{from ? *from : SourceLoc{}, "cannot open '" + path + "': " + why, {}, from ? "call" : ""};
         err << format_diagnostic(d);
         return false;
@@ -236,7 +270,13 @@ bool Interpreter::run_file(const std::string& path, const SourceLoc* from) {
     auto file = std::make_shared<SourceFile>();
     file->name = path;
     file->directory = directory_of(path);
-    file->lines = split_lines(text);
+    try {
+        file->lines = split_lines(text);
+    } catch (const std::bad_alloc&) {
+        Diagnostic d{from ? *from : SourceLoc{}, "out of memory reading '" + path + "'", {}, from ? "call" : ""};
+        err << format_diagnostic(d);
+        return false;
+    }
     call_stack_.push_back(canon);
     display_stack_.push_back(path);
     Lexer lex(file);
@@ -247,6 +287,11 @@ bool Interpreter::run_file(const std::string& path, const SourceLoc* from) {
             if (!lex.next(cmd)) break;
         } catch (const CommandError& e) {
             err << format_diagnostic(e.diag);
+            good = false;
+            break;
+        } catch (const std::bad_alloc&) {
+            err << format_diagnostic(Diagnostic{from ? *from : SourceLoc{}, "out of memory reading '" + path + "'", {},
+                                                from ? "call" : ""});
             good = false;
             break;
         }

@@ -103,6 +103,8 @@ public:
     static constexpr int kMaxCallDepth = 64;
 
 private:
+    void out_of_memory(const LexedCommand& cmd);
+
     std::vector<std::string> call_stack_; // canonical paths of the files being run
     std::vector<std::string> display_stack_;
 };

@@ -113,6 +113,50 @@ TEST(Robustness, TableReadRefusesNumbersTooLargeForADouble) {
     std::remove(path.c_str());
 }
 
+// --- out of memory ------------------------------------------------------------------------
+
+namespace {
+
+// A command table with the real commands and two that run out of memory.
+struct HungryTable {
+    odec::CommandSpec bad_alloc{"gobble", 3, "throws std::bad_alloc"};
+    odec::CommandSpec length{"lengthy", 3, "throws std::length_error"};
+    odec::CommandTable table;
+    HungryTable() {
+        bad_alloc.positional.integer("n").optional();
+        bad_alloc.handle([](odec::CommandContext&, const odec::Args&) { throw std::bad_alloc(); });
+        length.handle([](odec::CommandContext&, const odec::Args&) {
+            std::vector<double> v;
+            v.reserve(v.max_size() + 1); // throws std::length_error
+        });
+        table = odec::command_table();
+        table.commands.push_back(&bad_alloc);
+        table.commands.push_back(&length);
+    }
+};
+
+} // namespace
+
+TEST(Robustness, OutOfMemoryFailsTheCommandAndTheSessionGoesOn) {
+    HungryTable h;
+    odec::Model model;
+    std::ostringstream out, err;
+    odec::Interpreter interp(model, h.table, out, err);
+    interp.quiet = true;
+    EXPECT_FALSE(interp.run_text("t.dat", "title 'before'\ngobb 5\ntitle 'not run'", false));
+    EXPECT_EQ(err.str(), "t.dat:2:1: error: out of memory while running 'gobble'\n"
+                         "    gobb 5\n"
+                         "    ^~~~\n"
+                         "  the command stopped part way: the model may keep what it had done\n"
+                         "  see 'help gobble'\n");
+    EXPECT_EQ(model.title, "before");
+    err.str("");
+    EXPECT_FALSE(interp.run_text("t.dat", "lengthy", false));
+    EXPECT_NE(err.str().find("t.dat:1:1: error: out of memory while running 'lengthy'"), std::string::npos) << err.str();
+    EXPECT_TRUE(interp.run_text("t.dat", "title 'after'", false));
+    EXPECT_EQ(model.title, "after");
+}
+
 // --- non-finite numbers -----------------------------------------------------------------------
 
 TEST(Robustness, NonFiniteVectorComponentsAreRefused) {
