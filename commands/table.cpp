@@ -1,7 +1,8 @@
 #include "commands.h"
 #include "common.h"
 
-#include <fstream>
+#include <cctype>
+#include <cmath>
 #include <sstream>
 
 namespace odec {
@@ -28,8 +29,9 @@ const CommandSpec& table_command() {
             if (a.has("read")) {
                 const Value& f = a.find("read")->values[0];
                 const std::string path = relative_to_script(f.loc, f.text);
-                std::ifstream in(path);
-                if (!in) fail(f.loc, "cannot open '" + f.text + "'", {}, "table");
+                std::string text, why;
+                if (!read_file_text(path, text, why)) fail(f.loc, "cannot open '" + f.text + "': " + why, {}, "table");
+                std::istringstream in(text);
                 std::string line;
                 int line_no = 0;
                 while (std::getline(in, line)) {
@@ -39,8 +41,18 @@ const CommandSpec& table_command() {
                     }
                     std::istringstream ls(line);
                     double x, y;
-                    if (!(ls >> x)) continue; // blank or comment line
-                    if (!(ls >> y)) fail(f.loc, "'" + f.text + "' line " + std::to_string(line_no) + ": expected two numbers", {}, "table");
+                    const auto bad = [&] {
+                        fail(f.loc, "'" + f.text + "' line " + std::to_string(line_no) + ": expected two finite numbers",
+                             {}, "table");
+                    };
+                    if (!(ls >> x)) {
+                        // A number too large for a double fails to read too: that is no comment.
+                        const size_t k = line.find_first_not_of(' ');
+                        const size_t d = k != std::string::npos && (line[k] == '+' || line[k] == '-' || line[k] == '.') ? k + 1 : k;
+                        if (d < line.size() && std::isdigit(static_cast<unsigned char>(line[d]))) bad();
+                        continue; // blank or comment line
+                    }
+                    if (!(ls >> y) || !std::isfinite(x) || !std::isfinite(y)) bad();
                     t.points.emplace_back(x, y);
                 }
             }

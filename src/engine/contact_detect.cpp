@@ -595,7 +595,8 @@ void broad_phase(const Model& m, double tol, std::vector<std::int64_t>& pairs) {
     const int n = s.size();
     pairs.clear();
     thread_local std::vector<Vec3> lo, hi;
-    thread_local std::vector<int> active, cell_start, cell_items;
+    thread_local std::vector<int> active, cell_items;
+    thread_local std::vector<long> cell_start; // block-cell memberships can pass INT_MAX
     lo.resize(n);
     hi.resize(n);
     active.clear();
@@ -619,23 +620,35 @@ void broad_phase(const Model& m, double tol, std::vector<std::int64_t>& pairs) {
     }
     const int na = static_cast<int>(active.size());
     if (na < 2) return;
+    // Keep the grid to a few cells per block, however spread out the blocks are. The cell
+    // counts are worked out in double and capped before anything becomes an integer, so no
+    // spread of finite coordinates can overflow them (half spans: ghi - glo may exceed DBL_MAX).
+    const double max_cells = 8.0 * na + 64;
     double cell = 2.0 * size_sum / na;
-    const Vec3 span = ghi - glo;
-    // Keep the grid to a few cells per block, however spread out the blocks are.
+    if (!(cell > 0)) cell = 1; // zero-size (or non-finite) blocks: any cell will do
+    auto cells_along = [&](int i) {
+        const double r = (0.5 * ghi[i] - 0.5 * glo[i]) / cell * 2.0;
+        if (!(r > 1)) return 1.0; // also NaN
+        return std::min(std::ceil(r), max_cells + 1);
+    };
     long dims[3];
     for (;;) {
-        long total = 1;
-        for (int i = 0; i < 3; ++i) {
-            dims[i] = std::max(1L, static_cast<long>(std::ceil(span[i] / cell)));
-            total *= dims[i];
+        const double d0 = cells_along(0), d1 = cells_along(1), d2 = cells_along(2);
+        if (d0 * d1 * d2 <= max_cells) { // each <= max_cells + 1: the product is exact enough
+            dims[0] = static_cast<long>(d0);
+            dims[1] = static_cast<long>(d1);
+            dims[2] = static_cast<long>(d2);
+            break;
         }
-        if (total <= 8L * na + 64) break;
-        cell *= 1.5;
+        cell *= 1.5; // an infinite cell gives one cell along every axis: the loop ends
     }
+    // Monotonic in x, which is all the owner-cell test below needs; NaN and overflow clamp.
     auto cell_of = [&](double x, int i) {
-        return std::clamp(static_cast<long>(std::floor((x - glo[i]) / cell)), 0L, dims[i] - 1);
+        const double q = std::floor((x - glo[i]) / cell);
+        if (!(q > 0)) return 0L;
+        return q >= static_cast<double>(dims[i] - 1) ? dims[i] - 1 : static_cast<long>(q);
     };
-    const long n_cells = dims[0] * dims[1] * dims[2];
+    const long n_cells = dims[0] * dims[1] * dims[2]; // <= max_cells
     cell_start.assign(n_cells + 1, 0);
     auto for_cells = [&](int b, auto&& fn) {
         const long x0 = cell_of(lo[b].x(), 0), x1 = cell_of(hi[b].x(), 0);
@@ -649,14 +662,14 @@ void broad_phase(const Model& m, double tol, std::vector<std::int64_t>& pairs) {
     for (long c = 0; c < n_cells; ++c) cell_start[c + 1] += cell_start[c];
     cell_items.resize(cell_start[n_cells]);
     {
-        thread_local std::vector<int> fill;
+        thread_local std::vector<long> fill;
         fill.assign(cell_start.begin(), cell_start.end() - 1);
         for (int b : active) for_cells(b, [&](long c) { cell_items[fill[c]++] = b; });
     }
     for (long c = 0; c < n_cells; ++c) {
-        for (int i = cell_start[c]; i < cell_start[c + 1]; ++i) {
+        for (long i = cell_start[c]; i < cell_start[c + 1]; ++i) {
             const int a = cell_items[i];
-            for (int j = i + 1; j < cell_start[c + 1]; ++j) {
+            for (long j = i + 1; j < cell_start[c + 1]; ++j) {
                 const int b = cell_items[j];
                 if ((s.flags[a] & kFixed) && (s.flags[b] & kFixed) && !s.vel_bc[a] && !s.vel_bc[b]) continue;
                 if ((lo[a].array() > hi[b].array()).any() || (lo[b].array() > hi[a].array()).any()) continue;

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <atomic>
+#include <cstddef>
 #include <fstream>
 #include <iosfwd>
 #include <ostream>
@@ -99,11 +100,25 @@ public:
     PlotSettings plot;            // kept between plots
     NamedRanges named_ranges;     // `range name X ...`, for `nrange X`
 
+    // How many files may run at once through `call` (each level takes C++ stack).
+    static constexpr int kMaxCallDepth = 64;
+
 private:
+    void out_of_memory(const LexedCommand& cmd);
+
     std::vector<std::string> call_stack_; // canonical paths of the files being run
     std::vector<std::string> display_stack_;
 };
 
+// Largest file `call` and `table read` take: a script or a table is text a person wrote.
+constexpr std::size_t kMaxTextFileBytes = std::size_t{64} << 20;
+
+// Read a whole text file. Refuses (false, with `error` saying why, e.g. "it is a directory, not
+// a regular file") anything but a regular file, and files larger than max_bytes, without reading
+// them; never waits on a named pipe.
+bool read_file_text(const std::string& path, std::string& text, std::string& error,
+                    std::size_t max_bytes = kMaxTextFileBytes);
+// The same, for callers that only need to know whether it worked.
 std::string read_file_text(const std::string& path, bool& ok);
 
 } // namespace odec

@@ -295,8 +295,15 @@ private:
         if (std::isfinite(v.lo)) ok = ok && (v.lo_kind == Limit::Open ? x > v.lo : x >= v.lo);
         if (std::isfinite(v.hi)) ok = ok && (v.hi_kind == Limit::Open ? x < v.hi : x <= v.hi);
         if (!ok) {
-            fail(t.loc, owner_phrase(owner, spec, v) + " must be " + describe_limits(v) + " (got " + t.text + ")", {},
-                 cmd_->name);
+            // A closed range says "finite" by itself; otherwise say it (1e309 is read as infinity).
+            const std::string limits = describe_limits(v);
+            std::string expected = limits;
+            if (limits.empty()) {
+                expected = "a finite number";
+            } else if (!std::isfinite(x) && !(std::isfinite(v.lo) && std::isfinite(v.hi))) {
+                expected = "a finite number " + limits;
+            }
+            fail(t.loc, owner_phrase(owner, spec, v) + " must be " + expected + " (got " + t.text + ")", {}, cmd_->name);
         }
     }
 
@@ -342,7 +349,12 @@ private:
                          {"'" + owner + "' takes: " + (spec.name.empty() ? cmd_->synopsis() : spec.synopsis())},
                          cmd_->name);
                 }
-                out.vec[i] = t_[pos_++].number;
+                const Token& c = t_[pos_++];
+                if (!std::isfinite(c.number)) {
+                    fail(c.loc, owner_phrase(owner, spec, v) + " components must be finite numbers (got " + c.text + ")",
+                         {}, cmd_->name);
+                }
+                out.vec[i] = c.number;
             }
             if (paren) {
                 if (pos_ >= t_.size() || t_[pos_].kind != TokenKind::RParen) {
