@@ -60,7 +60,6 @@ const CommandSpec& solve_command() {
             default: break;
             }
             o << " after " << r.steps << " steps\n";
-            ctx.interp.interrupt = false;
         });
         return c;
     }();

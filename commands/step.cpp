@@ -38,8 +38,8 @@ const CommandSpec& step_command() {
             if (r.reason == StopReason::Interrupted) {
                 ctx.out << "interrupted after " << r.steps << " steps: step " << m.step << ", time " << num(m.time)
                         << " s\n";
-                ctx.interp.interrupt = false;
-                return;
+                return; // the flag stays raised: a script running this stops here
+
             }
             if (r.reason == StopReason::BlowUp) {
                 fail(a.loc, "stopped: " + r.message, {"the model is left as it was at that step, for inspection"},

@@ -1,4 +1,5 @@
 // odec: the command-line program. Runs scripts and command-line commands, or opens the prompt.
+#include <csignal>
 #include <cstring>
 #include <iostream>
 #include <string>
@@ -30,6 +31,13 @@ const char* kUsage =
 struct RendererGuard {
     ~RendererGuard() { odec::render::shutdown_renderer(); }
 };
+
+namespace {
+odec::Interpreter* g_script_interp = nullptr;
+extern "C" void on_script_sigint(int) {
+    if (g_script_interp) g_script_interp->interrupt.store(true);
+}
+} // namespace
 
 int main(int argc, char** argv) {
     using namespace odec;
@@ -86,8 +94,17 @@ int main(int argc, char** argv) {
         std::string text((std::istreambuf_iterator<char>(std::cin)), std::istreambuf_iterator<char>());
         return interp.run_text("<stdin>", text, true) ? 0 : 1;
     }
+    // Ctrl-C while scripts run stops the step or solve under way between two steps, then
+    // the scripts (exit status 130); a second Ctrl-C ends odec at once.
+    g_script_interp = &interp;
+    struct sigaction sa {};
+    sa.sa_handler = on_script_sigint;
+    sa.sa_flags = SA_RESETHAND;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, nullptr);
     for (const Item& it : items) {
         const bool ok = it.is_command ? interp.run_text("<command-line>", it.text, false) : interp.run_file(it.text);
+        if (interp.interrupt.load()) return 130;
         if (!ok) return 1;
         if (interp.quit_requested) break;
     }

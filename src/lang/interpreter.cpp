@@ -207,6 +207,18 @@ void Interpreter::out_of_memory(const LexedCommand& cmd) {
     err.flush();
 }
 
+bool Interpreter::interrupted_here(const LexedCommand& cmd) {
+    if (!interrupt.load()) return false;
+    // Ctrl-C stopped a command (a step, a solve): the rest of the script, and of every
+    // script that called it, is not run. At the prompt the next line starts afresh.
+    if (!cmd.tokens.empty()) {
+        const SourceLoc& l = cmd.tokens.front().loc;
+        err << (l.file ? l.file->name : std::string("<input>")) << ":" << l.line << ":" << l.col << ": ";
+    }
+    err << "interrupted: the script stops before this command\n";
+    return true;
+}
+
 bool Interpreter::run_text(const std::string& name, const std::string& text, bool echo_commands) {
     auto file = std::make_shared<SourceFile>();
     file->name = name;
@@ -220,6 +232,7 @@ bool Interpreter::run_text(const std::string& name, const std::string& text, boo
             err << format_diagnostic(e.diag);
             return false;
         }
+        if (interrupted_here(cmd)) return false;
         if (!execute(cmd, echo_commands)) return false;
         if (quit_requested) break;
         if (return_requested) {
@@ -292,6 +305,10 @@ bool Interpreter::run_file(const std::string& path, const SourceLoc* from) {
         } catch (const std::bad_alloc&) {
             err << format_diagnostic(Diagnostic{from ? *from : SourceLoc{}, "out of memory reading '" + path + "'", {},
                                                 from ? "call" : ""});
+            good = false;
+            break;
+        }
+        if (interrupted_here(cmd)) {
             good = false;
             break;
         }

@@ -78,6 +78,8 @@ public:
     bool run_text(const std::string& name, const std::string& text, bool echo_commands);
     // Parse and execute one lexed command; false when it failed (reported on err).
     bool execute(const LexedCommand& cmd, bool echo_command);
+    // True (and said) when Ctrl-C interrupted an earlier command: the script stops before cmd.
+    bool interrupted_here(const LexedCommand& cmd);
 
     Model& model;
     const CommandTable& table;

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <csignal>
 #include <cstdlib>
+#include <fcntl.h>
 #include <fstream>
 #include <poll.h>
 #include <pty.h>
@@ -162,4 +163,49 @@ TEST(Prompt, CtrlCStopsALongStepAndTheSessionGoesOn) {
     ASSERT_TRUE(t.expect("odec> ")) << t.seen();
     t.type("quit\n");
     EXPECT_EQ(t.wait_exit(), 0) << t.seen();
+}
+
+TEST(Prompt, CtrlCInACalledScriptStopsTheWholeScript) {
+    // outer.dat calls inner.dat, whose long step is interrupted: neither script goes on, the
+    // session does, and the model is whole.
+    const std::string home = temp_home();
+    {
+        std::ofstream(home + "/inner.dat") << "poly brick 0 1 0 1 0 1\nprop mat=1 dens=1000\nset dt 1e-9\n"
+                                              "step 2000000000\ntitle 'inner went on'\n";
+        std::ofstream(home + "/outer.dat") << "call 'inner.dat'\ntitle 'outer went on'\n";
+    }
+    Terminal t(home);
+    ASSERT_TRUE(t.expect("odec> "));
+    t.type("call '" + home + "/outer.dat'\n");
+    ASSERT_TRUE(t.expect("step 2000000000")) << t.seen(); // the echo of the script line
+    usleep(300000);
+    t.type("\x03");
+    ASSERT_TRUE(t.expect("interrupted after")) << t.seen();
+    ASSERT_TRUE(t.expect("inner.dat:5:1: interrupted: the script stops before this command")) << t.seen();
+    ASSERT_TRUE(t.expect("odec> ")) << t.seen();
+    t.type("print info\n");
+    ASSERT_TRUE(t.expect("title:      (none)")) << t.seen();
+    ASSERT_TRUE(t.expect("odec> ")) << t.seen();
+    t.type("quit\n");
+    EXPECT_EQ(t.wait_exit(), 0) << t.seen();
+}
+
+TEST(Prompt, CtrlCStopsAScriptGivenOnTheCommandLine) {
+    const std::string home = temp_home();
+    std::ofstream(home + "/long.dat") << "poly brick 0 1 0 1 0 1\nprop mat=1 dens=1000\nset dt 1e-9\n"
+                                         "step 2000000000\nprint info\n";
+    const pid_t pid = fork();
+    if (pid == 0) {
+        const int devnull = open("/dev/null", O_WRONLY);
+        dup2(devnull, 1);
+        dup2(devnull, 2);
+        execl(ODEC_BINARY, ODEC_BINARY, (home + "/long.dat").c_str(), static_cast<char*>(nullptr));
+        _exit(127);
+    }
+    usleep(500000);
+    kill(pid, SIGINT);
+    int status = 0;
+    for (int i = 0; i < 100 && waitpid(pid, &status, WNOHANG) == 0; ++i) usleep(100000);
+    ASSERT_TRUE(WIFEXITED(status)) << "odec did not end by itself after Ctrl-C";
+    EXPECT_EQ(WEXITSTATUS(status), 130);
 }
