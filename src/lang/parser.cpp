@@ -1,4 +1,5 @@
 #include "lang/parser.h"
+#include "lang/not_yet.h"
 
 #include <algorithm>
 #include <cmath>
@@ -200,6 +201,8 @@ private:
             fail(verb.loc, "abbreviation '" + verb.text + "' is too short: write at least " + quoted_list(c2),
                  {"type more letters of the command"});
         }
+        const std::string missing = not_yet_available(verb.lower);
+        if (!missing.empty()) fail(verb.loc, missing, {"type 'help' for the commands odec has"});
         std::vector<std::string> notes;
         const auto near = closest_words(verb.lower, all);
         if (!near.empty()) notes.push_back("did you mean " + quoted_list(near) + "?");

@@ -145,3 +145,17 @@ TEST(CommandMeaning, PrintTablesFitA100ColumnTerminal) {
     EXPECT_NE(s.out.str().find("jcoh"), std::string::npos);
     EXPECT_NE(s.out.str().find("1e+05"), std::string::npos); // the joint cohesion, listed
 }
+
+TEST(CommandMeaning, WordsOfMissingFeaturesSayWhatIsMissing) {
+    for (const char* line : {"gen edge 0.5", "generate edge 0.5", "zone model elastic", "insitu stress -1e6 -1e6 -1e6",
+                             "def f", "gp"}) {
+        Session s;
+        EXPECT_FALSE(s.run(line));
+        EXPECT_NE(s.error().find("is not available yet"), std::string::npos) << line << "\n" << s.error();
+        EXPECT_EQ(s.error().find("unknown command"), std::string::npos) << s.error();
+    }
+    // A plain typo is still unknown, with a suggestion.
+    Session s;
+    EXPECT_FALSE(s.run("stpe 10"));
+    EXPECT_NE(s.error().find("unknown command 'stpe'"), std::string::npos) << s.error();
+}
