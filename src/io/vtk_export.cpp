@@ -97,6 +97,19 @@ void put_field_data(std::string& out, const Model& m) {
     out += "</DataArray>\n    </FieldData>\n";
 }
 
+// A list of names as a String array of FieldData (each name as its character codes, then 0),
+// added to the FieldData section already written.
+void add_string_field(std::string& out, const char* name, const std::vector<std::string>& strings) {
+    std::string s = std::string("      <DataArray type=\"String\" Name=\"") + name + "\" NumberOfTuples=\"" +
+                    std::to_string(strings.size()) + "\" format=\"ascii\">\n";
+    for (const auto& str : strings) {
+        for (unsigned char c : str) s += std::to_string(static_cast<int>(c)) + " ";
+        s += "0\n";
+    }
+    s += "      </DataArray>\n";
+    out.insert(out.rfind("    </FieldData>"), s);
+}
+
 void put_points(std::string& out, const std::vector<Vec3>& pts) {
     out += "      <Points>\n        <DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
     for (const Vec3& p : pts) {
@@ -199,7 +212,7 @@ VtkPolyhedronMesh blocks_mesh(const Model& m) {
             const Vec3 r = x - bs.centroid[b];
             // A rigid block's motion at its vertex (small-rotation form for displacement).
             point_disp.push_back(bs.disp[b] + bs.rotation[b].cross(r));
-            point_vel.push_back(v + bs.ang_vel[b].cross(r));
+            point_vel.push_back(velocity_at_point(m, b, r));
         }
         for (int f = 0; f < shape.n_faces(); ++f) {
             mesh.cell_faces.push_back(shape.face_size(f));
@@ -236,6 +249,8 @@ bool write_vtu(const VtkPolyhedronMesh& mesh, const Model& m, const std::string&
     out += "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n";
     out += "  <UnstructuredGrid>\n";
     put_field_data(out, m);
+    // The names of the group numbers of the cell array 'group' (-1: none).
+    if (!m.group_names.empty()) add_string_field(out, "group_names", m.group_names);
     out += "    <Piece NumberOfPoints=\"" + std::to_string(mesh.points.size()) + "\" NumberOfCells=\"" +
            std::to_string(n_cells) + "\">\n";
     put_data_section(out, "PointData", mesh.point_data);
@@ -273,8 +288,54 @@ bool write_vtu(const VtkPolyhedronMesh& mesh, const Model& m, const std::string&
     return write_atomically(path, out, error);
 }
 
+std::vector<Vec3> contact_outline(const ContactRows& rows, const ContactRows& subs, int i) {
+    const Vec3 n = rows.normal[i].norm() > 0 ? Vec3(rows.normal[i].normalized()) : Vec3(Vec3::UnitZ());
+    const Vec3 ref = std::abs(n.x()) < 0.6 ? Vec3::UnitX() : Vec3::UnitY();
+    const Vec3 e1 = (ref - ref.dot(n) * n).normalized(), e2 = n.cross(e1);
+    const Vec3& c = rows.centroid[i];
+    // The sub-contacts of this contact, in the plane of the contact.
+    std::vector<std::pair<double, double>> uv;
+    for (int k = 0; k < subs.size(); ++k) {
+        if (k < static_cast<int>(subs.parent.size()) && subs.parent[k] == i) {
+            const Vec3 d = subs.centroid[k] - c;
+            uv.emplace_back(e1.dot(d), e2.dot(d));
+        }
+    }
+    std::sort(uv.begin(), uv.end());
+    uv.erase(std::unique(uv.begin(), uv.end()), uv.end());
+    // Their convex hull (monotone chain), counter-clockwise about the normal.
+    std::vector<std::pair<double, double>> hull;
+    if (uv.size() >= 3) {
+        auto cross = [](const auto& o, const auto& a, const auto& b) {
+            return (a.first - o.first) * (b.second - o.second) - (a.second - o.second) * (b.first - o.first);
+        };
+        std::vector<std::pair<double, double>> h(2 * uv.size());
+        size_t k = 0;
+        for (size_t j = 0; j < uv.size(); ++j) {
+            while (k >= 2 && cross(h[k - 2], h[k - 1], uv[j]) <= 0) --k;
+            h[k++] = uv[j];
+        }
+        for (size_t j = uv.size() - 1, t = k + 1; j-- > 0;) {
+            while (k >= t && cross(h[k - 2], h[k - 1], uv[j]) <= 0) --k;
+            h[k++] = uv[j];
+        }
+        h.resize(k > 0 ? k - 1 : 0);
+        hull = h;
+    }
+    std::vector<Vec3> out;
+    if (hull.size() >= 3) {
+        for (const auto& p : hull) out.push_back(c + p.first * e1 + p.second * e2);
+    } else {
+        // No outline to follow: a square of the contact's area, as 'plot contact' draws it
+        // (a point, for a contact that touches nowhere).
+        const double h = 0.5 * std::sqrt(std::max(rows.area[i], 0.0));
+        out = {c - h * e1 - h * e2, c + h * e1 - h * e2, c + h * e1 + h * e2, c - h * e1 + h * e2};
+    }
+    return out;
+}
+
 bool write_contacts_vtp(const ContactRows& rows, const std::vector<std::string>& state_names, const Model& m,
-                        const std::string& path, std::string& error) {
+                        const std::string& path, std::string& error, const ContactRows* outline) {
     if (!contact_rows_valid(rows, error)) return false;
     const int n = rows.size();
     std::vector<VtkArray> data;
@@ -305,31 +366,44 @@ bool write_contacts_vtp(const ContactRows& rows, const std::vector<std::string>&
     out += "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n";
     out += "  <PolyData>\n";
     put_field_data(out, m);
-    if (!state_names.empty()) {
-        // The names of the state numbers, for whoever reads the file.
-        out.insert(out.rfind("    </FieldData>"), [&] {
-            std::string s = "      <DataArray type=\"String\" Name=\"state_names\" NumberOfTuples=\"" +
-                            std::to_string(state_names.size()) + "\" format=\"ascii\">\n";
-            for (const auto& name : state_names) {
-                for (unsigned char c : name) s += std::to_string(static_cast<int>(c)) + " ";
-                s += "0\n";
-            }
-            return s + "      </DataArray>\n";
-        }());
+    // The names of the state numbers, for whoever reads the file.
+    if (!state_names.empty()) add_string_field(out, "state_names", state_names);
+    if (!outline) {
+        // Points, one vertex cell each, the data on the points.
+        out += "    <Piece NumberOfPoints=\"" + std::to_string(n) + "\" NumberOfVerts=\"" + std::to_string(n) +
+               "\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n";
+        put_data_section(out, "PointData", data);
+        put_points(out, rows.centroid);
+        std::vector<long> conn(static_cast<size_t>(n)), offs(static_cast<size_t>(n));
+        for (int i = 0; i < n; ++i) {
+            conn[i] = i;
+            offs[i] = i + 1;
+        }
+        out += "      <Verts>\n";
+        put_int_array(out, "Int64", "connectivity", conn);
+        put_int_array(out, "Int64", "offsets", offs);
+        out += "      </Verts>\n    </Piece>\n  </PolyData>\n</VTKFile>\n";
+        return write_atomically(path, out, error);
     }
-    out += "    <Piece NumberOfPoints=\"" + std::to_string(n) + "\" NumberOfVerts=\"" + std::to_string(n) +
-           "\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n";
-    put_data_section(out, "PointData", data);
-    put_points(out, rows.centroid);
-    std::vector<long> conn(static_cast<size_t>(n)), offs(static_cast<size_t>(n));
+    // Patches: one polygon cell per contact, in contact order, the data on the cells.
+    std::vector<Vec3> points;
+    std::vector<long> conn, offs;
     for (int i = 0; i < n; ++i) {
-        conn[i] = i;
-        offs[i] = i + 1;
+        for (const Vec3& x : contact_outline(rows, *outline, i)) {
+            conn.push_back(static_cast<long>(points.size()));
+            points.push_back(x);
+        }
+        offs.push_back(static_cast<long>(conn.size()));
     }
-    out += "      <Verts>\n";
+    out += "    <Piece NumberOfPoints=\"" + std::to_string(points.size()) +
+           "\" NumberOfVerts=\"0\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"" + std::to_string(n) +
+           "\">\n";
+    put_data_section(out, "CellData", data);
+    put_points(out, points);
+    out += "      <Polys>\n";
     put_int_array(out, "Int64", "connectivity", conn);
     put_int_array(out, "Int64", "offsets", offs);
-    out += "      </Verts>\n    </Piece>\n  </PolyData>\n</VTKFile>\n";
+    out += "      </Polys>\n    </Piece>\n  </PolyData>\n</VTKFile>\n";
     return write_atomically(path, out, error);
 }
 
@@ -354,7 +428,9 @@ bool export_vtk(const Model& m, const ContactView* contacts, const std::string& 
     parts.push_back({blocks_path, 0});
     if (contacts) {
         const std::string path = stem + "-contacts-" + step + ".vtp";
-        if (!write_contacts_vtp(contacts->contacts, contacts->state_names, m, path, error)) return false;
+        if (!write_contacts_vtp(contacts->contacts, contacts->state_names, m, path, error, &contacts->sub_contacts)) {
+            return false;
+        }
         parts.push_back({path, 1});
         if (contacts->sub_contacts.size() > 0) {
             const std::string sub = stem + "-subcontacts-" + step + ".vtp";
@@ -364,15 +440,15 @@ bool export_vtk(const Model& m, const ContactView* contacts, const std::string& 
     }
 
     // The collection: earlier steps' entries stay, this step's replace any of the same file.
-    // ParaView's time axis is the step number (always increasing, unlike time in a static
-    // solution); the model time travels inside each file as TimeValue.
+    // ParaView's time axis is the model time, in seconds (each file also carries it as
+    // TimeValue, and its step as Step).
     const std::string pvd_path = stem + ".pvd";
     std::vector<PvdEntry> entries = read_pvd(pvd_path);
     for (const Part& p : parts) {
         const std::string file = base_name(p.path);
         entries.erase(std::remove_if(entries.begin(), entries.end(), [&](const PvdEntry& e) { return e.file == file; }),
                       entries.end());
-        entries.push_back({static_cast<double>(m.step), p.part, file});
+        entries.push_back({m.time, p.part, file});
     }
     std::stable_sort(entries.begin(), entries.end(), [](const PvdEntry& a, const PvdEntry& b) {
         return a.timestep != b.timestep ? a.timestep < b.timestep : a.part < b.part;

@@ -46,9 +46,14 @@ struct VtkPolyhedronMesh {
 VtkPolyhedronMesh blocks_mesh(const Model& m);
 
 bool write_vtu(const VtkPolyhedronMesh& mesh, const Model& m, const std::string& path, std::string& error);
-// Contacts (or sub-contacts) as points (one vertex cell each) with their data.
+// Contacts (or sub-contacts) with their data: as points (one vertex cell each, point data),
+// or, given the sub-contacts in `outline`, as patches (one polygon cell each, cell data): the
+// outline of each contact's sub-contacts, as 'plot contact' shows the contact.
 bool write_contacts_vtp(const ContactRows& rows, const std::vector<std::string>& state_names, const Model& m,
-                        const std::string& path, std::string& error);
+                        const std::string& path, std::string& error, const ContactRows* outline = nullptr);
+// The patch drawn for contact i: the convex outline of its sub-contacts in its plane, else
+// a square of its area about its centroid.
+std::vector<Vec3> contact_outline(const ContactRows& rows, const ContactRows& subs, int i);
 
 // The whole export. `name` may carry a directory and an extension (.vtu, .vtp, .pvd, .vtk:
 // dropped). `contacts` may be null (no contact files). On success `written` lists the

@@ -7,10 +7,12 @@
 #include <fstream>
 
 #include <vtkDataArray.h>
+#include <vtkFieldData.h>
 #include <vtkPointData.h>
 #include <vtkCellData.h>
 #include <vtkPolyData.h>
 #include <vtkUnstructuredGrid.h>
+#include <vtkIdList.h>
 #include <vtkXMLPolyDataReader.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
@@ -385,21 +387,37 @@ TEST(Export, VtkFilesReadBackWithTheModelsValues) {
     contacts->SetFileName(vtp.c_str());
     contacts->Update();
     vtkPolyData* poly = contacts->GetOutput();
-    ASSERT_EQ(poly->GetNumberOfPoints(), m.contacts.size());
-    vtkDataArray* sn = poly->GetPointData()->GetArray("normal_stress");
-    vtkDataArray* force = poly->GetPointData()->GetArray("force");
-    vtkDataArray* b1 = poly->GetPointData()->GetArray("block1");
-    ASSERT_TRUE(sn && force && b1);
+    // A patch a contact, as plot contact draws them, with the values print contact gives.
+    ASSERT_EQ(poly->GetNumberOfPolys(), m.contacts.size());
+    vtkDataArray* sn = poly->GetCellData()->GetArray("normal_stress");
+    vtkDataArray* ndis = poly->GetCellData()->GetArray("normal_closure");
+    vtkDataArray* force = poly->GetCellData()->GetArray("force");
+    vtkDataArray* b1 = poly->GetCellData()->GetArray("block1");
+    ASSERT_TRUE(sn && ndis && force && b1);
     for (int c = 0; c < m.contacts.size(); ++c) {
         const odec::ContactInfo info = odec::contact_info(m, c);
         EXPECT_DOUBLE_EQ(sn->GetTuple1(c), info.normal_stress);
+        EXPECT_DOUBLE_EQ(ndis->GetTuple1(c), info.normal_disp);
         EXPECT_GT(info.normal_stress, 0);
         EXPECT_EQ(b1->GetTuple1(c), m.blocks.id[info.block_a]);
         for (int k = 0; k < 3; ++k) EXPECT_DOUBLE_EQ(force->GetComponent(c, k), view.contacts.force[c][k]);
-        double p[3];
-        poly->GetPoint(c, p);
-        for (int k = 0; k < 3; ++k) EXPECT_NEAR(p[k], info.centroid[k], 1e-6);
+        // The patch lies in the contact plane, around its centroid, with the contact's area.
+        vtkNew<vtkIdList> ids;
+        poly->GetCellPoints(c, ids);
+        ASSERT_GE(ids->GetNumberOfIds(), 3);
+        Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+        for (vtkIdType j = 0; j < ids->GetNumberOfIds(); ++j) {
+            double p[3];
+            poly->GetPoint(ids->GetId(j), p);
+            const Eigen::Vector3d x(p[0], p[1], p[2]);
+            EXPECT_NEAR(info.normal.dot(x - info.centroid), 0.0, 1e-6);
+            mean += x;
+        }
+        mean /= static_cast<double>(ids->GetNumberOfIds());
+        EXPECT_LT((mean - info.centroid).norm(), 0.5);
     }
+    // The group names travel with the block file.
+    EXPECT_NE(blocks->GetOutput()->GetFieldData()->GetAbstractArray("group_names"), nullptr);
 
     vtkNew<vtkXMLPolyDataReader> subs;
     subs->SetFileName(sub.c_str());

@@ -1,6 +1,8 @@
 // `export vtk`: the files are read back with VTK's own XML readers and compared with the model.
 #include <gtest/gtest.h>
 
+#include <vtkIdList.h>
+
 #include <fstream>
 #include <iterator>
 
@@ -137,13 +139,32 @@ TEST(ExportVtk, ContactsAndCollectionAcrossSteps) {
     reader->SetFileName(written[1].c_str());
     reader->Update();
     vtkPolyData* poly = reader->GetOutput();
-    ASSERT_EQ(poly->GetNumberOfPoints(), 3);
-    EXPECT_EQ(poly->GetNumberOfVerts(), 3);
-    vtkDataArray* sn = poly->GetPointData()->GetArray("normal_stress");
-    vtkDataArray* ss = poly->GetPointData()->GetArray("shear_stress");
-    vtkDataArray* state = poly->GetPointData()->GetArray("state");
-    vtkDataArray* force = poly->GetPointData()->GetArray("force");
-    vtkDataArray* b2 = poly->GetPointData()->GetArray("block2");
+    // One patch a contact: contact 0 is outlined by its four sub-contacts (a 0.5 m square in
+    // x = 1), the others, with no sub-contacts, are squares of their area.
+    ASSERT_EQ(poly->GetNumberOfPolys(), 3);
+    EXPECT_EQ(poly->GetNumberOfVerts(), 0);
+    EXPECT_EQ(poly->GetNumberOfPoints(), 12);
+    {
+        double b[6];
+        vtkNew<vtkIdList> ids;
+        poly->GetCellPoints(0, ids);
+        ASSERT_EQ(ids->GetNumberOfIds(), 4);
+        for (int k = 0; k < 3; ++k) { b[2 * k] = 1e300; b[2 * k + 1] = -1e300; }
+        for (vtkIdType j = 0; j < 4; ++j) {
+            double p[3];
+            poly->GetPoint(ids->GetId(j), p);
+            for (int k = 0; k < 3; ++k) { b[2 * k] = std::min(b[2 * k], p[k]); b[2 * k + 1] = std::max(b[2 * k + 1], p[k]); }
+        }
+        EXPECT_NEAR(b[0], 1, 1e-12);
+        EXPECT_NEAR(b[1], 1, 1e-12);
+        EXPECT_NEAR(b[3] - b[2], 0.5, 1e-12);
+        EXPECT_NEAR(b[5] - b[4], 0.5, 1e-12);
+    }
+    vtkDataArray* sn = poly->GetCellData()->GetArray("normal_stress");
+    vtkDataArray* ss = poly->GetCellData()->GetArray("shear_stress");
+    vtkDataArray* state = poly->GetCellData()->GetArray("state");
+    vtkDataArray* force = poly->GetCellData()->GetArray("force");
+    vtkDataArray* b2 = poly->GetCellData()->GetArray("block2");
     ASSERT_TRUE(sn && ss && state && force && b2);
     for (int i = 0; i < 3; ++i) {
         EXPECT_EQ(sn->GetTuple1(i), v.contacts.normal_stress[i]);
@@ -161,6 +182,7 @@ TEST(ExportVtk, ContactsAndCollectionAcrossSteps) {
 
     // A later step adds its entries; exporting the same step again replaces them.
     m.step = 500;
+    m.time = 2.5;
     ASSERT_TRUE(export_vtk(m, &v, stem, written, error)) << error;
     ASSERT_TRUE(export_vtk(m, &v, stem, written, error)) << error;
     const std::string pvd = slurp(stem + ".pvd");
@@ -168,8 +190,13 @@ TEST(ExportVtk, ContactsAndCollectionAcrossSteps) {
     for (size_t at = pvd.find("<DataSet"); at != std::string::npos; at = pvd.find("<DataSet", at + 1)) ++n_entries;
     EXPECT_EQ(n_entries, 6u);
     EXPECT_LT(pvd.find("-blocks-000250.vtu"), pvd.find("-blocks-000500.vtu"));
-    EXPECT_NE(pvd.find("timestep=\"500\" group=\"\" part=\"1\" file=\"export-steps-contacts-000500.vtp\""),
-              std::string::npos);
+    // ParaView's time is the model time, s.
+    EXPECT_NE(pvd.find("timestep=\"1.25\" group=\"\" part=\"1\" file=\"export-steps-contacts-000250.vtp\""),
+              std::string::npos)
+        << pvd;
+    EXPECT_NE(pvd.find("timestep=\"2.5\" group=\"\" part=\"1\" file=\"export-steps-contacts-000500.vtp\""),
+              std::string::npos)
+        << pvd;
     // The same model gives the same bytes.
     const std::string before = slurp(stem + "-blocks-000500.vtu");
     ASSERT_TRUE(export_vtk(m, &v, stem, written, error)) << error;
