@@ -408,6 +408,16 @@ void add_vectors(Scene& scene, const Model& m, VectorKind kind, const PlotOption
     } else {
         g.scale = continuous_scale(info, g.scalars, opt);
     }
+    // The arrow scale: what the longest arrow stands for.
+    double longest = 0;
+    for (double v : g.scalars.empty() ? std::vector<double>{} : g.scalars) longest = std::max(longest, v);
+    if (g.scalars.empty()) {
+        for (const Vec3& d : g.directions) longest = std::max(longest, d.norm());
+    }
+    char note[160];
+    std::snprintf(note, sizeof note, "    arrows: %s, the longest %.3g %s", kind == VectorKind::Disp ? "displacement" : "velocity",
+                  longest, kind == VectorKind::Disp ? "m" : "m/s");
+    scene.title += note;
     scene.glyphs.push_back(std::move(g));
 }
 
@@ -587,7 +597,13 @@ bool add_history_chart(Scene& scene, const HistorySet& h, const std::vector<int>
     if (vs > 0) {
         const History& xh = h.items[vs - 1];
         for (size_t i = 0; i < n_samples; ++i) x[i] = i < xh.values.size() ? xh.values[i] : 0.0;
+        // The name of the history, then its unit (time in s, displacement in m, ...).
         chart.x_label = history_name(h, vs);
+        const std::string axis = history_axis_title(xh.kind);
+        const size_t open = axis.rfind(" (");
+        if (open != std::string::npos && chart.x_label.find(axis.substr(open)) == std::string::npos) {
+            chart.x_label += axis.substr(open);
+        }
     } else {
         for (size_t i = 0; i < n_samples; ++i) x[i] = static_cast<double>(h.sample_steps[i]);
         chart.x_label = "step";

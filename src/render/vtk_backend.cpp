@@ -529,7 +529,7 @@ vtkSmartPointer<vtkScalarBarActor> legend_actor(const ColourScale& scale, vtkLoo
     } else {
         bar->DrawAnnotationsOff();
         bar->SetNumberOfLabels(6);
-        bar->SetLabelFormat("%-#.3g");
+        bar->SetLabelFormat("%-.3g"); // one format for every label: 3 significant figures
     }
     return bar;
 }

@@ -295,7 +295,7 @@ TEST(Render, HistoryChartOfTwoHistories) {
 
     Scene vs = begin_scene(m, opt);
     ASSERT_TRUE(add_history_chart(vs, h, {2}, 1, error)) << error;
-    EXPECT_EQ(vs.chart.x_label, "1: zdis (0.5,0.5,2.5) block 3");
+    EXPECT_EQ(vs.chart.x_label, "1: zdis (0.5,0.5,2.5) block 3 (m)"); // with its unit
     draw(vs, "hist-vs.png");
 
     EXPECT_FALSE(add_history_chart(vs, h, {3}, 0, error));
