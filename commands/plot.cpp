@@ -34,8 +34,8 @@ using render::BlockColour;
 using render::ContactQuantity;
 using render::VectorKind;
 
-const std::vector<std::string> kBlockQuantities = {"disp", "xdis", "ydis",  "zdis",     "vel",   "xvel",
-                                                   "yvel", "zvel", "group", "material", "region"};
+const std::vector<std::string> kBlockQuantities = {"disp", "xdis", "ydis",  "zdis",     "vel",    "xvel",
+                                                   "yvel", "zvel", "group", "material", "region", "fixed"};
 const std::vector<std::string> kContactQuantities = {"nstress", "sstress", "ndis", "sdis", "state"};
 const std::vector<std::string> kViews = {"iso", "x", "-x", "y", "-y", "z", "-z", "eye"};
 const std::vector<std::string> kBackgrounds = {"white", "black", "grey"};
@@ -46,7 +46,7 @@ BlockColour block_colour(const std::string& q) {
         {"disp", BlockColour::Disp},   {"xdis", BlockColour::XDis},         {"ydis", BlockColour::YDis},
         {"zdis", BlockColour::ZDis},   {"vel", BlockColour::Vel},           {"xvel", BlockColour::XVel},
         {"yvel", BlockColour::YVel},   {"zvel", BlockColour::ZVel},         {"group", BlockColour::Group},
-        {"material", BlockColour::Material}, {"region", BlockColour::Region}};
+        {"material", BlockColour::Material}, {"region", BlockColour::Region}, {"fixed", BlockColour::Fixed}};
     return table.at(q);
 }
 
@@ -254,7 +254,7 @@ void handle_plot(CommandContext& ctx, const Args& a) {
         for (const KeywordUse& u : a.uses) {
             const std::string& k = u.spec->name;
             if (k == "block" || k == "vector" || k == "principal" || k == "contact" || k == "cut" || k == "range" ||
-                k == "view" || k == "map" || k == "scale") {
+                k == "view" || k == "map" || k == "scale" || k == "ids") {
                 fail(u.loc, "'" + k + "' cannot go with 'history'",
                      {"a history chart is a picture of its own: plot it with a separate 'plot' command"}, "plot");
             }
@@ -271,6 +271,7 @@ void handle_plot(CommandContext& ctx, const Args& a) {
     if (view == "eye") opt.camera = render::camera_for_eye(eye);
     else render::camera_for_view(view, opt.camera);
     opt.view_given = a.has("view") || settings.view_set;
+    opt.ids = a.has("ids");
     opt.background = background_colour(a.has("background") ? a.text("background") : settings.background);
     opt.map = colour_map(a.has("map") ? a.text("map") : settings.map);
     if (a.has("scale")) {
@@ -403,6 +404,7 @@ const CommandSpec& plot_command() {
         c.keyword("map", 3, "colour map of continuous quantities").one_of("name", kMaps).defaults("auto");
         c.keyword("scale", 2, "fixed colour scale from lo to hi (default: the data's own range)").real("lo").real("hi");
         c.keyword("background", 2, "background colour").one_of("colour", kBackgrounds).defaults("white");
+        c.keyword("ids", 3, "label each block drawn with its id (as 'range id' takes it)");
         c.keyword("set", 3, "keep this command's size, view, background and map for later plots; draw nothing");
         c.range("which blocks (and the contacts between them) to draw: see 'help range'");
         c.describe(
@@ -411,7 +413,8 @@ const CommandSpec& plot_command() {
             "and vectors; blocks turn translucent under contacts and arrows). 'plot' alone is 'plot block disp'. "
             "Without 'block', the other items are drawn over the block edges. 'history n ... [vs m]' draws a "
             "line chart instead, with 'file', 'size' and 'background' as its only options. "
-            "Block quantities: disp, xdis, ydis, zdis (m), vel, xvel, yvel, zvel (m/s), group, material, region. "
+            "Block quantities: disp, xdis, ydis, zdis (m), vel, xvel, yvel, zvel (m/s), group, material, region, "
+            "fixed (free, fixed, or moving with a velocity given by 'bound': how the model is supported). "
             "Contact quantities: nstress (normal stress, compression positive), sstress (shear stress), ndis "
             "(normal closure, closing positive as in print and hist), sdis (shear displacement), state (elastic, slipping, open, "
             "failed). 'principal' draws, on each sub-contact, the normal stress along the normal and the shear "
@@ -428,6 +431,7 @@ const CommandSpec& plot_command() {
         c.example("plot block zdis vector vel file 'slide.png' size 800 600 view -y");
         c.example("plot contact sstress range z 0 5");
         c.example("plot block group cut plane dip 90 dd 180 origin 0,2,0");
+        c.example("plot block fixed ids");
         c.example("plot hist 2 vs 1 file 'fall.png'");
         c.example("plot set size 1280 960 view eye 20,-30,15 background black map viridis");
         c.handle(handle_plot);

@@ -119,13 +119,16 @@ double block_scalar(const Model& m, int b, BlockColour by) {
     case BlockColour::Group: return bs.group[b];
     case BlockColour::Material: return bs.material[b];
     case BlockColour::Region: return bs.region[b];
+    // 0 free, 1 fixed, 2 moving with a given velocity (fixed or not).
+    case BlockColour::Fixed: return bs.vel_bc[b] ? 2 : ((bs.flags[b] & kFixed) ? 1 : 0);
     case BlockColour::Flat: return 0;
     }
     return 0;
 }
 
 bool is_categorical(BlockColour by) {
-    return by == BlockColour::Group || by == BlockColour::Material || by == BlockColour::Region;
+    return by == BlockColour::Group || by == BlockColour::Material || by == BlockColour::Region ||
+           by == BlockColour::Fixed;
 }
 
 // Continuous scale over the values drawn. A quantity that takes both signs in them gets a
@@ -177,6 +180,8 @@ ColourScale categorical_scale(const Model& m, BlockColour by, std::vector<double
         if (by == BlockColour::Group)
             s.categories.push_back(v >= 0 && v < static_cast<int>(m.group_names.size()) ? m.group_names[v]
                                                                                        : std::string("(none)"));
+        else if (by == BlockColour::Fixed)
+            s.categories.push_back(v == 0 ? "free" : v == 1 ? "fixed" : "velocity given");
         else
             s.categories.push_back(std::to_string(v));
     }
@@ -223,6 +228,7 @@ QuantityInfo block_colour_info(BlockColour by) {
     case BlockColour::Group: return {"group", "", false};
     case BlockColour::Material: return {"material", "", false};
     case BlockColour::Region: return {"region", "", false};
+    case BlockColour::Fixed: return {"support", "", false};
     case BlockColour::Flat: return {"", "", false};
     }
     return {};
@@ -350,6 +356,12 @@ void add_blocks(Scene& scene, const Model& m, BlockColour by, const PlotOptions&
     if (layer.offsets.size() < 2) return;
     scene.polygons.push_back(std::move(layer));
     if (!trace.segments.empty()) scene.lines.push_back(std::move(trace));
+    if (opt.ids) {
+        for (int b : blocks) {
+            if (opt.cut && cut_n.dot(m.blocks.centroid[b]) > cut_d) continue;
+            scene.labels.push_back({m.blocks.centroid[b], std::to_string(m.blocks.id[b])});
+        }
+    }
 }
 
 void add_block_outline(Scene& scene, const Model& m, const PlotOptions& opt) {

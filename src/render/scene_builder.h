@@ -30,7 +30,7 @@
 namespace odec::render {
 
 // What colours the blocks (`plot block <quantity>`).
-enum class BlockColour { Flat, Disp, XDis, YDis, ZDis, Vel, XVel, YVel, ZVel, Group, Material, Region };
+enum class BlockColour { Flat, Disp, XDis, YDis, ZDis, Vel, XVel, YVel, ZVel, Group, Material, Region, Fixed };
 // `plot vector disp|vel`.
 enum class VectorKind { Disp, Vel };
 // `plot contact nstress|sstress|ndis|sdis|state`.
@@ -53,6 +53,7 @@ struct PlotOptions {
     std::optional<CutPlane> cut;                // `cut plane ...`
     std::optional<std::pair<double, double>> limits; // fixed colour scale lo, hi (`set plot scale`)
     bool edges = true;                          // draw block edges
+    bool ids = false;                           // label each block drawn with its id
 };
 
 // Camera for a view name: "iso", "x", "-x", "y", "-y", "z", "-z" (the eye on that axis,

@@ -99,6 +99,7 @@ struct Backend {
     vtkSmartPointer<vtkRenderer> back;   // layer 0: background, title, legends, charts
     vtkSmartPointer<vtkRenderer> model;  // layer 1: the 3D model, in its own viewport
     vtkSmartPointer<vtkRenderer> triad;  // layer 2: axes triad
+    vtkSmartPointer<vtkRenderer> labels; // layer 3: labels over the model, seen through it (its camera)
     std::string description;
 };
 
@@ -148,7 +149,7 @@ Backend* start_backend(std::string& error) {
     w->SetReadyForRendering(true);
     w->SetIsCurrent(true);
     w->SetMapped(1);
-    w->SetNumberOfLayers(3);
+    w->SetNumberOfLayers(4);
     if (!w->InitializeFromCurrentContext()) {
         error = std::string(b->context->name()) + ": VTK could not initialise OpenGL in the off-screen context";
         w->SetReadyForRendering(false);
@@ -171,9 +172,14 @@ Backend* start_backend(std::string& error) {
     b->triad = vtkSmartPointer<vtkRenderer>::New();
     b->triad->SetLayer(2);
     b->triad->InteractiveOff();
+    b->labels = vtkSmartPointer<vtkRenderer>::New();
+    b->labels->SetLayer(3);
+    b->labels->InteractiveOff();
+    b->labels->SetActiveCamera(b->model->GetActiveCamera());
     w->AddRenderer(b->back);
     w->AddRenderer(b->model);
     w->AddRenderer(b->triad);
+    w->AddRenderer(b->labels);
 
     const char* version = w->ReportCapabilities();
     std::string caps = version ? version : "";
@@ -710,6 +716,7 @@ void clear_props(Backend& b) {
     b.back->RemoveAllViewProps();
     b.model->RemoveAllViewProps();
     b.triad->RemoveAllViewProps();
+    b.labels->RemoveAllViewProps();
     b.model->DrawOn();
     b.triad->DrawOn();
 }
@@ -868,7 +875,7 @@ bool build_model(Backend& b, const Scene& scene, const Rgb& fg, int font, double
         style_text(t->GetTextProperty(), fg, font, true);
         t->GetTextProperty()->SetJustificationToCentered();
         t->GetTextProperty()->SetVerticalJustificationToCentered();
-        b.model->AddActor(t);
+        b.labels->AddActor(t); // drawn over the model: a label at a centroid is inside its block
     }
 
     // One legend column per coloured layer on the right; the model fills the rest.
@@ -890,8 +897,10 @@ bool build_model(Backend& b, const Scene& scene, const Rgb& fg, int font, double
     }
     const double vp_w = std::max(0.4, right), vp_h = std::max(0.4, top);
     b.model->SetViewport(0, 0, vp_w, vp_h);
+    b.labels->SetViewport(0, 0, vp_w, vp_h);
     const double aspect = (vp_w * width) / (vp_h * height);
     place_camera(b.model, scene.camera, bounds, fit, aspect);
+    b.labels->ResetCameraClippingRange(const_cast<double*>(bounds.b));
     const double triad_size = std::min(0.18, 130.0 / std::max(1, std::min(width, height)) + 0.05);
     // Lower right: below the legends when there are any, where the frame is otherwise empty.
     const double triad_w = triad_size * height / std::max(1, width);

@@ -497,3 +497,24 @@ TEST(Render, ContactPatchesAreUnlitWithAScaleFromTheirValues) {
     EXPECT_EQ(s.polygons[0].scale.hi, 3e5);
     EXPECT_NE(s.polygons[0].scale.title.find("compression +"), std::string::npos);
 }
+
+TEST(Render, SupportColoursAndIdLabels) {
+    // Fixed, free and velocity-driven blocks each get their own category, and ids label
+    // every block drawn.
+    Model m = test::brick_model(3, 1, 1);
+    m.blocks.flags[0] |= kFixed;
+    m.blocks.vel_bc[2] = 1;
+    PlotOptions opt;
+    opt.ids = true;
+    Scene s = begin_scene(m, opt);
+    add_blocks(s, m, BlockColour::Fixed, opt);
+    const ColourScale& sc = s.polygons[0].scale;
+    ASSERT_EQ(sc.categories.size(), 3u);
+    EXPECT_EQ(sc.categories[0], "free");
+    EXPECT_EQ(sc.categories[1], "fixed");
+    EXPECT_EQ(sc.categories[2], "velocity given");
+    ASSERT_EQ(s.labels.size(), 3u);
+    EXPECT_EQ(s.labels[1].text, std::to_string(m.blocks.id[1]));
+    const Picture pic = draw(s, "support.png");
+    EXPECT_GT(pic.count_near(category_colour(1), 0.02), 100); // the fixed block shows
+}
