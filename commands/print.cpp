@@ -10,7 +10,8 @@ namespace odec {
 
 namespace {
 
-std::string col(const std::string& s, size_t w) { return s.size() >= w ? s + " " : std::string(w - s.size(), ' ') + s; }
+// Right-aligned in w characters, always with a blank before it, so neighbours never run together.
+std::string col(const std::string& s, size_t w) { return s.size() >= w ? " " + s : std::string(w - s.size(), ' ') + s; }
 
 // Tables fit in 100 columns: numbers to 3 significant figures (at most 9 characters, so a
 // column of width 10 always keeps a blank before the next); full precision is in 'hist',
