@@ -140,6 +140,22 @@ TEST(CommandMeaning, PrintTablesFitA100ColumnTerminal) {
         EXPECT_LE(line.size(), 100u) << line;
         ++n;
     }
+    // Columns never run together, even for numbers that fill their width: each row of the
+    // block table has its 11 fields.
+    Session t;
+    ASSERT_TRUE(t.run("poly brick 0 1 0 1 0 1")) << t.error();
+    t.model.blocks.centroid[0] = Eigen::Vector3d(-0.000603, -1.23e-05, -1.23e+03);
+    t.model.blocks.disp[0] = Eigen::Vector3d(-1.23e-05, -1.23e-05, -1.23e-05);
+    t.interp.quiet = false;
+    t.interp.echo = false;
+    ASSERT_TRUE(t.run("print block")) << t.error();
+    std::istringstream rows(t.out.str());
+    std::getline(rows, line); // the header
+    std::getline(rows, line);
+    std::istringstream fields(line);
+    int n_fields = 0;
+    for (std::string f; fields >> f;) ++n_fields;
+    EXPECT_EQ(n_fields, 11) << line;
     EXPECT_GT(n, 15);
     EXPECT_NE(s.out.str().find("density"), std::string::npos);
     EXPECT_NE(s.out.str().find("jcoh"), std::string::npos);
