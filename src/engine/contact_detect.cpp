@@ -708,6 +708,7 @@ void detect_contacts(Model& m) {
     thread_local ContactSet next;
     thread_local std::vector<std::int64_t> pairs;
     thread_local std::vector<char> moved;
+    thread_local std::vector<char> stirred; // moved more than ctol/100 since the last refresh
     thread_local std::vector<int> plan; // per contact of the result: old index, or ~index in `next`
     std::vector<Vec3>& geo_c = cs.geo_centroid;
     std::vector<Quat>& geo_q = cs.geo_orientation;
@@ -771,15 +772,36 @@ void detect_contacts(Model& m) {
     } else {
         const double limit = 0.1 * cs.ctol;
         moved.assign(n, 0);
-        bool any = false;
+        stirred.assign(n, 0);
+        bool any = false, any_stirred = false;
         for (int b = 0; b < n; ++b) {
             if (s.flags[b] & kExcavated) continue;
-            if (movement(cs, s, b, geo_c, geo_q) > limit) moved[b] = any = 1;
+            const double mv = movement(cs, s, b, geo_c, geo_q);
+            if (mv > limit) moved[b] = any = 1;
+            if (mv > 0.01 * cs.ctol) stirred[b] = any_stirred = 1;
         }
-        if (!any) return;
+        // A contact that touches nowhere has no sub-contacts to feel its blocks closing in:
+        // once one of them has stirred, it is rebuilt as soon as they overlap across its
+        // plane, rather than at the next refresh (ctol/10 of motion), which would start
+        // its force from a sudden overlap.
+        auto closing_in = [&](int c) {
+            if (cs.sub_offset[c + 1] != cs.sub_offset[c]) return false;
+            const int a = cs.block_a[c], b = cs.block_b[c];
+            if (!(stirred[a] || stirred[b])) return false;
+            const Vec3& nrm = cs.normal[c];
+            double hi_a = -std::numeric_limits<double>::infinity(), lo_b = -hi_a;
+            for (int i = s.vertex_offset[a]; i < s.vertex_offset[a + 1]; ++i) hi_a = std::max(hi_a, nrm.dot(s.world_vertices[i]));
+            for (int i = s.vertex_offset[b]; i < s.vertex_offset[b + 1]; ++i) lo_b = std::min(lo_b, nrm.dot(s.world_vertices[i]));
+            return lo_b - hi_a < -1e-3 * cs.ctol;
+        };
+        if (!any) {
+            bool need = false;
+            for (int c = 0; c < cs.size() && any_stirred && !need; ++c) need = closing_in(c);
+            if (!need) return;
+        }
         for (int c = 0; c < cs.size(); ++c) {
             const int a = cs.block_a[c], b = cs.block_b[c];
-            if (!(moved[a] || moved[b])) plan.push_back(c);
+            if (!(moved[a] || moved[b]) && !closing_in(c)) plan.push_back(c);
             else if (d.build(a, b, c, true)) plan.push_back(~(next.size() - 1));
         }
         for (int b = 0; b < n; ++b) {

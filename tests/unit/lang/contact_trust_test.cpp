@@ -204,3 +204,28 @@ TEST(ContactTrust, PrintMaxIgnoresContactsWithoutArea) {
     EXPECT_GT(n_without_area, 0);
     EXPECT_NE(out.find("joint normal stress  20000 Pa"), std::string::npos) << out;
 }
+
+TEST(ContactTrust, AnEdgeThatPressesInIsFeltAtOnce) {
+    // A cube standing exactly on one edge (turned 45 degrees about x) on a fixed base: the
+    // contact starts with no area; as the edge presses in, sub-contacts appear while the
+    // overlap is still a small fraction of the contact tolerance, not after ctol/10 of motion.
+    const double h = std::sqrt(0.5);
+    std::ostringstream cube;
+    cube << "poly prism a (0,0," << h << ") (0," << h << ",0) (0,0,-" << h << ") (0,-" << h << ",0) b (1,0," << h
+         << ") (1," << h << ",0) (1,0,-" << h << ") (1,-" << h << ",0)\n";
+    Session s;
+    ASSERT_TRUE(s.run("poly brick -2 3 -2 2 -1 " + std::to_string(-h) + "\n" + cube.str() +
+                      "prop mat=1 dens=2600\nprop jmat=1 jkn=1e10 jks=1e10 jfric=30\ngrav 0 0 -10\n"
+                      "fix range z -1 -0.8\nset dt 1e-5"))
+        << s.error();
+    const odec::ContactSet& cs = s.model.contacts;
+    double worst = 0;
+    for (int k = 0; k < 3000; ++k) {
+        ASSERT_TRUE(s.run("step 1")) << s.error();
+        for (int j = 0; j < cs.n_subs(); ++j) {
+            if (cs.sub_flags[j] & odec::kSubNew) worst = std::max(worst, cs.sub_un[j]);
+        }
+    }
+    ASSERT_GT(cs.n_subs(), 0); // the edge does press in
+    EXPECT_LT(worst, 0.02 * cs.ctol) << "ctol " << cs.ctol;
+}
