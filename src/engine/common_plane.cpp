@@ -314,7 +314,11 @@ CommonPlane common_plane(const BlockView& a, const BlockView& b, const Vec3* war
     // through. Taking it keeps the normal on the joint as the blocks settle by small
     // amounts, where the exact largest-gap direction would swing to a diagonal that reads
     // settlement as closure.
-    if (joint_gap > -std::numeric_limits<double>::infinity() && best_gap - joint_gap <= prefer_joint) {
+    // Only for blocks that do not cross the joint: where they overlap across it by more than
+    // a hair, the plane of least overlap is the one to push them apart along (a block
+    // pressed sideways into its neighbour must be pushed sideways, not up).
+    if (joint_gap > -std::numeric_limits<double>::infinity() && best_gap - joint_gap <= prefer_joint &&
+        joint_gap >= -0.01 * prefer_joint) {
         best_n = joint_n;
         best_gap = joint_gap;
     }

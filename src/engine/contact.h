@@ -121,7 +121,8 @@ struct CommonPlane {
 // is the previous normal: kept through ties, so the plane does not flip between equal
 // choices. `band` limits the search to features that far from the warm plane (0: all).
 // When a face of a and a face of b lie on one plane (a joint between them) and the gap
-// across it is within `prefer_joint` of the largest, that plane is the common plane.
+// across it is within `prefer_joint` of the largest (and they overlap across it by at most
+// prefer_joint / 100), that plane is the common plane.
 CommonPlane find_common_plane(const Polyhedron& a, const Polyhedron& b, const Eigen::Vector3d* warm,
                               double band = 0, double prefer_joint = 0);
 

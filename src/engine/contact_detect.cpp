@@ -84,12 +84,39 @@ inline std::int32_t band_label(int side, int face) { return (side ? kEdgeSideB :
 inline std::int32_t touch_label(int face_a, int face_b) {
     return kEdgeTouch | ((face_a & 0x3FFF) << 14) | (face_b & 0x3FFF);
 }
+// Keys: bit 62 clear: a block vertex, side in bit 61, vertex index below; bit 62 set: the
+// crossing of two labels (31 bits each), the lower in bits 31..61. Never negative.
 inline std::int64_t corner_key(int side, int vertex) { return (static_cast<std::int64_t>(side) << 61) | vertex; }
 inline std::int64_t crossing_key(std::int32_t e1, std::int32_t e2) {
     const std::int64_t lo = std::min(e1, e2), hi = std::max(e1, e2);
-    return (std::int64_t{2} << 61) | (lo << 31) | hi;
+    return (std::int64_t{1} << 62) | (lo << 31) | hi;
 }
-inline int key_side(std::int64_t key) { return static_cast<int>(key >> 61); }
+inline bool is_crossing(std::int64_t key) { return (key >> 62) & 1; }
+inline int key_side(std::int64_t key) { return is_crossing(key) ? 2 : static_cast<int>((key >> 61) & 1); }
+inline std::int32_t crossing_lo(std::int64_t key) { return static_cast<std::int32_t>((key >> 31) & 0x7FFFFFFF); }
+inline std::int32_t crossing_hi(std::int64_t key) { return static_cast<std::int32_t>(key & 0x7FFFFFFF); }
+inline int corner_vertex(std::int64_t key) { return static_cast<int>(key & ((std::int64_t{1} << 61) - 1)); }
+// A point on the line where a tilted face enters the other block: it slides along its edge
+// as the overlap changes, so it is not a material point and its closure is the geometry's.
+inline bool on_touch_line(std::int64_t key) {
+    return is_crossing(key) && ((crossing_lo(key) & kEdgeTouch) != 0 || (crossing_hi(key) & kEdgeTouch) != 0);
+}
+// Two edges of one block crossing at their common vertex are that vertex: clipping one
+// footprint by the other finds the other's vertices as crossings of its own edges.
+inline std::int64_t as_vertex(std::int64_t key, int nv_a, int nv_b) {
+    if (!is_crossing(key)) return key;
+    const std::int32_t l1 = crossing_lo(key), l2 = crossing_hi(key);
+    if ((l1 | l2) & (kEdgeBand | kEdgeTouch)) return key;    // band or overlap lines
+    if ((l1 & kEdgeSideB) != (l2 & kEdgeSideB)) return key;  // edges of different blocks
+    const int side = (l1 & kEdgeSideB) ? 1 : 0;
+    const int nv = side ? nv_b : nv_a;
+    if (nv <= 0 || nv >= 16384) return key;                  // labels of larger blocks are not decoded
+    const int i1 = (l1 & (kEdgeTouch - 1)) / nv, j1 = (l1 & (kEdgeTouch - 1)) % nv;
+    const int i2 = (l2 & (kEdgeTouch - 1)) / nv, j2 = (l2 & (kEdgeTouch - 1)) % nv;
+    if (i1 == i2 || i1 == j2) return corner_key(side, i1);
+    if (j1 == i2 || j1 == j2) return corner_key(side, j1);
+    return key;
+}
 
 struct Poly {
     int n = 0;
@@ -122,10 +149,12 @@ void clip_step(const Poly& p, D&& dist, double eps, std::int32_t cut_label, Poly
         const bool in_i = di >= -eps, in_j = dj >= -eps;
         if (in_i) put(out, p, i);
         if (in_i && !in_j) {
-            put_cut(out, p, i, j, di / (di - dj), cut_label);
+            // The cut on the line itself (d = 0), so that a vertex of the clipping polygon
+            // comes out where it is; kept on the edge when both ends lie within eps of it.
+            put_cut(out, p, i, j, std::clamp(di / (di - dj), 0.0, 1.0), cut_label);
             out.ekey[out.n - 1] = cut_label; // the boundary now runs along the cut
         } else if (!in_i && in_j) {
-            put_cut(out, p, i, j, di / (di - dj), cut_label);
+            put_cut(out, p, i, j, std::clamp(di / (di - dj), 0.0, 1.0), cut_label);
             out.ekey[out.n - 1] = p.ekey[i]; // and leaves it along the clipped edge
         }
     }
@@ -194,8 +223,10 @@ Frame make_frame(const CommonPlane& cp) {
 
 // Faces of s facing the plane (side 0: block a, facing +n; side 1: block b, facing -n),
 // cut to the band within tol of the plane.
-void present_faces(const BlockView& s, const Frame& fr, int side, double tol, std::vector<Piece>& out) {
+void present_faces(const BlockView& s, const Frame& fr, int side, double tol, std::vector<Piece>& out,
+                   std::vector<double>& nodal) {
     out.clear();
+    nodal.assign(s.n_vertices(), 0.0);
     const double sign = side == 0 ? 1.0 : -1.0;
     const Polyhedron& p = *s.topo;
     const int nv = p.n_vertices();
@@ -215,6 +246,23 @@ void present_faces(const BlockView& s, const Frame& fr, int side, double tol, st
             face.ekey[k] = edge_label(side, vi, vj, nv);
             hlo = std::min(hlo, face.h[k]);
             hhi = std::max(hhi, face.h[k]);
+        }
+        // Each vertex's own share of this face as seen along the normal (the median-dual
+        // share of a fan from the face's centre): its area when it presses into a face
+        // tilted to it, as a node's area is its part of its own block's surface. A face on
+        // the plane carries its own area through the contact polygon, so only tilted faces
+        // add to it.
+        if (hhi - hlo > tol) {
+            double cu = 0, cv = 0;
+            for (int k = 0; k < m; ++k) { cu += face.u[k]; cv += face.v[k]; }
+            cu /= m;
+            cv /= m;
+            for (int k = 0; k < m; ++k) {
+                const int j = (k + 1) % m, i = (k + m - 1) % m;
+                const double t_next = 0.5 * std::abs((face.u[k] - cu) * (face.v[j] - cv) - (face.u[j] - cu) * (face.v[k] - cv));
+                const double t_prev = 0.5 * std::abs((face.u[i] - cu) * (face.v[k] - cv) - (face.u[k] - cu) * (face.v[i] - cv));
+                nodal[p.face_vertex(f, k)] += 0.5 * (t_next + t_prev);
+            }
         }
         out.emplace_back();
         Piece& pc = out.back();
@@ -241,6 +289,7 @@ struct NewSub {
     double area;
     Vec3 x;        // world point
     double closure;
+    bool nodal;    // a block vertex pressing into a tilted face: its area is its own
     bool operator<(const NewSub& o) const { return key < o.key; }
 };
 
@@ -248,22 +297,31 @@ struct NewSub {
 // clipped by each piece of b's. A vertex shared by several pieces is one sub-contact.
 void polygon_subcontacts(const Frame& fr, const std::vector<Piece>& pa, const std::vector<Piece>& pb, double eps,
                          double min_area, std::vector<NewSub>& out, std::vector<double>& face_area_a,
-                         std::vector<double>& face_area_b) {
+                         std::vector<double>& face_area_b, const std::vector<double>& nodal_a,
+                         const std::vector<double>& nodal_b) {
+    const int nv_a = static_cast<int>(nodal_a.size()), nv_b = static_cast<int>(nodal_b.size());
     out.clear();
     Poly q, tmp;
     for (const Piece& A : pa) {
         for (const Piece& B : pb) {
             clip_convex(A.poly, B.poly, B.orient, eps, q, tmp);
             if (q.n < 3) continue;
-            if (!(A.flat && B.flat)) {
+            for (int i = 0; i < q.n; ++i) q.vkey[i] = as_vertex(q.vkey[i], nv_a, nv_b);
+            const bool tilted = !(A.flat && B.flat);
+            bool has_corner = false;
+            if (tilted) {
                 // A face tilted to the plane touches the other only where the two solids
                 // really overlap: keep the part where a's surface is at or above b's. Blocks
-                // meeting along an edge or at a corner then have the area of their overlap
-                // (none while they only touch), not that of a tolerance band.
+                // meeting along an edge or at a corner then carry nothing while they only
+                // touch, and no tolerance band lends them area.
                 clip_step(q, [&](int i) { return A.height(q.u[i], q.v[i]) - B.height(q.u[i], q.v[i]); }, eps,
                           touch_label(A.face, B.face), tmp);
                 std::swap(q, tmp);
                 if (q.n < 3) continue;
+                for (int i = 0; i < q.n; ++i) {
+                    q.vkey[i] = as_vertex(q.vkey[i], nv_a, nv_b);
+                    has_corner |= key_side(q.vkey[i]) < 2;
+                }
             }
             double cu = 0, cv = 0;
             for (int i = 0; i < q.n; ++i) { cu += q.u[i]; cv += q.v[i]; }
@@ -279,11 +337,26 @@ void polygon_subcontacts(const Frame& fr, const std::vector<Piece>& pa, const st
                 const double t_prev = 0.5 * std::abs((q.u[k] - cu) * (q.v[i] - cv) - (q.u[i] - cu) * (q.v[k] - cv));
                 const double share = 0.5 * (t_next + t_prev);
                 total += share;
-                if (!(share > min_area)) continue;
+                // Where a tilted face is involved, the vertices that press in carry the
+                // contact with their own areas (a spring that does not stiffen as it
+                // closes, so the force is the same loading and unloading); the points where
+                // the overlap's edge crosses a face edge slide with the overlap and carry
+                // nothing, unless no vertex presses in at all (two edges crossing).
+                const int side = key_side(q.vkey[i]);
+                const bool nodal = tilted && side < 2;
+                if (tilted && has_corner && !nodal) continue;
+                double area = share;
+                if (nodal) {
+                    const int vertex = corner_vertex(q.vkey[i]);
+                    const std::vector<double>& own = side == 0 ? nodal_a : nodal_b;
+                    area = vertex < static_cast<int>(own.size()) ? own[vertex] : 0.0;
+                }
+                if (!(area > min_area)) continue;
                 const double ha = A.height(q.u[i], q.v[i]), hb = B.height(q.u[i], q.v[i]);
                 NewSub ns;
                 ns.key = q.vkey[i];
-                ns.area = share;
+                ns.area = area;
+                ns.nodal = nodal;
                 ns.x = fr.p + q.u[i] * fr.e1 + q.v[i] * fr.e2 + 0.5 * (ha + hb) * fr.n;
                 ns.closure = ha - hb; // a's surface above b's: overlap
                 out.push_back(ns);
@@ -298,7 +371,13 @@ void polygon_subcontacts(const Frame& fr, const std::vector<Piece>& pa, const st
     int w = 0;
     for (int r = 0; r < static_cast<int>(out.size()); ++r) {
         if (w > 0 && out[w - 1].key == out[r].key) {
-            out[w - 1].area += out[r].area;
+            // A vertex's own area counts once, however many face pairs it is found in.
+            if (out[w - 1].nodal || out[r].nodal) {
+                out[w - 1].area = std::max(out[w - 1].area, out[r].area);
+                out[w - 1].nodal = true;
+            } else {
+                out[w - 1].area += out[r].area;
+            }
         } else {
             out[w++] = out[r];
         }
@@ -498,6 +577,7 @@ struct Detector {
     std::vector<Piece> pieces_a, pieces_b;
     std::vector<NewSub> subs;
     std::vector<double> face_area_a, face_area_b;
+    std::vector<double> nodal_a, nodal_b; // (n_vertices) m^2, each vertex's own area facing the plane
 
     BlockView view(int b) const {
         return BlockView{m.blocks.world_vertices.data() + m.blocks.vertex_offset[b], &m.blocks.shape[b]};
@@ -511,12 +591,13 @@ struct Detector {
         const CommonPlane cp = common_plane(va, vb, warm, oc >= 0 ? tol : 0.0, 0.1 * tol);
         if (require_close && cp.gap > tol) return false;
         const Frame fr = make_frame(cp);
-        present_faces(va, fr, 0, tol, pieces_a);
-        present_faces(vb, fr, 1, tol, pieces_b);
+        present_faces(va, fr, 0, tol, pieces_a, nodal_a);
+        present_faces(vb, fr, 1, tol, pieces_b, nodal_b);
         face_area_a.assign(m.blocks.shape[a].n_faces(), 0.0);
         face_area_b.assign(m.blocks.shape[b].n_faces(), 0.0);
         const double min_area = 1e-12 * tol * tol;
-        polygon_subcontacts(fr, pieces_a, pieces_b, 1e-9 * tol, min_area, subs, face_area_a, face_area_b);
+        polygon_subcontacts(fr, pieces_a, pieces_b, 1e-9 * tol, min_area, subs, face_area_a, face_area_b, nodal_a,
+                            nodal_b);
 
         const int nc = next.size();
         const BlockSet& s = m.blocks;
@@ -566,11 +647,12 @@ struct Detector {
             const int side = key_side(ns.key);
             const int owner = side == 1 ? b : a;
             const Vec3 local = rot[side == 1 ? 1 : 0].transpose() * (ns.x - s.centroid[owner]);
-            const int vertex = side < 2 ? static_cast<int>(ns.key & ((std::int64_t{1} << 61) - 1)) : -1;
+            const int vertex = side < 2 ? corner_vertex(ns.key) : -1;
             push_sub(next, nc, side, ns.key, vertex, ns.area, local);
             if (k < k_end && cs.sub_key[k] == ns.key) {
-                next.sub_un.push_back(cs.sub_un[k]);
-                next.sub_udil.push_back(cs.sub_udil[k]);
+                const bool moving_point = on_touch_line(ns.key);
+                next.sub_un.push_back(moving_point ? ns.closure : cs.sub_un[k]);
+                next.sub_udil.push_back(moving_point ? 0.0 : cs.sub_udil[k]);
                 next.sub_sn.push_back(cs.sub_sn[k]);
                 next.sub_us.push_back(retangent(cs.sub_us[k], cp.normal));
                 next.sub_ss.push_back(retangent(cs.sub_ss[k], cp.normal));
@@ -709,6 +791,7 @@ void detect_contacts(Model& m) {
     thread_local std::vector<std::int64_t> pairs;
     thread_local std::vector<char> moved;
     thread_local std::vector<char> stirred; // moved more than ctol/100 since the last refresh
+    thread_local std::vector<double> motion; // m, movement since the last refresh
     thread_local std::vector<int> plan; // per contact of the result: old index, or ~index in `next`
     std::vector<Vec3>& geo_c = cs.geo_centroid;
     std::vector<Quat>& geo_q = cs.geo_orientation;
@@ -731,7 +814,7 @@ void detect_contacts(Model& m) {
             cs.radius[b] = r;
         }
     }
-    Detector d{m, cs, next, cs.ctol, {}, {}, {}, {}, {}};
+    Detector d{m, cs, next, cs.ctol, {}, {}, {}, {}, {}, {}, {}};
     plan.clear();
     clear_arrays(next);
 
@@ -773,12 +856,32 @@ void detect_contacts(Model& m) {
         const double limit = 0.1 * cs.ctol;
         moved.assign(n, 0);
         stirred.assign(n, 0);
-        bool any = false, any_stirred = false;
+        motion.assign(n, 0.0);
+        bool any = false, any_stirred = false, any_motion = false;
         for (int b = 0; b < n; ++b) {
             if (s.flags[b] & kExcavated) continue;
             const double mv = movement(cs, s, b, geo_c, geo_q);
+            motion[b] = mv;
             if (mv > limit) moved[b] = any = 1;
             if (mv > 0.01 * cs.ctol) stirred[b] = any_stirred = 1;
+            if (mv > 1e-3 * cs.ctol) any_motion = true;
+        }
+        // An edge or corner that presses into a face touches over an area that grows with
+        // the overlap: its contact is rebuilt once its blocks have moved a quarter of that
+        // overlap, so the area follows the penetration (a force that depended on the path
+        // would make or lose energy), and both blocks take their pose as the new reference.
+        if (any_motion) {
+            for (int c = 0; c < cs.size(); ++c) {
+                const int a = cs.block_a[c], b = cs.block_b[c];
+                if (moved[a] && moved[b]) continue;
+                double deepest = 0;
+                bool tracked = false;
+                for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
+                    tracked |= on_touch_line(cs.sub_key[k]);
+                    deepest = std::max(deepest, cs.sub_un[k] + cs.sub_udil[k]);
+                }
+                if (tracked && motion[a] + motion[b] > 0.25 * deepest + 1e-3 * cs.ctol) moved[a] = moved[b] = any = 1;
+            }
         }
         // A contact that touches nowhere has no sub-contacts to feel its blocks closing in:
         // once one of them has stirred, it is rebuilt as soon as they overlap across its
@@ -786,6 +889,8 @@ void detect_contacts(Model& m) {
         // its force from a sudden overlap.
         auto closing_in = [&](int c) {
             if (cs.sub_offset[c + 1] != cs.sub_offset[c]) return false;
+            // Built overlapping and still without area: looking again would find the same.
+            if (cs.gap[c] < -1e-3 * cs.ctol) return false;
             const int a = cs.block_a[c], b = cs.block_b[c];
             if (!(stirred[a] || stirred[b])) return false;
             const Vec3& nrm = cs.normal[c];

@@ -288,18 +288,17 @@ bool write_vtu(const VtkPolyhedronMesh& mesh, const Model& m, const std::string&
     return write_atomically(path, out, error);
 }
 
-std::vector<Vec3> contact_outline(const ContactRows& rows, const ContactRows& subs, int i) {
+std::vector<Vec3> contact_outline(const ContactRows& rows, const ContactRows& subs, const std::vector<int>& own,
+                                  int i) {
     const Vec3 n = rows.normal[i].norm() > 0 ? Vec3(rows.normal[i].normalized()) : Vec3(Vec3::UnitZ());
     const Vec3 ref = std::abs(n.x()) < 0.6 ? Vec3::UnitX() : Vec3::UnitY();
     const Vec3 e1 = (ref - ref.dot(n) * n).normalized(), e2 = n.cross(e1);
     const Vec3& c = rows.centroid[i];
     // The sub-contacts of this contact, in the plane of the contact.
     std::vector<std::pair<double, double>> uv;
-    for (int k = 0; k < subs.size(); ++k) {
-        if (k < static_cast<int>(subs.parent.size()) && subs.parent[k] == i) {
-            const Vec3 d = subs.centroid[k] - c;
-            uv.emplace_back(e1.dot(d), e2.dot(d));
-        }
+    for (int k : own) {
+        const Vec3 d = subs.centroid[k] - c;
+        uv.emplace_back(e1.dot(d), e2.dot(d));
     }
     std::sort(uv.begin(), uv.end());
     uv.erase(std::unique(uv.begin(), uv.end()), uv.end());
@@ -386,10 +385,17 @@ bool write_contacts_vtp(const ContactRows& rows, const std::vector<std::string>&
         return write_atomically(path, out, error);
     }
     // Patches: one polygon cell per contact, in contact order, the data on the cells.
+    // The sub-contacts of each contact, found in one pass.
+    std::vector<std::vector<int>> own(static_cast<size_t>(n));
+    for (int k = 0; k < outline->size(); ++k) {
+        if (k < static_cast<int>(outline->parent.size()) && outline->parent[k] >= 0 && outline->parent[k] < n) {
+            own[outline->parent[k]].push_back(k);
+        }
+    }
     std::vector<Vec3> points;
     std::vector<long> conn, offs;
     for (int i = 0; i < n; ++i) {
-        for (const Vec3& x : contact_outline(rows, *outline, i)) {
+        for (const Vec3& x : contact_outline(rows, *outline, own[i], i)) {
             conn.push_back(static_cast<long>(points.size()));
             points.push_back(x);
         }

@@ -53,7 +53,9 @@ bool write_contacts_vtp(const ContactRows& rows, const std::vector<std::string>&
                         const std::string& path, std::string& error, const ContactRows* outline = nullptr);
 // The patch drawn for contact i: the convex outline of its sub-contacts in its plane, else
 // a square of its area about its centroid.
-std::vector<Vec3> contact_outline(const ContactRows& rows, const ContactRows& subs, int i);
+// `own` lists the rows of `subs` that belong to contact i.
+std::vector<Vec3> contact_outline(const ContactRows& rows, const ContactRows& subs, const std::vector<int>& own,
+                                  int i);
 
 // The whole export. `name` may carry a directory and an extension (.vtu, .vtp, .pvd, .vtk:
 // dropped). `contacts` may be null (no contact files). On success `written` lists the
