@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace odec {
@@ -247,7 +248,13 @@ private:
         if (v.labelled) return t.kind == TokenKind::Word && abbreviates(t.lower, v.name, 2);
         switch (v.type) {
         case ValueType::Int:
-        case ValueType::Real: return t.kind == TokenKind::Number;
+        case ValueType::Real:
+            if (t.kind == TokenKind::Word) {
+                for (const auto& c : v.choices) {
+                    if (t.lower == c) return true;
+                }
+            }
+            return t.kind == TokenKind::Number;
         case ValueType::Vec3: return next_starts_vector();
         case ValueType::String:
         case ValueType::Word: return t.kind == TokenKind::String || (t.kind == TokenKind::Word && !is_keyword(t.lower));
@@ -283,7 +290,9 @@ private:
         if (pos_ >= t_.size()) missing(owner, spec, v, kw);
         const Token& t = t_[pos_];
         if (t.kind != TokenKind::Number) {
-            fail(t.loc, "'" + t.text + "' is not a number: '" + owner + "' expects " + v.name + " (" + type_name(v.type) + ")",
+            std::string what = type_name(v.type);
+            for (const auto& c : v.choices) what += " or '" + c + "'";
+            fail(t.loc, "'" + t.text + "' is not a number: '" + owner + "' expects " + v.name + " (" + what + ")",
                  {"'" + owner + "' takes: " + (spec.name.empty() ? cmd_->synopsis() : spec.synopsis())}, cmd_->name);
         }
         ++pos_;
@@ -333,6 +342,16 @@ private:
             break;
         }
         case ValueType::Real: {
+            if (t.kind == TokenKind::Word) {
+                bool word = false;
+                for (const auto& c : v.choices) word = word || t.lower == c;
+                if (word) {
+                    out.text = t.lower;
+                    out.number = std::numeric_limits<double>::quiet_NaN();
+                    ++pos_;
+                    break;
+                }
+            }
             out.number = number(owner, spec, v, kw);
             check_limits(owner, spec, v, t, out.number);
             break;
