@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 
 #include "engine/blocks.h"
 #include "engine/contact.h"
@@ -24,8 +25,11 @@ struct StageTimer {
 
 double sign(double x) { return (x > 0) - (x < 0); }
 
-// (m/s)^2: a block moving faster than 1e5 m/s means the numbers have run away.
-constexpr double kMaxSpeed2 = 1e10;
+std::string num_text(double x) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g", x);
+    return buf;
+}
 
 bool is_active(const BlockSet& s, int b) { return !(s.flags[b] & kExcavated); }
 
@@ -160,14 +164,134 @@ int integrate(Model& m, double dt) {
             s.rotation[b] += dtheta;
         }
         s.half_kick[b] = 0;
-        // Not finite, or faster than anything rock can move: the integration has become unstable.
-        if (bad < 0 && !(v.allFinite() && w.allFinite() && s.centroid[b].allFinite() && v.squaredNorm() < kMaxSpeed2)) {
+        // Not finite: the integration has become unstable.
+        if (bad < 0 && !(v.allFinite() && w.allFinite() && s.centroid[b].allFinite())) {
             bad = b;
         }
     }
     if (auto_damp) adjust_auto_damping(m.damping, power, m.step, dt);
     return bad;
 }
+
+// Kinetic energy of a free block, J (velocities at t - dt/2), leaving out the velocity
+// components a boundary condition prescribes: those are imposed, not earned.
+double kinetic_energy(const BlockSet& s, int b) {
+    const Mat3 r = s.orientation[b].toRotationMatrix();
+    const Vec3 w = s.ang_vel[b];
+    Vec3 v = s.vel[b];
+    for (int i = 0; i < 3; ++i) {
+        if (s.vel_bc[b] & (1 << i)) v[i] = 0;
+    }
+    return 0.5 * s.mass[b] * v.squaredNorm() + 0.5 * w.dot(r * s.inertia_body[b] * r.transpose() * w);
+}
+
+// The likely cause of a run-away of block b, for the message.
+std::string runaway_cause(const Model& m, int b) {
+    std::string cause = m.settings.dt_fixed > 0
+                            ? "the forced timestep (set dt " + num_text(m.settings.dt_fixed) +
+                                  ") is too large for the stiffnesses: try 'set dt auto'"
+                            : "the timestep is too large for the stiffnesses";
+    const Vec3& f = m.blocks.applied_force[b];
+    if (f.squaredNorm() > 0) {
+        cause = "the load applied to block " + std::to_string(m.blocks.id[b]) + " ('bound ...load', " +
+                num_text(f.norm()) + " N) is too large for what holds it, or " + cause;
+    } else if (m.settings.dt_fixed <= 0) {
+        cause += ", or a load is unbounded";
+    }
+    return cause;
+}
+
+// A run-away told by the physics rather than by a speed: with damping at most taking energy
+// out, the kinetic energy of the free blocks can never exceed what the model had when the
+// cycling began (kinetic energy and the strain energy stored in the joints) plus the work
+// the loads have done since (gravity and applied forces on the free blocks: their force
+// times the displacement, exact as both are constant while cycling) plus the work the
+// velocity boundaries can have done (bounded by |force . velocity| dt summed). A numerical
+// instability pumps energy in from nowhere, growing it geometrically, so a generous margin
+// still stops it within a few steps of its start, long before numbers overflow.
+struct EnergyWatch {
+    std::vector<Vec3> start;   // (n_blocks) centroid when the cycling began
+    std::vector<double> size;  // (n_blocks) m, largest vertex distance from the centroid
+    bool neighbours = false;   // more than one block: there is something to pass through
+    double initial = 0;        // J, kinetic + joint strain energy then
+    double boundary_work = 0;  // J, bound on the work of prescribed velocities since
+    double peak_work = 0;      // J, the most work gravity and the applied loads have done
+    double floor = 0;          // J, noise level below which nothing is judged
+    static constexpr double kMargin = 4.0;
+
+    void begin(const Model& m) {
+        const BlockSet& s = m.blocks;
+        start = s.centroid;
+        size.assign(s.size(), 0.0);
+        int active = 0;
+        for (int b = 0; b < s.size(); ++b) {
+            for (const Vec3& v : s.shape[b].vertices) size[b] = std::max(size[b], v.norm());
+            if (!(s.flags[b] & kExcavated)) ++active;
+        }
+        neighbours = active > 1;
+        initial = 0;
+        double mass = 0;
+        for (int b = 0; b < s.size(); ++b) {
+            if ((s.flags[b] & (kExcavated | kFixed)) || !(s.mass[b] > 0)) continue;
+            initial += kinetic_energy(s, b);
+            mass += s.mass[b];
+        }
+        const ContactSet& cs = m.contacts;
+        const int n_jmat = static_cast<int>(m.joint_materials.size());
+        for (int c = 0; c < cs.size(); ++c) {
+            const int jm = cs.jmat[c];
+            if (jm <= 0 || jm >= n_jmat || !m.joint_materials[jm].defined) continue;
+            const JointMaterial& j = m.joint_materials[jm];
+            for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
+                const double u = cs.sub_un[k] + cs.sub_udil[k];
+                double un = u > 0 ? u : (cs.joined[c] ? -u : std::min(-u, j.kn > 0 ? j.tension / j.kn : 0.0));
+                if (!(un >= 0)) un = 0;
+                double e = 0.5 * j.kn * un * un;
+                if (j.ks > 0) e += 0.5 * cs.sub_ss[k].squaredNorm() / j.ks;
+                initial += cs.sub_area[k] * e;
+            }
+        }
+        boundary_work = 0;
+        peak_work = 0;
+        // A millimetre per second over all the free mass: below it, nothing is judged.
+        floor = 0.5 * mass * 1e-6;
+    }
+
+    // After a step: the block whose motion ran away, or -1. `energy` and `available`
+    // receive the totals.
+    int check(const Model& m, double& energy, double& available, int& jumper) {
+        jumper = -1;
+        const BlockSet& s = m.blocks;
+        double work = 0, ke = 0, ke_max = -1;
+        int worst = -1;
+        for (int b = 0; b < s.size(); ++b) {
+            if (s.flags[b] & kExcavated) continue;
+            if (s.vel_bc[b]) {
+                const Vec3 load = s.mass[b] * m.gravity + s.applied_force[b];
+                boundary_work += m.dt * (std::abs(s.force[b].dot(s.vel[b])) + std::abs(load.dot(s.vel[b])));
+            }
+            if ((s.flags[b] & kFixed) || !(s.mass[b] > 0)) continue;
+            // Moving more than half its size in one step, a block jumps past the blocks in
+            // its way: contact detection cannot see them.
+            if (jumper < 0 && neighbours && s.vel[b].norm() * m.dt > 0.5 * size[b]) jumper = b;
+            const double e = kinetic_energy(s, b);
+            ke += e;
+            if (!(e <= ke_max)) {
+                ke_max = e;
+                worst = b;
+            }
+            work += (s.mass[b] * m.gravity + s.applied_force[b]).dot(s.centroid[b] - start[b]);
+        }
+        energy = ke;
+        // The most work the loads have done at any time: the energy they put in may have been
+        // carried back up since (an undamped block bouncing), and explicit impacts do not
+        // conserve energy exactly, so the budget is the largest the exchange has been.
+        peak_work = std::max(peak_work, work);
+        available = initial + peak_work + boundary_work;
+        if (std::isfinite(ke) && ke <= kMargin * available + floor && jumper < 0) return -1;
+        return worst;
+    }
+};
 
 } // namespace
 
@@ -214,6 +338,17 @@ std::string prepare_cycle(Model& m) {
         detect_contacts(m);
     }
     if (m.settings.dt_fixed > 0) {
+        // A forced step beyond the stable limit can only blow up: refuse it before cycling.
+        int worst = -1;
+        const double limit = stable_timestep_limit(m, &worst);
+        if (limit > 0 && m.settings.dt_fixed > limit) {
+            const double automatic = contact_critical_timestep(m);
+            return "the forced timestep " + num_text(m.settings.dt_fixed) +
+                   " s ('set dt') is larger than the stable limit, about " + num_text(limit) + " s" +
+                   (worst >= 0 ? " (set by block " + std::to_string(s.id[worst]) + " on its contacts)" : "") +
+                   ": the motion would run away. Use 'set dt auto' (" + num_text(automatic) +
+                   " s now) or a timestep below " + num_text(limit) + " s";
+        }
         m.dt = m.settings.dt_fixed;
     } else {
         const double dt = contact_critical_timestep(m);
@@ -221,6 +356,17 @@ std::string prepare_cycle(Model& m) {
             return "no timestep: there are no contacts to set one, so give it with 'set dt'";
         }
         m.dt = dt;
+    }
+    // Explicit viscous damping c m v is stable only for c dt < 2: beyond it each step
+    // reverses and amplifies the velocity it should damp.
+    if (m.damping.mode == DampingMode::Rayleigh) {
+        const double c = 2.0 * m.damping.rayleigh_fraction * 2.0 * M_PI * m.damping.rayleigh_frequency;
+        if (!(c * m.dt < 2.0)) {
+            return "Rayleigh damping of fraction " + num_text(m.damping.rayleigh_fraction) + " at " +
+                   num_text(m.damping.rayleigh_frequency) + " Hz is unstable at the timestep " + num_text(m.dt) +
+                   " s (4 pi fraction frequency dt = " + num_text(c * m.dt) +
+                   ", must be below 2): lower the frequency below " + num_text(1.0 / (2 * M_PI * m.damping.rayleigh_fraction * m.dt)) + " Hz";
+        }
     }
     // Contacts and timestep now match the geometry; the cycle need not prepare again.
     m.geometry_changed = false;
@@ -238,6 +384,8 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
     }
     const double t_start = m.time;
     Profile& prof = m.profile;
+    EnergyWatch watch;
+    watch.begin(m);
     for (;;) {
         if (lim.max_steps > 0 && res.steps >= lim.max_steps) {
             res.reason = StopReason::Steps;
@@ -287,9 +435,29 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
         }
         if (bad >= 0) {
             res.reason = StopReason::BlowUp;
-            res.message = "the motion of block " + std::to_string(m.blocks.id[bad]) +
-                          " has run away (step " + std::to_string(m.step) +
-                          "): the timestep is too large for the stiffnesses, or a load is unbounded";
+            res.message = "the motion of block " + std::to_string(m.blocks.id[bad]) + " has run away (step " +
+                          std::to_string(m.step) + "): its velocity is no longer a finite number; likely cause: " +
+                          runaway_cause(m, bad);
+            break;
+        }
+        double energy = 0, available = 0;
+        int jumper = -1;
+        const int runaway = watch.check(m, energy, available, jumper);
+        if (jumper >= 0) {
+            res.reason = StopReason::BlowUp;
+            res.message = "the motion of block " + std::to_string(m.blocks.id[jumper]) + " has run away (step " +
+                          std::to_string(m.step) + "): it moved " + num_text(m.blocks.vel[jumper].norm() * m.dt) +
+                          " m in one step, more than half its size, passing through the blocks in its way "
+                          "unseen; likely cause: " + runaway_cause(m, jumper);
+            break;
+        }
+        if (runaway >= 0) {
+            res.reason = StopReason::BlowUp;
+            res.message = "the motion of block " + std::to_string(m.blocks.id[runaway]) + " has run away (step " +
+                          std::to_string(m.step) + "): the kinetic energy, " + num_text(energy) +
+                          " J, is far beyond the " + num_text(available) +
+                          " J that the loads and the initial state could have given; likely cause: " +
+                          runaway_cause(m, runaway);
             break;
         }
         if (progress && progress_every > 0 && res.steps % progress_every == 0) progress(m);
