@@ -194,7 +194,7 @@ std::string runaway_cause(const Model& m, int b) {
     const Vec3& f = m.blocks.applied_force[b];
     if (f.squaredNorm() > 0) {
         cause = "the load applied to block " + std::to_string(m.blocks.id[b]) + " ('bound ...load', " +
-                num_text(f.norm()) + " N) is too large for what holds it, or " + cause;
+                num_text(f.stableNorm()) + " N) is too large for what holds it, or " + cause;
     } else if (m.settings.dt_fixed <= 0) {
         cause += ", or a load is unbounded";
     }
@@ -273,7 +273,7 @@ struct EnergyWatch {
             if ((s.flags[b] & kFixed) || !(s.mass[b] > 0)) continue;
             // Moving more than half its size in one step, a block jumps past the blocks in
             // its way: contact detection cannot see them.
-            if (jumper < 0 && neighbours && s.vel[b].norm() * m.dt > 0.5 * size[b]) jumper = b;
+            if (jumper < 0 && neighbours && s.vel[b].stableNorm() * m.dt > 0.5 * size[b]) jumper = b;
             const double e = kinetic_energy(s, b);
             ke += e;
             if (!(e <= ke_max)) {
@@ -320,7 +320,51 @@ double unbalanced_ratio(const Model& m) {
     return total > 0 ? unbal / total : 0.0;
 }
 
+namespace {
+
+// What preparing a cycle changes (contact detection and the timestep), kept so that a
+// cycle refused before its first step leaves the model exactly as it was.
+struct PrepareUndo {
+    bool saved = false;
+    ContactSet contacts;
+    std::vector<int> vertex_offset;
+    std::vector<Vec3> world_vertices;
+    double dt = 0;
+    bool geometry_changed = false;
+
+    explicit PrepareUndo(const Model& m) : dt(m.dt), geometry_changed(m.geometry_changed) {
+        if (m.geometry_changed) {
+            saved = true;
+            contacts = m.contacts;
+            vertex_offset = m.blocks.vertex_offset;
+            world_vertices = m.blocks.world_vertices;
+        }
+    }
+    void undo(Model& m) {
+        if (saved) {
+            m.contacts = std::move(contacts);
+            m.blocks.vertex_offset = std::move(vertex_offset);
+            m.blocks.world_vertices = std::move(world_vertices);
+        }
+        m.dt = dt;
+        m.geometry_changed = geometry_changed;
+    }
+};
+
+std::string prepare_cycle_once(Model& m);
+
+} // namespace
+
 std::string prepare_cycle(Model& m) {
+    PrepareUndo undo(m);
+    std::string problem = prepare_cycle_once(m);
+    if (!problem.empty()) undo.undo(m);
+    return problem;
+}
+
+namespace {
+
+std::string prepare_cycle_once(Model& m) {
     const BlockSet& s = m.blocks;
     for (int b = 0; b < s.size(); ++b) {
         if (!is_active(s, b) || (s.flags[b] & kFixed)) continue;
@@ -331,6 +375,17 @@ std::string prepare_cycle(Model& m) {
                    (defined ? "material " + std::to_string(mat) + " has no density"
                             : "material " + std::to_string(mat) + " is not defined") +
                    " (give one with 'prop mat=" + std::to_string(mat) + " dens=...')";
+        }
+    }
+    // The loads must be numbers: gravity or a density near the top of the double range
+    // makes a weight of inf, which would turn every velocity to NaN in the first step.
+    for (int b = 0; b < s.size(); ++b) {
+        if (!is_active(s, b) || (s.flags[b] & kFixed)) continue;
+        const Vec3 w = s.mass[b] * m.gravity + s.applied_force[b];
+        if (!std::isfinite(s.mass[b]) || !s.inertia_body[b].allFinite() || !w.allFinite()) {
+            return "the load on block " + std::to_string(s.id[b]) + " is not a finite number (mass " +
+                   num_text(s.mass[b]) + " kg, gravity " + num_text(m.gravity.stableNorm()) + " m/s^2, applied force " +
+                   num_text(s.applied_force[b].stableNorm()) + " N): give smaller values";
         }
     }
     if (m.geometry_changed) {
@@ -357,6 +412,52 @@ std::string prepare_cycle(Model& m) {
         }
         m.dt = dt;
     }
+    // No block may jump more than half its size in its first step: it would pass the blocks
+    // in its way unseen (and numbers that large only grow). The first step moves a block by
+    // v dt + a dt^2 (half that when its velocity was just given), v its velocity (prescribed
+    // ones at the largest their table reaches), a its loads over its mass.
+    int active = 0;
+    for (int b = 0; b < s.size() && active < 2; ++b) active += is_active(s, b) ? 1 : 0;
+    for (int b = 0; b < s.size() && active > 1; ++b) {
+        if (!is_active(s, b) || !(s.mass[b] > 0)) continue;
+        const bool fixed = s.flags[b] & kFixed;
+        if (fixed && !s.vel_bc[b]) continue;
+        Vec3 v = fixed ? Vec3::Zero() : s.vel[b];
+        if (s.vel_bc[b]) {
+            double scale = 1.0;
+            if (s.vel_bc_table[b] > 0) {
+                const Table* t = m.tables.find(s.vel_bc_table[b]);
+                scale = 0;
+                if (t) {
+                    for (const auto& p : t->points) scale = std::max(scale, std::abs(p.second));
+                }
+            }
+            for (int i = 0; i < 3; ++i) {
+                if (s.vel_bc[b] & (1 << i)) v[i] = s.vel_bc_value[b][i] * scale;
+            }
+        }
+        const double accel = fixed ? 0.0 : (s.mass[b] * m.gravity + s.applied_force[b]).stableNorm() / s.mass[b];
+        const double speed = v.stableNorm();
+        const double move = speed * m.dt + accel * m.dt * m.dt;
+        double size = 0;
+        for (const Vec3& x : s.shape[b].vertices) size = std::max(size, x.norm());
+        if (!(move <= 0.5 * size)) {
+            std::string cause;
+            if (speed * m.dt >= accel * m.dt * m.dt) {
+                cause = "its velocity, " + num_text(speed) + " m/s ('ini' or 'bound ...vel'" +
+                        (s.vel_bc_table[b] > 0 ? std::string(" times its table") : std::string()) + "), is too large";
+            } else if (s.applied_force[b].squaredNorm() > 0) {
+                cause = "its load, " + num_text(accel) + " m/s^2 with the applied force, is too large";
+            } else if (m.settings.dt_fixed > 0) {
+                cause = "the forced timestep is too large: try 'set dt auto'";
+            } else {
+                cause = "the timestep is too large for gravity: the joints are too soft to hold the blocks";
+            }
+            return "block " + std::to_string(s.id[b]) + " would move " + num_text(move) + " m in one step of " +
+                   num_text(m.dt) + " s, more than half its size (" + num_text(size) +
+                   " m), passing the blocks in its way unseen: " + cause;
+        }
+    }
     // Explicit viscous damping c m v is stable only for c dt < 2: beyond it each step
     // reverses and amplifies the velocity it should damp.
     if (m.damping.mode == DampingMode::Rayleigh) {
@@ -373,13 +474,26 @@ std::string prepare_cycle(Model& m) {
     return "";
 }
 
+} // namespace
+
 CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* interrupt,
                   const ProgressFn& progress, long progress_every) {
     CycleResult res;
-    const std::string problem = prepare_cycle(m);
+    PrepareUndo undo(m);
+    const std::string problem = prepare_cycle_once(m);
     if (!problem.empty()) {
+        undo.undo(m);
         res.reason = StopReason::Error;
         res.message = problem;
+        return res;
+    }
+    // A time limit so far away that no run of steps reaches it would cycle for ever.
+    constexpr double kMaxSteps = 2e9;
+    if (lim.max_time > 0 && !(lim.max_time / m.dt <= kMaxSteps)) {
+        res.reason = StopReason::Error;
+        res.message = "a time of " + num_text(lim.max_time) + " s is more than 2e9 steps of " + num_text(m.dt) +
+                      " s, the most one command may take (" + num_text(kMaxSteps * m.dt) + " s)";
+        undo.undo(m);
         return res;
     }
     const double t_start = m.time;
@@ -400,7 +514,7 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
             break;
         }
         if (m.geometry_changed) {
-            const std::string p = prepare_cycle(m);
+            const std::string p = prepare_cycle_once(m);
             if (!p.empty()) {
                 res.reason = StopReason::Error;
                 res.message = p;
@@ -446,7 +560,7 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
         if (jumper >= 0) {
             res.reason = StopReason::BlowUp;
             res.message = "the motion of block " + std::to_string(m.blocks.id[jumper]) + " has run away (step " +
-                          std::to_string(m.step) + "): it moved " + num_text(m.blocks.vel[jumper].norm() * m.dt) +
+                          std::to_string(m.step) + "): it moved " + num_text(m.blocks.vel[jumper].stableNorm() * m.dt) +
                           " m in one step, more than half its size, passing through the blocks in its way "
                           "unseen; likely cause: " + runaway_cause(m, jumper);
             break;
