@@ -259,6 +259,23 @@ struct EnergyWatch {
 
     // After a step: the block whose motion ran away, or -1. `energy` and `available`
     // receive the totals.
+    // The contact whose closure has gone deeper than half the smaller of its two blocks (one
+    // block is passing through the other), or -1; `depth` receives that closure.
+    int sunk(const Model& m, double& depth) const {
+        const ContactSet& cs = m.contacts;
+        for (int c = 0; c < cs.size(); ++c) {
+            const int a = cs.block_a[c], b = cs.block_b[c];
+            const double limit = 0.5 * std::min(size[a], size[b]);
+            for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
+                if (cs.sub_un[k] > limit) {
+                    depth = cs.sub_un[k];
+                    return c;
+                }
+            }
+        }
+        return -1;
+    }
+
     int check(const Model& m, double& energy, double& available, int& jumper) {
         jumper = -1;
         const BlockSet& s = m.blocks;
@@ -414,7 +431,7 @@ std::string prepare_cycle_once(Model& m) {
     }
     // No block may jump more than half its size in its first step: it would pass the blocks
     // in its way unseen (and numbers that large only grow). The first step moves a block by
-    // v dt + a dt^2 (half that when its velocity was just given), v its velocity (prescribed
+    // v dt + a dt^2 (a dt^2 / 2 when its velocity was just given), v its velocity (prescribed
     // ones at the largest their table reaches), a its loads over its mass.
     int active = 0;
     for (int b = 0; b < s.size() && active < 2; ++b) active += is_active(s, b) ? 1 : 0;
@@ -438,7 +455,7 @@ std::string prepare_cycle_once(Model& m) {
         }
         const double accel = fixed ? 0.0 : (s.mass[b] * m.gravity + s.applied_force[b]).stableNorm() / s.mass[b];
         const double speed = v.stableNorm();
-        const double move = speed * m.dt + accel * m.dt * m.dt;
+        const double move = speed * m.dt + (s.half_kick[b] ? 0.5 : 1.0) * accel * m.dt * m.dt;
         double size = 0;
         for (const Vec3& x : s.shape[b].vertices) size = std::max(size, x.norm());
         if (!(move <= 0.5 * size)) {
@@ -563,6 +580,28 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
                           std::to_string(m.step) + "): it moved " + num_text(m.blocks.vel[jumper].stableNorm() * m.dt) +
                           " m in one step, more than half its size, passing through the blocks in its way "
                           "unseen; likely cause: " + runaway_cause(m, jumper);
+            break;
+        }
+        double depth = 0;
+        const int deep = runaway < 0 ? watch.sunk(m, depth) : -1;
+        if (deep >= 0) {
+            const ContactSet& cs = m.contacts;
+            const BlockSet& s = m.blocks;
+            // The block that moves: the free one, or the lighter.
+            int mover = cs.block_b[deep], other = cs.block_a[deep];
+            if ((s.flags[mover] & kFixed) || (!(s.flags[other] & kFixed) && s.mass[other] < s.mass[mover])) {
+                std::swap(mover, other);
+            }
+            const int jm = cs.jmat[deep];
+            const bool has_jmat = jm > 0 && jm < static_cast<int>(m.joint_materials.size());
+            res.reason = StopReason::BlowUp;
+            res.message = "the motion of block " + std::to_string(s.id[mover]) + " has run away (step " +
+                          std::to_string(m.step) + "): it has sunk " + num_text(depth) + " m into block " +
+                          std::to_string(s.id[other]) + ", more than half the smaller block's size; likely cause: " +
+                          (has_jmat ? "the joints (jmat " + std::to_string(jm) + ", jkn " +
+                                          num_text(m.joint_materials[jm].kn) + " Pa/m) are too soft for the load on them"
+                                    : std::string("the contact has no joint material to hold it")) +
+                          (m.settings.dt_fixed > 0 ? ", or the forced timestep is too large" : "");
             break;
         }
         if (runaway >= 0) {

@@ -121,11 +121,11 @@ TEST(TimestepLimit, ABlockJumpingPastItsNeighboursIsStopped) {
     add_fixed(m, make_brick(0, 1, 0, 1, -1, 0));
     add_block(m, make_brick(0, 1, 0, 1, 5, 6), 0, -1, 1);
     update_masses(m);
-    // Half a metre a step in the first, refused before any step.
+    // g dt^2 / 2 = 0.45 m in the first step, refused before any step.
     m.settings.dt_fixed = 0.3;
     CycleResult r = run_steps(m, 100);
     ASSERT_EQ(r.reason, StopReason::Error) << r.message;
-    EXPECT_EQ(r.message, "block 2 would move 0.9 m in one step of 0.3 s, more than half its size (0.866 m), passing "
+    EXPECT_EQ(r.message, "block 2 would move 0.45 m in one step of 0.3 s, more than half its size (0.866 m), passing "
                          "the blocks in its way unseen: the forced timestep is too large: try 'set dt auto'");
     EXPECT_EQ(m.step, 0);
     // Fine at first, but it falls faster every step (at 0.2 g: local damping).
@@ -152,4 +152,28 @@ TEST(TimestepLimit, FreeFallAndUndampedBouncingDoNotTrip) {
     b.damping.mode = DampingMode::Off;
     const CycleResult r = run_steps(b, 20000);
     EXPECT_EQ(r.reason, StopReason::Steps) << r.message;
+}
+
+TEST(TimestepLimit, ABlockSinkingThroughSoftJointsIsStopped) {
+    // jkn = 1e4 Pa/m cannot hold 40 kPa: block 2 sinks into the base, stably but for good.
+    Model m;
+    set_material(m, 1, 2000);
+    set_joint(m, 1, 1e4, 1e4, 30);
+    m.gravity = Vec3(0, 0, -10);
+    add_fixed(m, make_brick(0, 1, 0, 1, -1, 0));
+    add_block(m, make_brick(0, 1, 0, 1, 0, 1), 0, -1, 1);
+    add_block(m, make_brick(0, 1, 0, 1, 1, 2), 0, -1, 1);
+    update_masses(m);
+    const CycleResult r = run_steps(m, 20000);
+    ASSERT_EQ(r.reason, StopReason::BlowUp) << r.message;
+    EXPECT_NE(r.message.find("the motion of block 2 has run away (step " + std::to_string(m.step) +
+                             "): it has sunk "),
+              std::string::npos)
+        << r.message;
+    EXPECT_NE(r.message.find(" m into block 1, more than half the smaller block's size; likely cause: the joints "
+                             "(jmat 1, jkn 1e+04 Pa/m) are too soft for the load on them"),
+              std::string::npos)
+        << r.message;
+    EXPECT_LT(r.steps, 100);
+    EXPECT_GT(m.blocks.centroid[1].z(), -0.5); // stopped before its centroid passed the base's middle
 }

@@ -277,7 +277,7 @@ TEST(Numbers, ALoadThatWouldJumpABlockPastTheBaseIsRefusedBeforeStepping) {
                       "grav 0 0 -10\nfix range region 1\ndamp off\nset dt 1e-3\nbound zload -1e12 range id 2"));
     EXPECT_FALSE(s.run("step 100"));
     EXPECT_EQ(s.error(),
-              "t.dat:1:1: error: block 2 would move 500 m in one step of 0.001 s, more than half its size (0.866 m), "
+              "t.dat:1:1: error: block 2 would move 250 m in one step of 0.001 s, more than half its size (0.866 m), "
               "passing the blocks in its way unseen: its load, 5e+08 m/s^2 with the applied force, is too large\n"
               "    step 100\n"
               "    ^~~~\n"
