@@ -528,7 +528,18 @@ private:
             f.lo = v[0].number;
             f.hi = v.size() > 1 ? v[1].number : v[0].number;
             if (f.hi < f.lo) std::swap(f.lo, f.hi);
-        } else if (n == "sphere") {
+        }
+        // Geometry filters measure distances: points so far away that their differences
+        // overflow would select nothing, silently wrong.
+        if (n == "sphere" || n == "cylinder" || n == "plane") {
+            for (const Value& x : v) {
+                if (x.type == ValueType::Vec3 && !(x.vec.cwiseAbs().maxCoeff() <= 1e100)) {
+                    fail(x.loc, "the point of '" + n + "' is too far from the origin: range points must be within 1e+100 m",
+                         {}, "range");
+                }
+            }
+        }
+        if (n == "sphere") {
             f.kind = FilterKind::Sphere;
             f.a = v[0].vec;
             f.radius = v[1].number;

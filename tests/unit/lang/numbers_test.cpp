@@ -234,6 +234,9 @@ TEST(Numbers, EveryCommandTakesOrRefusesAbsurdNumbersCleanly) {
         {"fix range x -1e308 1e308", "step 5"},
         {"fix range sphere 0,0,0 1e308", "step 5"},
         {"fix range x 1e308 -1e308"},
+        {"fix range cylinder 1e308,0,0 -1e308,0,0 1"},
+        {"fix range plane dip 30 dd 0 origin 0,0,1e300 above"},
+        {"print block range sphere 0,0,0 1e308"},
     };
     int refused = 0, taken = 0, stopped = 0;
     for (const auto& lines : cases) {
@@ -309,6 +312,7 @@ TEST(Numbers, EachAbsurdInputIsRefusedForItsReason) {
         {"ini xvel 1e308 range z 0 1\nstep 1", "t.dat:2:1: error: block 2 would move 2.83e+304 m in one step of 0.000283 s, more than half its size (0.866 m), passing the blocks in its way unseen: its velocity, 1e+308 m/s ('ini' or 'bound ...vel'), is too large"},
         {"table 2 0 1 1 1e300\nbound zvel 1 hist table 2 range z 0 1\nstep 1", "t.dat:3:1: error: block 2 would move 2.83e+296 m in one step of 0.000283 s, more than half its size (0.866 m), passing the blocks in its way unseen: its velocity, 1e+300 m/s ('ini' or 'bound ...vel' times its table), is too large"},
         {"prop jmat=1 jkn=1e-300 jks=1e-300\nstep 1", "error: block 2 would move"},
+        {"fix range cylinder 1e308,0,0 -1e308,0,0 1", "t.dat:1:20: error: the point of 'cylinder' is too far from the origin: range points must be within 1e+100 m"},
         {"damp 0.5 1e6 mass\nstep 1", "t.dat:2:1: error: Rayleigh damping of fraction 0.5 at 1e+06 Hz is unstable at the timestep 0.000283 s"},
     };
     for (const auto& c : cases) {
