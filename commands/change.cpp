@@ -36,7 +36,20 @@ const CommandSpec& change_command() {
             }
             if (a.has("material")) {
                 const int n = a.integer("material");
-                for (int b : blocks_to_change(ctx, a)) m.blocks.material[b] = n;
+                const std::vector<int> blocks = blocks_to_change(ctx, a);
+                // Check first: the density of material n must give each block a mass it can compute with.
+                const double rho = n < static_cast<int>(m.materials.size()) ? m.materials[n].density : 0.0;
+                for (int b : blocks) {
+                    MassProperties mp;
+                    mp.volume = m.blocks.volume[b];
+                    mp.inertia = m.blocks.inertia_unit[b];
+                    const std::string problem = block_numbers_problem(mp, rho);
+                    if (!problem.empty()) {
+                        fail(a.find("material")->values[0].loc, "block " + std::to_string(m.blocks.id[b]) + ": " + problem,
+                             {}, "change");
+                    }
+                }
+                for (int b : blocks) m.blocks.material[b] = n;
                 update_masses(m);
             }
         });

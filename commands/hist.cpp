@@ -101,6 +101,14 @@ const CommandSpec& hist_command() {
                 if (what != q.name) continue;
                 h.kind = q.kind;
                 h.point = a.vec(what);
+                // The point rides on the block: from far away its motion would be its rotation
+                // times a huge lever, overflowing to inf.
+                if (h.point.cwiseAbs().maxCoeff() > 1e9) {
+                    fail(a.find(what)->values[0].loc,
+                         "the point " + vec_text(h.point) + " is too far from the origin: a history point must be "
+                         "within 1e+09 m, on or near the block it follows",
+                         {}, "history");
+                }
                 const int b = find_block_at(m, h.point);
                 if (b < 0) fail(a.find(what)->loc, "there are no blocks to follow", {"create blocks first"}, "history");
                 h.block_id = m.blocks.id[b];

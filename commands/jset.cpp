@@ -41,8 +41,45 @@ const CommandSpec& jset_command() {
             // Size of the model, for the sliver tolerance.
             double size = 0;
             for (int b = 0; b < m.blocks.size(); ++b) size = std::max(size, std::cbrt(m.blocks.volume[b]));
+            const double sliver_tol = 1e-6 * std::max(size, 1e-3);
+            if (s.number > 1 && s.spacing < sliver_tol) {
+                fail(a.find("spacing")->values[0].loc,
+                     "planes " + num(s.spacing) + " m apart would cut only slivers: the spacing must be at least " +
+                         num(sliver_tol) + " m here",
+                     {}, "jset");
+            }
+            // Planes that cross the blocks (the others cut nothing): each may cut every block in
+            // its way, and the cost grows with planes times blocks, so a few thousand is the most.
+            {
+                const Vec3 nrm = plane_normal(s.dip, s.dd);
+                double lo = kInf, hi = -kInf;
+                for (int b : select_blocks(m, a.range)) {
+                    for (const Vec3& v : m.blocks.shape[b].vertices) {
+                        const double h = nrm.dot(m.blocks.centroid[b] + m.blocks.orientation[b] * v);
+                        lo = std::min(lo, h);
+                        hi = std::max(hi, h);
+                    }
+                }
+                const double d0 = nrm.dot(s.origin);
+                long crossing = 0;
+                if (lo <= hi) {
+                    const double half = 0.5 * (s.number - 1);
+                    // Planes k with lo <= d0 + (k - half) spacing <= hi.
+                    const double k_lo = s.spacing > 0 ? std::ceil((lo - d0) / s.spacing + half) : 0;
+                    const double k_hi = s.spacing > 0 ? std::floor((hi - d0) / s.spacing + half) : s.number - 1;
+                    const double from = std::max(0.0, k_lo), to = std::min<double>(s.number - 1, k_hi);
+                    if (to >= from) crossing = static_cast<long>(to - from + 1);
+                }
+                constexpr long kMaxCrossing = 5000;
+                if (crossing > kMaxCrossing) {
+                    fail(a.find("number")->values[0].loc,
+                         std::to_string(crossing) + " of these planes cross the blocks; one 'jset' may cut with at most " +
+                             std::to_string(kMaxCrossing),
+                         {"use a larger spacing, or cut part of the model at a time with 'range'"}, "jset");
+                }
+            }
             const size_t first_plane = m.joint_planes.size();
-            const CutReport r = cut_joint_set(m, s, a.range, 1e-6 * std::max(size, 1e-3));
+            const CutReport r = cut_joint_set(m, s, a.range, sliver_tol);
             if (a.has("jmat")) {
                 for (size_t k = first_plane; k < m.joint_planes.size(); ++k) m.joint_planes[k].jmat = a.integer("jmat");
             }

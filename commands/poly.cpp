@@ -62,6 +62,21 @@ const CommandSpec& poly_command() {
                 const KeywordUse* u = a.has("a") ? a.find("a") : a.find("b");
                 fail(u->loc, "'" + u->spec->name + "' goes with 'prism'", {}, "poly");
             }
+            // Coordinates within reach of doubles: their squares and cubes (areas, volumes,
+            // inertias) must not overflow, and round-off must leave the block its shape.
+            constexpr double kMaxCoordinate = 1e9;
+            for (const char* k : {"brick", "a", "b", "face", "tetra"}) {
+                for (const KeywordUse* u : a.all(k)) {
+                    for (const Value& v : u->values) {
+                        const double x = v.type == ValueType::Vec3 ? v.vec.cwiseAbs().maxCoeff() : std::abs(v.number);
+                        if ((v.type == ValueType::Vec3 || v.type == ValueType::Real) && x > kMaxCoordinate) {
+                            fail(v.loc, "coordinate " + num(x) + " is too far from the origin: poly takes coordinates within " +
+                                            num(kMaxCoordinate) + " m",
+                                 {"odec works in metres; move the origin near the model"}, "poly");
+                        }
+                    }
+                }
+            }
             Polyhedron p;
             std::string error;
             SourceLoc where = a.find(kind)->loc;
@@ -115,6 +130,11 @@ const CommandSpec& poly_command() {
             }
             const int region = a.has("region") ? a.integer("region") : 0;
             const int material = a.has("material") ? a.integer("material") : 1;
+            {
+                const double rho = material < static_cast<int>(m.materials.size()) ? m.materials[material].density : 0.0;
+                const std::string problem = block_numbers_problem(mass_properties(p), rho);
+                if (!problem.empty()) fail(where, problem, {"odec works in metres, kilograms and seconds"}, "poly");
+            }
             const int group = a.has("group") ? m.group_index(a.text("group"), true) : -1;
             add_block(m, p, region, group, material);
         });

@@ -22,8 +22,8 @@ const CommandSpec& prop_command() {
         c.keyword("friction", 3, "friction angle, degrees (Mohr-Coulomb zones)").real("phi", 0, 90, Limit::Closed, Limit::Open);
         c.keyword("tension", 3, "tensile strength, Pa (Mohr-Coulomb zones)").real("t", 0);
         c.keyword("dilation", 3, "dilation angle, degrees (Mohr-Coulomb zones)").real("psi", 0, 90, Limit::Closed, Limit::Open);
-        c.keyword("jkn", 3, "joint normal stiffness, Pa/m").real("kn", 0, kInf, Limit::Open);
-        c.keyword("jks", 3, "joint shear stiffness, Pa/m").real("ks", 0, kInf, Limit::Open);
+        c.keyword("jkn", 3, "joint normal stiffness, Pa/m").real("kn", 0, 1e18, Limit::Open);
+        c.keyword("jks", 3, "joint shear stiffness, Pa/m").real("ks", 0, 1e18, Limit::Open);
         c.keyword("jfriction", 3, "joint friction angle, degrees").real("phi", 0, 90, Limit::Closed, Limit::Open);
         c.keyword("jcohesion", 3, "joint cohesion, Pa (lost once the joint fails)").real("c", 0);
         c.keyword("jtension", 3, "joint tensile strength, Pa (lost once the joint fails)").real("t", 0);
@@ -73,6 +73,22 @@ const CommandSpec& prop_command() {
                 return;
             }
             const int n = a.integer("material");
+            if (a.has("density")) {
+                // Check first: every block of this material must keep a mass it can compute with.
+                const double rho = a.real("density");
+                const BlockSet& s = m.blocks;
+                for (int b = 0; b < s.size(); ++b) {
+                    if (s.material[b] != n) continue;
+                    MassProperties mp;
+                    mp.volume = s.volume[b];
+                    mp.inertia = s.inertia_unit[b];
+                    const std::string problem = block_numbers_problem(mp, rho);
+                    if (!problem.empty()) {
+                        fail(a.find("density")->values[0].loc, "block " + std::to_string(s.id[b]) + ": " + problem,
+                             {}, "property");
+                    }
+                }
+            }
             ensure_index(m.materials, n);
             Material& mat = m.materials[n];
             mat.defined = true;

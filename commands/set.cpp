@@ -6,7 +6,7 @@ namespace odec {
 const CommandSpec& set_command() {
     static const CommandSpec spec = [] {
         CommandSpec c("set", 3, "change a setting of the model or of the program");
-        c.keyword("dt", 2, "force this timestep, s (0: back to the automatic one)").real("dt", 0);
+        c.keyword("dt", 2, "force this timestep, s ('auto' or 0: back to the automatic one)").real("dt", 0).or_word("auto");
         c.keyword("dtfrac", 3, "fraction of the critical timestep used").real("f", 0, 1, Limit::Open).defaults("0.1");
         c.keyword("ctol", 2, "contact tolerance, m (0: chosen from block sizes)").real("tol", 0);
         c.keyword("echo", 2, "echo script commands with their file and line").one_of("state", {"on", "off"}).defaults("on");
@@ -67,7 +67,7 @@ const CommandSpec& set_command() {
                 }
             }
             if (a.has("dt")) {
-                m.settings.dt_fixed = a.real("dt");
+                m.settings.dt_fixed = a.text("dt") == "auto" ? 0.0 : a.real("dt");
                 m.geometry_changed = true;
             }
             if (a.has("dtfrac")) {

@@ -1,6 +1,8 @@
 #include "engine/blocks.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <limits>
 
 namespace odec {
@@ -53,6 +55,37 @@ int add_block(Model& m, const Polyhedron& world, int region, int group, int mate
     s.inertia_body[b] = rho * mp.inertia;
     m.geometry_changed = true;
     return b;
+}
+
+std::string block_numbers_problem(const MassProperties& mp, double density) {
+    auto text = [](double x) {
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "%.3g", x);
+        return std::string(buf);
+    };
+    if (!std::isfinite(mp.volume) || !mp.centroid.allFinite()) {
+        return std::isfinite(mp.volume) || std::isinf(mp.volume)
+                   ? "the block is too large: its volume overflows (" + text(mp.volume) + " m^3)"
+                   : std::string("the block is too large: its volume overflows");
+    }
+    if (!(mp.volume > 0) || !std::isnormal(mp.volume)) {
+        return "the block is too small: its volume underflows (" + text(mp.volume) + " m^3)";
+    }
+    const double i_min = std::min({mp.inertia(0, 0), mp.inertia(1, 1), mp.inertia(2, 2)});
+    if (!mp.inertia.allFinite()) return "the block is too large: its moment of inertia overflows";
+    if (!(i_min > 0) || !std::isnormal(i_min)) return "the block is too small: its moment of inertia underflows";
+    if (density > 0) {
+        const double mass = density * mp.volume;
+        if (!std::isfinite(mass) || !(density * mp.inertia).allFinite()) {
+            return "its mass, density " + text(density) + " times volume " + text(mp.volume) +
+                   " m^3, overflows";
+        }
+        if (!std::isnormal(mass) || !std::isnormal(density * i_min)) {
+            return "its mass, density " + text(density) + " times volume " + text(mp.volume) +
+                   " m^3, underflows";
+        }
+    }
+    return "";
 }
 
 void remove_blocks(Model& m, std::vector<int> idx) {
@@ -132,8 +165,10 @@ int find_block_at(const Model& m, const Vec3& x) {
     for (int b = 0; b < m.blocks.size(); ++b) {
         const Vec3 local = m.blocks.orientation[b].conjugate() * (x - m.blocks.centroid[b]);
         if (contains_point(m.blocks.shape[b], local, 1e-9)) return b;
-        const double d = (m.blocks.centroid[b] - x).squaredNorm();
-        if (d < best_d) {
+        // Far points (1e308) overflow the squared distance: compare scaled norms, and take
+        // some block even then.
+        const double d = (m.blocks.centroid[b] - x).stableNorm();
+        if (best < 0 || d < best_d) {
             best_d = d;
             best = b;
         }

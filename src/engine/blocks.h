@@ -1,6 +1,7 @@
 // Creating, removing and looking up rigid blocks.
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include "engine/model.h"
@@ -10,6 +11,11 @@ namespace odec {
 // Add a rigid block whose vertices are given in world coordinates. Its mass comes from
 // its material's density (0 until `prop mat=n dens=...`). Returns the new block's index.
 int add_block(Model& m, const Polyhedron& world_shape, int region, int group, int material);
+
+// Why a block of these mass properties and this density cannot be computed with, or "":
+// a volume or inertia that underflows to zero or overflows to infinity (sizes far outside
+// what doubles can square and cube), or a mass or inertia that overflows with the density.
+std::string block_numbers_problem(const MassProperties& mp, double density);
 
 // Remove the blocks with these indices for good (their ids are not reused).
 void remove_blocks(Model& m, std::vector<int> block_indices);

@@ -101,6 +101,14 @@ void update_contacts(Model& m, double dt);
 // With no contacts yet it is estimated from the stiffest joint material and the largest
 // face; 0 when there is nothing to estimate from.
 double contact_critical_timestep(const Model& m);
+// The largest timestep at which the explicit cycle is still stable, s, unscaled by dtfrac:
+// per free block, 2 / omega with omega^2 the larger of (sum of the contact stiffnesses on it)
+// / mass and (sum of stiffness times squared lever arm) / smallest principal inertia; the
+// smallest over the blocks. It is never below contact_critical_timestep (the automatic step
+// must always pass). With no contacts it is contact_critical_timestep / dtfrac, the estimate
+// from the stiffest contact that could form; 0 when there is nothing to estimate from.
+// `block` (may be null) receives the index of the block that sets it, or -1.
+double stable_timestep_limit(const Model& m, int* block = nullptr);
 // Contact tolerance in use: settings.ctol, or 5 % of the mean block size when that is 0.
 double contact_tolerance(const Model& m);
 

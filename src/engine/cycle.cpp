@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 
 #include "engine/blocks.h"
 #include "engine/contact.h"
@@ -24,8 +25,11 @@ struct StageTimer {
 
 double sign(double x) { return (x > 0) - (x < 0); }
 
-// (m/s)^2: a block moving faster than 1e5 m/s means the numbers have run away.
-constexpr double kMaxSpeed2 = 1e10;
+std::string num_text(double x) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g", x);
+    return buf;
+}
 
 bool is_active(const BlockSet& s, int b) { return !(s.flags[b] & kExcavated); }
 
@@ -160,14 +164,151 @@ int integrate(Model& m, double dt) {
             s.rotation[b] += dtheta;
         }
         s.half_kick[b] = 0;
-        // Not finite, or faster than anything rock can move: the integration has become unstable.
-        if (bad < 0 && !(v.allFinite() && w.allFinite() && s.centroid[b].allFinite() && v.squaredNorm() < kMaxSpeed2)) {
+        // Not finite: the integration has become unstable.
+        if (bad < 0 && !(v.allFinite() && w.allFinite() && s.centroid[b].allFinite())) {
             bad = b;
         }
     }
     if (auto_damp) adjust_auto_damping(m.damping, power, m.step, dt);
     return bad;
 }
+
+// Kinetic energy of a free block, J (velocities at t - dt/2), leaving out the velocity
+// components a boundary condition prescribes: those are imposed, not earned.
+double kinetic_energy(const BlockSet& s, int b) {
+    const Mat3 r = s.orientation[b].toRotationMatrix();
+    const Vec3 w = s.ang_vel[b];
+    Vec3 v = s.vel[b];
+    for (int i = 0; i < 3; ++i) {
+        if (s.vel_bc[b] & (1 << i)) v[i] = 0;
+    }
+    return 0.5 * s.mass[b] * v.squaredNorm() + 0.5 * w.dot(r * s.inertia_body[b] * r.transpose() * w);
+}
+
+// The likely cause of a run-away of block b, for the message.
+std::string runaway_cause(const Model& m, int b) {
+    std::string cause = m.settings.dt_fixed > 0
+                            ? "the forced timestep (set dt " + num_text(m.settings.dt_fixed) +
+                                  ") is too large for the stiffnesses: try 'set dt auto'"
+                            : "the timestep is too large for the stiffnesses";
+    const Vec3& f = m.blocks.applied_force[b];
+    if (f.squaredNorm() > 0) {
+        cause = "the load applied to block " + std::to_string(m.blocks.id[b]) + " ('bound ...load', " +
+                num_text(f.stableNorm()) + " N) is too large for what holds it, or " + cause;
+    } else if (m.settings.dt_fixed <= 0) {
+        cause += ", or a load is unbounded";
+    }
+    return cause;
+}
+
+// A run-away told by the physics rather than by a speed: with damping at most taking energy
+// out, the kinetic energy of the free blocks can never exceed what the model had when the
+// cycling began (kinetic energy and the strain energy stored in the joints) plus the work
+// the loads have done since (gravity and applied forces on the free blocks: their force
+// times the displacement, exact as both are constant while cycling) plus the work the
+// velocity boundaries can have done (bounded by |force . velocity| dt summed). A numerical
+// instability pumps energy in from nowhere, growing it geometrically, so a generous margin
+// still stops it within a few steps of its start, long before numbers overflow.
+struct EnergyWatch {
+    std::vector<Vec3> start;   // (n_blocks) centroid when the cycling began
+    std::vector<double> size;  // (n_blocks) m, largest vertex distance from the centroid
+    bool neighbours = false;   // more than one block: there is something to pass through
+    double initial = 0;        // J, kinetic + joint strain energy then
+    double boundary_work = 0;  // J, bound on the work of prescribed velocities since
+    double peak_work = 0;      // J, the most work gravity and the applied loads have done
+    double floor = 0;          // J, noise level below which nothing is judged
+    static constexpr double kMargin = 4.0;
+
+    void begin(const Model& m) {
+        const BlockSet& s = m.blocks;
+        start = s.centroid;
+        size.assign(s.size(), 0.0);
+        int active = 0;
+        for (int b = 0; b < s.size(); ++b) {
+            for (const Vec3& v : s.shape[b].vertices) size[b] = std::max(size[b], v.norm());
+            if (!(s.flags[b] & kExcavated)) ++active;
+        }
+        neighbours = active > 1;
+        initial = 0;
+        double mass = 0;
+        for (int b = 0; b < s.size(); ++b) {
+            if ((s.flags[b] & (kExcavated | kFixed)) || !(s.mass[b] > 0)) continue;
+            initial += kinetic_energy(s, b);
+            mass += s.mass[b];
+        }
+        const ContactSet& cs = m.contacts;
+        const int n_jmat = static_cast<int>(m.joint_materials.size());
+        for (int c = 0; c < cs.size(); ++c) {
+            const int jm = cs.jmat[c];
+            if (jm <= 0 || jm >= n_jmat || !m.joint_materials[jm].defined) continue;
+            const JointMaterial& j = m.joint_materials[jm];
+            for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
+                const double u = cs.sub_un[k] + cs.sub_udil[k];
+                double un = u > 0 ? u : (cs.joined[c] ? -u : std::min(-u, j.kn > 0 ? j.tension / j.kn : 0.0));
+                if (!(un >= 0)) un = 0;
+                double e = 0.5 * j.kn * un * un;
+                if (j.ks > 0) e += 0.5 * cs.sub_ss[k].squaredNorm() / j.ks;
+                initial += cs.sub_area[k] * e;
+            }
+        }
+        boundary_work = 0;
+        peak_work = 0;
+        // A millimetre per second over all the free mass: below it, nothing is judged.
+        floor = 0.5 * mass * 1e-6;
+    }
+
+    // After a step: the block whose motion ran away, or -1. `energy` and `available`
+    // receive the totals.
+    // The contact whose closure has gone deeper than half the smaller of its two blocks (one
+    // block is passing through the other), or -1; `depth` receives that closure.
+    int sunk(const Model& m, double& depth) const {
+        const ContactSet& cs = m.contacts;
+        for (int c = 0; c < cs.size(); ++c) {
+            const int a = cs.block_a[c], b = cs.block_b[c];
+            const double limit = 0.5 * std::min(size[a], size[b]);
+            for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
+                if (cs.sub_un[k] > limit) {
+                    depth = cs.sub_un[k];
+                    return c;
+                }
+            }
+        }
+        return -1;
+    }
+
+    int check(const Model& m, double& energy, double& available, int& jumper) {
+        jumper = -1;
+        const BlockSet& s = m.blocks;
+        double work = 0, ke = 0, ke_max = -1;
+        int worst = -1;
+        for (int b = 0; b < s.size(); ++b) {
+            if (s.flags[b] & kExcavated) continue;
+            if (s.vel_bc[b]) {
+                const Vec3 load = s.mass[b] * m.gravity + s.applied_force[b];
+                boundary_work += m.dt * (std::abs(s.force[b].dot(s.vel[b])) + std::abs(load.dot(s.vel[b])));
+            }
+            if ((s.flags[b] & kFixed) || !(s.mass[b] > 0)) continue;
+            // Moving more than half its size in one step, a block jumps past the blocks in
+            // its way: contact detection cannot see them.
+            if (jumper < 0 && neighbours && s.vel[b].stableNorm() * m.dt > 0.5 * size[b]) jumper = b;
+            const double e = kinetic_energy(s, b);
+            ke += e;
+            if (!(e <= ke_max)) {
+                ke_max = e;
+                worst = b;
+            }
+            work += (s.mass[b] * m.gravity + s.applied_force[b]).dot(s.centroid[b] - start[b]);
+        }
+        energy = ke;
+        // The most work the loads have done at any time: the energy they put in may have been
+        // carried back up since (an undamped block bouncing), and explicit impacts do not
+        // conserve energy exactly, so the budget is the largest the exchange has been.
+        peak_work = std::max(peak_work, work);
+        available = initial + peak_work + boundary_work;
+        if (std::isfinite(ke) && ke <= kMargin * available + floor && jumper < 0) return -1;
+        return worst;
+    }
+};
 
 } // namespace
 
@@ -196,7 +337,51 @@ double unbalanced_ratio(const Model& m) {
     return total > 0 ? unbal / total : 0.0;
 }
 
+namespace {
+
+// What preparing a cycle changes (contact detection and the timestep), kept so that a
+// cycle refused before its first step leaves the model exactly as it was.
+struct PrepareUndo {
+    bool saved = false;
+    ContactSet contacts;
+    std::vector<int> vertex_offset;
+    std::vector<Vec3> world_vertices;
+    double dt = 0;
+    bool geometry_changed = false;
+
+    explicit PrepareUndo(const Model& m) : dt(m.dt), geometry_changed(m.geometry_changed) {
+        if (m.geometry_changed) {
+            saved = true;
+            contacts = m.contacts;
+            vertex_offset = m.blocks.vertex_offset;
+            world_vertices = m.blocks.world_vertices;
+        }
+    }
+    void undo(Model& m) {
+        if (saved) {
+            m.contacts = std::move(contacts);
+            m.blocks.vertex_offset = std::move(vertex_offset);
+            m.blocks.world_vertices = std::move(world_vertices);
+        }
+        m.dt = dt;
+        m.geometry_changed = geometry_changed;
+    }
+};
+
+std::string prepare_cycle_once(Model& m);
+
+} // namespace
+
 std::string prepare_cycle(Model& m) {
+    PrepareUndo undo(m);
+    std::string problem = prepare_cycle_once(m);
+    if (!problem.empty()) undo.undo(m);
+    return problem;
+}
+
+namespace {
+
+std::string prepare_cycle_once(Model& m) {
     const BlockSet& s = m.blocks;
     for (int b = 0; b < s.size(); ++b) {
         if (!is_active(s, b) || (s.flags[b] & kFixed)) continue;
@@ -209,11 +394,33 @@ std::string prepare_cycle(Model& m) {
                    " (give one with 'prop mat=" + std::to_string(mat) + " dens=...')";
         }
     }
+    // The loads must be numbers: gravity or a density near the top of the double range
+    // makes a weight of inf, which would turn every velocity to NaN in the first step.
+    for (int b = 0; b < s.size(); ++b) {
+        if (!is_active(s, b) || (s.flags[b] & kFixed)) continue;
+        const Vec3 w = s.mass[b] * m.gravity + s.applied_force[b];
+        if (!std::isfinite(s.mass[b]) || !s.inertia_body[b].allFinite() || !w.allFinite()) {
+            return "the load on block " + std::to_string(s.id[b]) + " is not a finite number (mass " +
+                   num_text(s.mass[b]) + " kg, gravity " + num_text(m.gravity.stableNorm()) + " m/s^2, applied force " +
+                   num_text(s.applied_force[b].stableNorm()) + " N): give smaller values";
+        }
+    }
     if (m.geometry_changed) {
         refresh_world_vertices(m);
         detect_contacts(m);
     }
     if (m.settings.dt_fixed > 0) {
+        // A forced step beyond the stable limit can only blow up: refuse it before cycling.
+        int worst = -1;
+        const double limit = stable_timestep_limit(m, &worst);
+        if (limit > 0 && m.settings.dt_fixed > limit) {
+            const double automatic = contact_critical_timestep(m);
+            return "the forced timestep " + num_text(m.settings.dt_fixed) +
+                   " s ('set dt') is larger than the stable limit, about " + num_text(limit) + " s" +
+                   (worst >= 0 ? " (set by block " + std::to_string(s.id[worst]) + " on its contacts)" : "") +
+                   ": the motion would run away. Use 'set dt auto' (" + num_text(automatic) +
+                   " s now) or a timestep below " + num_text(limit) + " s";
+        }
         m.dt = m.settings.dt_fixed;
     } else {
         const double dt = contact_critical_timestep(m);
@@ -222,22 +429,94 @@ std::string prepare_cycle(Model& m) {
         }
         m.dt = dt;
     }
+    // No block may jump more than half its size in its first step: it would pass the blocks
+    // in its way unseen (and numbers that large only grow). The first step moves a block by
+    // v dt + a dt^2 (a dt^2 / 2 when its velocity was just given), v its velocity (prescribed
+    // ones at the largest their table reaches), a its loads over its mass.
+    int active = 0;
+    for (int b = 0; b < s.size() && active < 2; ++b) active += is_active(s, b) ? 1 : 0;
+    for (int b = 0; b < s.size() && active > 1; ++b) {
+        if (!is_active(s, b) || !(s.mass[b] > 0)) continue;
+        const bool fixed = s.flags[b] & kFixed;
+        if (fixed && !s.vel_bc[b]) continue;
+        Vec3 v = fixed ? Vec3::Zero() : s.vel[b];
+        if (s.vel_bc[b]) {
+            double scale = 1.0;
+            if (s.vel_bc_table[b] > 0) {
+                const Table* t = m.tables.find(s.vel_bc_table[b]);
+                scale = 0;
+                if (t) {
+                    for (const auto& p : t->points) scale = std::max(scale, std::abs(p.second));
+                }
+            }
+            for (int i = 0; i < 3; ++i) {
+                if (s.vel_bc[b] & (1 << i)) v[i] = s.vel_bc_value[b][i] * scale;
+            }
+        }
+        const double accel = fixed ? 0.0 : (s.mass[b] * m.gravity + s.applied_force[b]).stableNorm() / s.mass[b];
+        const double speed = v.stableNorm();
+        const double move = speed * m.dt + (s.half_kick[b] ? 0.5 : 1.0) * accel * m.dt * m.dt;
+        double size = 0;
+        for (const Vec3& x : s.shape[b].vertices) size = std::max(size, x.norm());
+        if (!(move <= 0.5 * size)) {
+            std::string cause;
+            if (speed * m.dt >= accel * m.dt * m.dt) {
+                cause = "its velocity, " + num_text(speed) + " m/s ('ini' or 'bound ...vel'" +
+                        (s.vel_bc_table[b] > 0 ? std::string(" times its table") : std::string()) + "), is too large";
+            } else if (s.applied_force[b].squaredNorm() > 0) {
+                cause = "its load, " + num_text(accel) + " m/s^2 with the applied force, is too large";
+            } else if (m.settings.dt_fixed > 0) {
+                cause = "the forced timestep is too large: try 'set dt auto'";
+            } else {
+                cause = "the timestep is too large for gravity: the joints are too soft to hold the blocks";
+            }
+            return "block " + std::to_string(s.id[b]) + " would move " + num_text(move) + " m in one step of " +
+                   num_text(m.dt) + " s, more than half its size (" + num_text(size) +
+                   " m), passing the blocks in its way unseen: " + cause;
+        }
+    }
+    // Explicit viscous damping c m v is stable only for c dt < 2: beyond it each step
+    // reverses and amplifies the velocity it should damp.
+    if (m.damping.mode == DampingMode::Rayleigh) {
+        const double c = 2.0 * m.damping.rayleigh_fraction * 2.0 * M_PI * m.damping.rayleigh_frequency;
+        if (!(c * m.dt < 2.0)) {
+            return "Rayleigh damping of fraction " + num_text(m.damping.rayleigh_fraction) + " at " +
+                   num_text(m.damping.rayleigh_frequency) + " Hz is unstable at the timestep " + num_text(m.dt) +
+                   " s (4 pi fraction frequency dt = " + num_text(c * m.dt) +
+                   ", must be below 2): lower the frequency below " + num_text(1.0 / (2 * M_PI * m.damping.rayleigh_fraction * m.dt)) + " Hz";
+        }
+    }
     // Contacts and timestep now match the geometry; the cycle need not prepare again.
     m.geometry_changed = false;
     return "";
 }
 
+} // namespace
+
 CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* interrupt,
                   const ProgressFn& progress, long progress_every) {
     CycleResult res;
-    const std::string problem = prepare_cycle(m);
+    PrepareUndo undo(m);
+    const std::string problem = prepare_cycle_once(m);
     if (!problem.empty()) {
+        undo.undo(m);
         res.reason = StopReason::Error;
         res.message = problem;
         return res;
     }
+    // A time limit so far away that no run of steps reaches it would cycle for ever.
+    constexpr double kMaxSteps = 2e9;
+    if (lim.max_time > 0 && !(lim.max_time / m.dt <= kMaxSteps)) {
+        res.reason = StopReason::Error;
+        res.message = "a time of " + num_text(lim.max_time) + " s is more than 2e9 steps of " + num_text(m.dt) +
+                      " s, the most one command may take (" + num_text(kMaxSteps * m.dt) + " s)";
+        undo.undo(m);
+        return res;
+    }
     const double t_start = m.time;
     Profile& prof = m.profile;
+    EnergyWatch watch;
+    watch.begin(m);
     for (;;) {
         if (lim.max_steps > 0 && res.steps >= lim.max_steps) {
             res.reason = StopReason::Steps;
@@ -252,7 +531,7 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
             break;
         }
         if (m.geometry_changed) {
-            const std::string p = prepare_cycle(m);
+            const std::string p = prepare_cycle_once(m);
             if (!p.empty()) {
                 res.reason = StopReason::Error;
                 res.message = p;
@@ -287,9 +566,51 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
         }
         if (bad >= 0) {
             res.reason = StopReason::BlowUp;
-            res.message = "the motion of block " + std::to_string(m.blocks.id[bad]) +
-                          " has run away (step " + std::to_string(m.step) +
-                          "): the timestep is too large for the stiffnesses, or a load is unbounded";
+            res.message = "the motion of block " + std::to_string(m.blocks.id[bad]) + " has run away (step " +
+                          std::to_string(m.step) + "): its velocity is no longer a finite number; likely cause: " +
+                          runaway_cause(m, bad);
+            break;
+        }
+        double energy = 0, available = 0;
+        int jumper = -1;
+        const int runaway = watch.check(m, energy, available, jumper);
+        if (jumper >= 0) {
+            res.reason = StopReason::BlowUp;
+            res.message = "the motion of block " + std::to_string(m.blocks.id[jumper]) + " has run away (step " +
+                          std::to_string(m.step) + "): it moved " + num_text(m.blocks.vel[jumper].stableNorm() * m.dt) +
+                          " m in one step, more than half its size, passing through the blocks in its way "
+                          "unseen; likely cause: " + runaway_cause(m, jumper);
+            break;
+        }
+        double depth = 0;
+        const int deep = runaway < 0 ? watch.sunk(m, depth) : -1;
+        if (deep >= 0) {
+            const ContactSet& cs = m.contacts;
+            const BlockSet& s = m.blocks;
+            // The block that moves: the free one, or the lighter.
+            int mover = cs.block_b[deep], other = cs.block_a[deep];
+            if ((s.flags[mover] & kFixed) || (!(s.flags[other] & kFixed) && s.mass[other] < s.mass[mover])) {
+                std::swap(mover, other);
+            }
+            const int jm = cs.jmat[deep];
+            const bool has_jmat = jm > 0 && jm < static_cast<int>(m.joint_materials.size());
+            res.reason = StopReason::BlowUp;
+            res.message = "the motion of block " + std::to_string(s.id[mover]) + " has run away (step " +
+                          std::to_string(m.step) + "): it has sunk " + num_text(depth) + " m into block " +
+                          std::to_string(s.id[other]) + ", more than half the smaller block's size; likely cause: " +
+                          (has_jmat ? "the joints (jmat " + std::to_string(jm) + ", jkn " +
+                                          num_text(m.joint_materials[jm].kn) + " Pa/m) are too soft for the load on them"
+                                    : std::string("the contact has no joint material to hold it")) +
+                          (m.settings.dt_fixed > 0 ? ", or the forced timestep is too large" : "");
+            break;
+        }
+        if (runaway >= 0) {
+            res.reason = StopReason::BlowUp;
+            res.message = "the motion of block " + std::to_string(m.blocks.id[runaway]) + " has run away (step " +
+                          std::to_string(m.step) + "): the kinetic energy, " + num_text(energy) +
+                          " J, is far beyond the " + num_text(available) +
+                          " J that the loads and the initial state could have given; likely cause: " +
+                          runaway_cause(m, runaway);
             break;
         }
         if (progress && progress_every > 0 && res.steps % progress_every == 0) progress(m);

@@ -203,4 +203,50 @@ double contact_critical_timestep(const Model& m) {
     return m.settings.dtfrac * 2.0 * std::sqrt(m_min / k_max);
 }
 
+double stable_timestep_limit(const Model& m, int* block_out) {
+    const BlockSet& s = m.blocks;
+    const ContactSet& cs = m.contacts;
+    const int n = s.size();
+    if (block_out) *block_out = -1;
+    const double automatic = contact_critical_timestep(m);
+    std::vector<double> kt(n, 0.0), kr(n, 0.0);
+    bool any = false;
+    const int n_jmat = static_cast<int>(m.joint_materials.size());
+    for (int c = 0; c < cs.size(); ++c) {
+        const int jm = cs.jmat[c];
+        if (jm <= 0 || jm >= n_jmat || !m.joint_materials[jm].defined) continue;
+        const int a = cs.block_a[c], b = cs.block_b[c];
+        if ((s.flags[a] | s.flags[b]) & kExcavated) continue;
+        const double k = std::max(m.joint_materials[jm].kn, m.joint_materials[jm].ks);
+        for (int i = cs.sub_offset[c]; i < cs.sub_offset[c + 1]; ++i) {
+            const int owner = cs.sub_side[i] == 1 ? b : a;
+            const Vec3 x = s.centroid[owner] + s.orientation[owner] * cs.sub_local[i];
+            const double ki = k * cs.sub_area[i];
+            kt[a] += ki;
+            kt[b] += ki;
+            kr[a] += ki * (x - s.centroid[a]).squaredNorm();
+            kr[b] += ki * (x - s.centroid[b]).squaredNorm();
+            any = any || ki > 0;
+        }
+    }
+    if (!any) return automatic > 0 ? automatic / m.settings.dtfrac : 0.0;
+    double omega2 = 0;
+    int worst = -1;
+    for (int b = 0; b < n; ++b) {
+        if ((s.flags[b] & (kExcavated | kFixed)) || !(s.mass[b] > 0)) continue;
+        double w2 = kt[b] / s.mass[b];
+        const double i_min = Eigen::SelfAdjointEigenSolver<Mat3>(s.inertia_body[b], Eigen::EigenvaluesOnly)
+                                 .eigenvalues()
+                                 .minCoeff();
+        if (i_min > 0) w2 = std::max(w2, kr[b] / i_min);
+        if (w2 > omega2) {
+            omega2 = w2;
+            worst = b;
+        }
+    }
+    if (!(omega2 > 0)) return automatic > 0 ? automatic / m.settings.dtfrac : 0.0;
+    if (block_out) *block_out = worst;
+    return std::max(automatic, 2.0 / std::sqrt(omega2));
+}
+
 } // namespace odec

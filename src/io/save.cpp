@@ -33,6 +33,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <limits>
@@ -536,6 +537,221 @@ std::string check_consistent(const Model& m) {
     return "";
 }
 
+// Every number of a restored model, checked as carefully as typed input: finite, within the
+// limits the commands that set it would enforce, and indices, counts and ids consistent. A
+// file edited and its checksum recomputed must not bring inf, NaN or a dangling index into a
+// model that then cycles on. Returns what is wrong, or "".
+class ValueCheck {
+public:
+    std::string problem;
+    bool ok() const { return problem.empty(); }
+    bool fail(const std::string& what) {
+        if (problem.empty()) problem = what;
+        return false;
+    }
+    bool finite(double x, const std::string& what) {
+        return std::isfinite(x) || fail(what + " is not a finite number");
+    }
+    bool at_least(double x, double lo, const std::string& what) {
+        return (finite(x, what) && x >= lo) || fail(what + " is " + num(x) + ", below " + num(lo));
+    }
+    bool between(double x, double lo, double hi, const std::string& what) {
+        return (finite(x, what) && x >= lo && x <= hi) ||
+               fail(what + " is " + num(x) + ", outside " + num(lo) + " to " + num(hi));
+    }
+    bool angle(double x, const std::string& what) {
+        return (finite(x, what) && x >= 0 && x < 90) || fail(what + " is " + num(x) + " degrees, outside 0 to 90");
+    }
+    bool vec(const Vec3& v, const std::string& what) { return v.allFinite() || fail(what + " is not finite"); }
+    bool mat(const Mat3& a, const std::string& what) { return a.allFinite() || fail(what + " is not finite"); }
+    bool quat(const Quat& q, const std::string& what) {
+        return (q.coeffs().allFinite() && std::abs(q.norm() - 1) < 1e-6) || fail(what + " is not a unit quaternion");
+    }
+    template <class T>
+    bool all_vec(const std::vector<T>& v, const std::string& what) {
+        for (size_t i = 0; i < v.size(); ++i) {
+            if (!v[i].allFinite()) return fail(what + " " + std::to_string(i + 1) + " is not finite");
+        }
+        return true;
+    }
+
+private:
+    static std::string num(double x) {
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "%.6g", x);
+        return buf;
+    }
+};
+
+std::string check_values(const Model& m) {
+    ValueCheck c;
+    // The model itself.
+    c.at_least(static_cast<double>(m.step), 0, "the step number");
+    c.at_least(m.time, 0, "the model time");
+    c.at_least(m.dt, 0, "the timestep");
+    c.vec(m.gravity, "gravity");
+    if (m.n_joint_sets < 0 || m.slivers_skipped < 0) c.fail("a count of joint sets or slivers is negative");
+    // Settings, as 'set' limits them.
+    const Settings& st = m.settings;
+    c.at_least(st.dt_fixed, 0, "the forced timestep");
+    if (c.finite(st.dtfrac, "dtfrac") && !(st.dtfrac > 0 && st.dtfrac <= 1)) c.fail("dtfrac is outside (0, 1]");
+    c.at_least(st.ctol, 0, "the contact tolerance");
+    if (st.default_jmat < 1 || st.default_jmat > 1000000) c.fail("the default joint material is out of range");
+    if (st.default_jcons < 1 || st.default_jcons > 2) c.fail("the default joint model is out of range");
+    // Damping, as 'damp' limits it.
+    const Damping& d = m.damping;
+    if (c.finite(d.local, "the local damping") && !(d.local >= 0 && d.local < 1)) c.fail("the local damping is outside [0, 1)");
+    c.between(d.rayleigh_fraction, 0, 1, "the Rayleigh damping fraction");
+    c.at_least(d.rayleigh_frequency, 0, "the Rayleigh damping frequency");
+    c.at_least(d.auto_coefficient, 0, "the adaptive damping coefficient");
+    for (double t : m.profile.seconds) c.at_least(t, 0, "a profile time");
+    if (m.profile.steps < 0) c.fail("the profiled step count is negative");
+    // Materials, as 'prop' limits them (a material given only other properties has density 0).
+    for (size_t k = 0; k < m.materials.size(); ++k) {
+        const Material& x = m.materials[k];
+        const std::string w = "material " + std::to_string(k) + ": ";
+        c.at_least(x.density, 0, w + "the density");
+        c.at_least(x.bulk, 0, w + "the bulk modulus");
+        c.at_least(x.shear, 0, w + "the shear modulus");
+        c.at_least(x.cohesion, 0, w + "the cohesion");
+        c.at_least(x.tension, 0, w + "the tension");
+        c.angle(x.friction, w + "the friction angle");
+        c.angle(x.dilation, w + "the dilation angle");
+    }
+    for (size_t k = 0; k < m.joint_materials.size(); ++k) {
+        const JointMaterial& x = m.joint_materials[k];
+        const std::string w = "joint material " + std::to_string(k) + ": ";
+        c.at_least(x.kn, 0, w + "the normal stiffness");
+        c.at_least(x.ks, 0, w + "the shear stiffness");
+        c.at_least(x.cohesion, 0, w + "the cohesion");
+        c.at_least(x.tension, 0, w + "the tension");
+        c.at_least(x.zdilation, 0, w + "the dilation limit");
+        c.angle(x.friction, w + "the friction angle");
+        c.angle(x.dilation, w + "the dilation angle");
+        c.angle(x.res_friction, w + "the residual friction angle");
+    }
+    for (const JointPlane& p : m.joint_planes) {
+        if (p.set < 1 || p.jmat < 0 || p.jmat > 1000000) c.fail("a joint plane is out of range");
+    }
+    // Blocks.
+    const BlockSet& s = m.blocks;
+    const int n = s.size();
+    for (int b = 0; b < n && c.ok(); ++b) {
+        const std::string w = "block " + std::to_string(s.id[b]) + ": ";
+        if (s.id[b] < 1 || (b > 0 && s.id[b] <= s.id[b - 1]) || s.id[b] >= m.next_block_id) {
+            c.fail("the block ids are not unique, increasing and below the next id");
+            break;
+        }
+        const Polyhedron& p = s.shape[b];
+        if (p.n_vertices() < 4 || p.n_faces() < 4) c.fail(w + "its shape has too few vertices or faces");
+        c.all_vec(p.vertices, w + "vertex");
+        for (int f = 0; f < p.n_faces(); ++f) {
+            if (p.face_size(f) < 3) c.fail(w + "a face has fewer than 3 vertices");
+        }
+        for (int j : p.face_joint) {
+            if (j < 0 || j > static_cast<int>(m.joint_planes.size())) c.fail(w + "a face refers to a joint plane that does not exist");
+        }
+        c.vec(s.centroid[b], w + "the centroid");
+        c.quat(s.orientation[b], w + "the orientation");
+        c.vec(s.vel[b], w + "the velocity");
+        c.vec(s.ang_vel[b], w + "the angular velocity");
+        c.vec(s.accel[b], w + "the acceleration");
+        c.vec(s.ang_accel[b], w + "the angular acceleration");
+        c.vec(s.force[b], w + "the force");
+        c.vec(s.moment[b], w + "the moment");
+        c.vec(s.applied_force[b], w + "the applied force");
+        c.at_least(s.force_scale[b], 0, w + "the force scale");
+        c.vec(s.disp[b], w + "the displacement");
+        c.vec(s.rotation[b], w + "the rotation");
+        if (c.finite(s.volume[b], w + "the volume") && !(s.volume[b] > 0)) c.fail(w + "the volume is not positive");
+        c.at_least(s.mass[b], 0, w + "the mass");
+        c.mat(s.inertia_body[b], w + "the inertia");
+        c.mat(s.inertia_unit[b], w + "the unit inertia");
+        if (s.material[b] < 1 || s.material[b] > 1000000) c.fail(w + "the material number is out of range");
+        if (s.region[b] < 0) c.fail(w + "the region number is negative");
+        if (s.flags[b] > (kFixed | kHidden | kExcavated) || s.vel_bc[b] > 7 || s.half_kick[b] > 1) c.fail(w + "a flag is out of range");
+        c.vec(s.vel_bc_value[b], w + "the boundary velocity");
+        if (s.vel_bc_table[b] < 0 || s.vel_bc_table[b] > 1000000) {
+            c.fail(w + "the boundary velocity table is out of range");
+        }
+    }
+    if (!c.ok()) return c.problem;
+    c.all_vec(s.world_vertices, "world vertex");
+    // Contacts.
+    const ContactSet& cs = m.contacts;
+    for (int k = 0; k < cs.size() && c.ok(); ++k) {
+        const std::string w = "contact " + std::to_string(cs.id[k]) + ": ";
+        if (cs.id[k] < 1 || cs.id[k] >= cs.next_id) c.fail(w + "its id is out of range");
+        if (!(cs.block_a[k] < cs.block_b[k])) c.fail(w + "its blocks are not in order (a < b)");
+        if (c.vec(cs.normal[k], w + "the normal") && std::abs(cs.normal[k].norm() - 1) > 1e-6) c.fail(w + "the normal is not a unit vector");
+        c.vec(cs.point[k], w + "the point");
+        c.finite(cs.gap[k], w + "the gap");
+        if (cs.jmat[k] < 0 || cs.jmat[k] > 1000000) c.fail(w + "the joint material is out of range");
+        if (cs.jcons[k] < 1 || cs.jcons[k] > 2) c.fail(w + "the joint model is out of range");
+        if (cs.joined[k] > 1) c.fail(w + "a flag is out of range");
+        for (int i = cs.sub_offset[k]; i < cs.sub_offset[k + 1] && c.ok(); ++i) {
+            if (cs.sub_contact[i] != k) c.fail(w + "a sub-contact belongs to another contact");
+            if (cs.sub_side[i] > 3) c.fail(w + "a sub-contact side is out of range");
+            const int owner = cs.sub_side[i] == 1 ? cs.block_b[k] : cs.block_a[k];
+            if (cs.sub_vertex[i] < -1 || cs.sub_vertex[i] >= s.shape[owner].n_vertices()) {
+                c.fail(w + "a sub-contact vertex is out of range");
+            }
+            c.at_least(cs.sub_area[i], 0, w + "a sub-contact area");
+            c.vec(cs.sub_local[i], w + "a sub-contact point");
+            c.finite(cs.sub_un[i], w + "a normal closure");
+            c.finite(cs.sub_udil[i], w + "a dilation");
+            c.finite(cs.sub_sn[i], w + "a normal stress");
+            c.vec(cs.sub_us[i], w + "a shear displacement");
+            c.vec(cs.sub_ss[i], w + "a shear stress");
+            if (cs.sub_flags[i] > (kSubSlip | kSubOpen | kSubFailed | kSubNew)) c.fail(w + "a sub-contact flag is out of range");
+        }
+    }
+    if (!c.ok()) return c.problem;
+    {
+        std::vector<int> ids = cs.id;
+        std::sort(ids.begin(), ids.end());
+        if (std::adjacent_find(ids.begin(), ids.end()) != ids.end()) return "two contacts have the same id";
+    }
+    c.at_least(cs.ctol, 0, "the contact tolerance in use");
+    if (cs.n_detections < 0) c.fail("the detection count is negative");
+    c.all_vec(cs.ref_centroid, "detection centroid");
+    c.all_vec(cs.geo_centroid, "refresh centroid");
+    for (const Quat& q : cs.ref_orientation) c.quat(q, "a detection orientation");
+    for (const Quat& q : cs.geo_orientation) c.quat(q, "a refresh orientation");
+    for (double r : cs.radius) c.at_least(r, 0, "a block radius");
+    // Histories.
+    const HistorySet& h = m.histories;
+    if (h.ncyc < 1) c.fail("the history interval is below 1");
+    for (size_t k = 0; k < h.sample_steps.size(); ++k) {
+        if (h.sample_steps[k] < 0 || (k > 0 && h.sample_steps[k] < h.sample_steps[k - 1])) {
+            c.fail("the history sample steps do not increase");
+            break;
+        }
+    }
+    for (size_t k = 0; k < h.items.size() && c.ok(); ++k) {
+        const History& x = h.items[k];
+        const std::string w = "history " + std::to_string(k + 1) + ": ";
+        c.vec(x.point, w + "the point");
+        c.vec(x.body_offset, w + "the material point");
+        if (x.block_id < 0 || x.contact_id < 0) c.fail(w + "it refers to a negative id");
+        for (double v : x.values) {
+            if (!c.finite(v, w + "a value")) break;
+        }
+    }
+    // Tables, as 'table' limits them.
+    for (const auto& [number, t] : m.tables.tables) {
+        const std::string w = "table " + std::to_string(number) + ": ";
+        if (number < 1 || number > 1000000) c.fail("a table number is out of range");
+        if (t.points.empty()) c.fail(w + "it has no points");
+        for (size_t k = 0; k < t.points.size(); ++k) {
+            c.finite(t.points[k].first, w + "an x");
+            c.finite(t.points[k].second, w + "a y");
+            if (k > 0 && !(t.points[k].first > t.points[k - 1].first)) c.fail(w + "its x values do not increase");
+        }
+    }
+    return c.problem;
+}
+
 bool read_whole_file(const std::string& path, std::string& data, std::string& error) {
     const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
     if (fd < 0) {
@@ -661,7 +877,8 @@ bool restore_model(const std::string& path, Model& out, std::string& error) {
     } catch (const ReadError& e) {
         return refuse("the file is damaged or was written wrongly (by odec " + writer_version + "): " + e.what);
     }
-    const std::string why = check_consistent(fresh);
+    std::string why = check_consistent(fresh);
+    if (why.empty()) why = check_values(fresh);
     if (!why.empty()) return refuse("the file is damaged or was written wrongly (by odec " + writer_version + "): " + why);
     out = std::move(fresh);
     return true;

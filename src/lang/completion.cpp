@@ -51,7 +51,8 @@ std::vector<std::string> complete_words(const CommandTable& table, const std::st
         }
     }
     // A choice value expected next: offer its words.
-    if (last && values_since < last->values.size() && last->values[values_since].type == ValueType::Choice) {
+    if (last && values_since < last->values.size() && (last->values[values_since].type == ValueType::Choice ||
+                                                       !last->values[values_since].choices.empty())) {
         for (const auto& ch : last->values[values_since].choices) add_matching(out, ch, w);
         return out;
     }

@@ -25,6 +25,9 @@ std::string value_synopsis(const ValueSpec& v) {
     if (v.type == ValueType::Choice) {
         for (size_t k = 0; k < v.choices.size(); ++k) s += (k ? "|" : "") + v.choices[k];
     }
+    if (v.type == ValueType::Real) {
+        for (const auto& w : v.choices) s += "|" + w;
+    }
     if (v.type == ValueType::Vec3) s = (v.labelled || v.name == "x,y,z") ? "x,y,z" : v.name + "(x,y,z)";
     if (v.labelled) s = v.name + " " + (v.type == ValueType::Vec3 ? s : std::string("v"));
     return v.optional ? "[" + s + "]" : s;
@@ -93,6 +96,11 @@ KeywordSpec& KeywordSpec::one_of(std::string n, std::vector<std::string> words) 
     ValueSpec v = make_value(std::move(n), ValueType::Choice);
     v.choices = std::move(words);
     values.push_back(v);
+    return *this;
+}
+
+KeywordSpec& KeywordSpec::or_word(std::string word) {
+    values.back().choices.push_back(std::move(word));
     return *this;
 }
 

@@ -39,7 +39,7 @@ struct ValueSpec {
     ValueType type = ValueType::Real;
     double lo = -kInf, hi = kInf;
     Limit lo_kind = Limit::Closed, hi_kind = Limit::Closed;
-    std::vector<std::string> choices; // for Choice
+    std::vector<std::string> choices; // for Choice; for Real, words accepted instead of a number
     bool optional = false;       // may be left out (only at the end of a keyword's values)
     std::string default_text;    // shown in help when optional
     bool labelled = false;       // typed after its own name: `plane dip 30 dd 90 ...`
@@ -67,6 +67,9 @@ struct KeywordSpec {
     KeywordSpec& string(std::string n);
     KeywordSpec& word(std::string n);
     KeywordSpec& one_of(std::string n, std::vector<std::string> words);
+    // The last (Real) value may be given as this word instead of a number (`set dt auto`); the
+    // value then has the word as its text and no number.
+    KeywordSpec& or_word(std::string word);
     // Makes the last value optional, shown with its default in help.
     KeywordSpec& optional(std::string default_text = {});
     KeywordSpec& repeat();

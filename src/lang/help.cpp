@@ -16,6 +16,9 @@ std::string value_line(const ValueSpec& v) {
         for (size_t k = 0; k < v.choices.size(); ++k) s += (k ? ", " : "") + v.choices[k];
         s += ")";
     }
+    if (v.type == ValueType::Real && !v.choices.empty()) {
+        for (const auto& w : v.choices) s += ", or '" + w + "'";
+    }
     const std::string lim = describe_limits(v);
     if (!lim.empty()) s += ", " + lim;
     if (v.optional) s += v.default_text.empty() ? ", optional" : ", default " + v.default_text;

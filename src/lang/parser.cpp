@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace odec {
@@ -250,7 +251,13 @@ private:
         if (v.labelled) return t.kind == TokenKind::Word && abbreviates(t.lower, v.name, 2);
         switch (v.type) {
         case ValueType::Int:
-        case ValueType::Real: return t.kind == TokenKind::Number;
+        case ValueType::Real:
+            if (t.kind == TokenKind::Word) {
+                for (const auto& c : v.choices) {
+                    if (t.lower == c) return true;
+                }
+            }
+            return t.kind == TokenKind::Number;
         case ValueType::Vec3: return next_starts_vector();
         case ValueType::String:
         case ValueType::Word: return t.kind == TokenKind::String || (t.kind == TokenKind::Word && !is_keyword(t.lower));
@@ -286,7 +293,9 @@ private:
         if (pos_ >= t_.size()) missing(owner, spec, v, kw);
         const Token& t = t_[pos_];
         if (t.kind != TokenKind::Number) {
-            fail(t.loc, "'" + t.text + "' is not a number: '" + owner + "' expects " + v.name + " (" + type_name(v.type) + ")",
+            std::string what = type_name(v.type);
+            for (const auto& c : v.choices) what += " or '" + c + "'";
+            fail(t.loc, "'" + t.text + "' is not a number: '" + owner + "' expects " + v.name + " (" + what + ")",
                  {"'" + owner + "' takes: " + (spec.name.empty() ? cmd_->synopsis() : spec.synopsis())}, cmd_->name);
         }
         ++pos_;
@@ -336,6 +345,16 @@ private:
             break;
         }
         case ValueType::Real: {
+            if (t.kind == TokenKind::Word) {
+                bool word = false;
+                for (const auto& c : v.choices) word = word || t.lower == c;
+                if (word) {
+                    out.text = t.lower;
+                    out.number = std::numeric_limits<double>::quiet_NaN();
+                    ++pos_;
+                    break;
+                }
+            }
             out.number = number(owner, spec, v, kw);
             check_limits(owner, spec, v, t, out.number);
             break;
@@ -512,7 +531,18 @@ private:
             f.lo = v[0].number;
             f.hi = v.size() > 1 ? v[1].number : v[0].number;
             if (f.hi < f.lo) std::swap(f.lo, f.hi);
-        } else if (n == "sphere") {
+        }
+        // Geometry filters measure distances: points so far away that their differences
+        // overflow would select nothing, silently wrong.
+        if (n == "sphere" || n == "cylinder" || n == "plane") {
+            for (const Value& x : v) {
+                if (x.type == ValueType::Vec3 && !(x.vec.cwiseAbs().maxCoeff() <= 1e100)) {
+                    fail(x.loc, "the point of '" + n + "' is too far from the origin: range points must be within 1e+100 m",
+                         {}, "range");
+                }
+            }
+        }
+        if (n == "sphere") {
             f.kind = FilterKind::Sphere;
             f.a = v[0].vec;
             f.radius = v[1].number;
