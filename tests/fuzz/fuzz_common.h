@@ -17,7 +17,8 @@
 
 namespace odec::fuzz {
 
-// Made once per process under $TMPDIR (or /tmp), entered, and removed at exit.
+// Made once per process under $TMPDIR (or /tmp), entered, and removed at exit. The process
+// works there from its first input on: give libFuzzer absolute paths (corpora, artifacts).
 inline const std::string& scratch_dir() {
     static const std::string dir = [] {
         const char* base = std::getenv("TMPDIR");
