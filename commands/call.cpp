@@ -14,6 +14,7 @@ const CommandSpec& call_command() {
         c.example("call 'geometry.dat'");
         c.handle([](CommandContext& ctx, const Args& a) {
             const std::string path = relative_to_script(a.loc, a.positional[0].text);
+            check_file_allowed(ctx, a.positional[0].loc, path, "call");
             if (!ctx.interp.run_file(path, &a.positional[0].loc)) throw ScriptFailed{};
         });
         return c;

@@ -1,6 +1,7 @@
 // Small helpers shared by command handlers.
 #pragma once
 
+#include <algorithm>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -40,6 +41,42 @@ inline std::vector<int> blocks_to_change(CommandContext& ctx, const Args& args, 
 inline std::string relative_to_script(const SourceLoc& loc, const std::string& path) {
     if (!path.empty() && path[0] != '/' && loc.file && !loc.file->directory.empty()) return loc.file->directory + path;
     return path;
+}
+
+// In a session whose files are confined (Interpreter::Limits), refuse a path that could leave
+// the working directory: an absolute one, or one with a '..' component.
+inline void check_file_allowed(const CommandContext& ctx, const SourceLoc& loc, const std::string& path,
+                               const std::string& help_topic) {
+    if (!ctx.interp.limits.confine_files) return;
+    bool ok = !path.empty() && path[0] != '/';
+    for (size_t start = 0; ok && start <= path.size();) {
+        const size_t slash = std::min(path.find('/', start), path.size());
+        if (path.compare(start, slash - start, "..") == 0 && slash - start == 2) ok = false;
+        start = slash + 1;
+    }
+    if (!ok) {
+        fail(loc, "'" + path + "': this session reads and writes files only inside its working directory",
+             {"give a relative name without '..'"}, help_topic);
+    }
+}
+
+// `step` and `solve` in a session with a budget of block-steps (Interpreter::Limits): at most
+// as many steps as the budget leaves for the blocks there are. Returns the blocks counted.
+inline long long limit_steps_to_budget(CommandContext& ctx, const SourceLoc& loc, long& max_steps,
+                                       const std::string& help_topic) {
+    const long long budget = ctx.interp.limits.block_steps;
+    const long long blocks = std::max<long long>(1, ctx.model.blocks.size());
+    if (budget < 0) return blocks;
+    const long long steps = budget / blocks;
+    if (steps < 1) fail(loc, "this session may take no more steps (its budget of block-steps is spent)", {}, help_topic);
+    if (max_steps <= 0 || max_steps > steps) max_steps = static_cast<long>(steps);
+    return blocks;
+}
+
+inline void spend_step_budget(CommandContext& ctx, long long blocks, long steps) {
+    if (ctx.interp.limits.block_steps >= 0) {
+        ctx.interp.limits.block_steps = std::max<long long>(0, ctx.interp.limits.block_steps - blocks * steps);
+    }
 }
 
 // The history number a value gives, checked to exist (histories are numbered from 1 as made).

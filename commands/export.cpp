@@ -26,6 +26,7 @@ const CommandSpec& export_command() {
         c.handle([](CommandContext& ctx, const Args& a) {
             const Model& m = ctx.model;
             const Value& name = a.find("vtk")->values[0];
+            check_file_allowed(ctx, name.loc, name.text, "export");
             const ContactView contacts = make_contact_view(m);
             std::vector<std::string> written;
             std::string error;

@@ -70,6 +70,7 @@ const CommandSpec& hist_command() {
                 for (const Value& v : a.find("write")->values) numbers.push_back(history_number(m, v, "history"));
                 const int vs = a.has("vs") ? history_number(m, a.find("vs")->values[0], "history") : 0;
                 if (!a.has("file")) fail(a.find("write")->loc, "'write' needs 'file name.csv'", {}, "history");
+                check_file_allowed(ctx, a.find("file")->values[0].loc, a.text("file"), "history");
                 std::string error;
                 if (!write_histories_csv(hs, numbers, vs, a.text("file"), error)) {
                     fail(a.find("file")->values[0].loc, error, {}, "history");

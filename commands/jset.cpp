@@ -2,7 +2,49 @@
 #include "common.h"
 #include "engine/jset.h"
 
+#include <cmath>
+#include <limits>
+
 namespace odec {
+
+namespace {
+
+// A session with a block limit (Interpreter::Limits) refuses, before cutting, a joint set
+// that could leave more blocks than the limit, or take more than 20 times that many
+// plane-block trials: every plane that crosses a block's extent counts as a cut.
+void check_block_limit(CommandContext& ctx, const Args& a, const JointSetSpec& s) {
+    const Model& m = ctx.model;
+    const long limit = ctx.interp.limits.max_blocks;
+    const Vec3 n = plane_normal(s.dip, s.dd);
+    const double d0 = n.dot(s.origin);
+    const double planes = std::max(s.number, 1);
+    double blocks = m.blocks.size();
+    for (int b : select_blocks(m, a.range)) {
+        double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+        const Mat3 rot = m.blocks.orientation[b].toRotationMatrix();
+        for (const Vec3& v : m.blocks.shape[b].vertices) {
+            const double t = n.dot(m.blocks.centroid[b] + rot * v);
+            lo = std::min(lo, t);
+            hi = std::max(hi, t);
+        }
+        // Planes k = 0 .. planes-1 at d0 + (k - (planes-1)/2) spacing.
+        double crossing = planes;
+        if (s.spacing > 0 && std::isfinite(lo) && std::isfinite(hi)) {
+            const double first = std::max(0.0, std::ceil((lo - d0) / s.spacing + 0.5 * (planes - 1)));
+            const double last = std::min(planes - 1, std::floor((hi - d0) / s.spacing + 0.5 * (planes - 1)));
+            crossing = last >= first ? last - first + 1 : 0;
+            if (!std::isfinite(crossing)) crossing = planes;
+        }
+        blocks += crossing;
+    }
+    if (blocks > limit || planes * blocks > 20.0 * limit) {
+        fail(a.loc, "this session allows at most " + std::to_string(limit) + " blocks: the joint set could make " +
+                        num(blocks) + " blocks with " + num(planes) + " planes",
+             {}, "jset");
+    }
+}
+
+} // namespace
 
 const CommandSpec& jset_command() {
     static const CommandSpec spec = [] {
@@ -78,6 +120,7 @@ const CommandSpec& jset_command() {
                          {"use a larger spacing, or cut part of the model at a time with 'range'"}, "jset");
                 }
             }
+            if (ctx.interp.limits.max_blocks > 0) check_block_limit(ctx, a, s);
             const size_t first_plane = m.joint_planes.size();
             const CutReport r = cut_joint_set(m, s, a.range, sliver_tol);
             if (a.has("jmat")) {

@@ -136,7 +136,7 @@ bool block_shown(const Model& m, int b) { return (m.blocks.flags[b] & (kHidden |
 
 // Where the picture goes: the file given (".png" added when it has no extension), or the
 // next free plot-NNNN.png in the working directory. Checked before anything is drawn.
-std::string picture_path(const Args& a) {
+std::string picture_path(const CommandContext& ctx, const Args& a) {
     namespace fs = std::filesystem;
     if (!a.has("file")) {
         int last = 0;
@@ -160,6 +160,7 @@ std::string picture_path(const Args& a) {
         return buf;
     }
     const Value& v = a.find("file")->values[0];
+    check_file_allowed(ctx, v.loc, v.text, "plot");
     fs::path path(v.text);
     std::string ext = path.extension().string();
     for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -292,7 +293,7 @@ void handle_plot(CommandContext& ctx, const Args& a) {
         if (m.histories.sample_steps.empty()) {
             fail(history->loc, "the histories have no samples yet", {"take some steps first"}, "plot");
         }
-        const std::string path = picture_path(a);
+        const std::string path = picture_path(ctx, a);
         scene = render::begin_scene(m, opt);
         std::string error;
         if (!render::add_history_chart(scene, m.histories, numbers, vs, error)) fail(history->loc, error, {}, "plot");
@@ -337,7 +338,7 @@ void handle_plot(CommandContext& ctx, const Args& a) {
         contacts = make_contact_view(m, &chosen);
         centre_sub_contacts(contacts);
     }
-    const std::string path = picture_path(a);
+    const std::string path = picture_path(ctx, a);
 
     scene = render::begin_scene(m, opt);
     if (block || !any_3d) {

@@ -20,6 +20,7 @@ const CommandSpec& restore_command() {
             const Value& file = a.positional[0];
             if (file.text.empty()) fail(file.loc, "'restore' needs a file name", {}, "restore");
             const std::string path = save_file_name(file.text);
+            check_file_allowed(ctx, file.loc, path, "restore");
             std::string error;
             if (!restore_model(path, ctx.model, error)) fail(file.loc, error, {}, "restore");
             const Model& m = ctx.model;

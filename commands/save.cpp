@@ -21,6 +21,7 @@ const CommandSpec& save_command() {
             const Value& file = a.positional[0];
             if (file.text.empty()) fail(file.loc, "'save' needs a file name", {}, "save");
             const std::string path = save_file_name(file.text);
+            check_file_allowed(ctx, file.loc, path, "save");
             std::string error;
             if (!save_model(ctx.model, path, error)) fail(file.loc, error, {}, "save");
             if (!ctx.interp.quiet) ctx.out << "saved the model at step " << ctx.model.step << " to '" << path << "'\n";

@@ -28,6 +28,7 @@ const CommandSpec& set_command() {
             }
             if (a.uses.empty()) fail(a.loc, "'set' needs a setting", {"type 'help set' for the settings"}, "set");
             if (a.has("jmat")) defined_joint_material(m, a, "set");
+            if (a.has("logfile")) check_file_allowed(ctx, a.find("logfile")->values[0].loc, a.text("logfile"), "set");
             if (const KeywordUse* p = a.find("plot")) {
                 // `set plot size 800 600 view -y` is `plot set size 800 600 view -y`.
                 std::vector<Token> toks;

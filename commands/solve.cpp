@@ -38,6 +38,7 @@ const CommandSpec& solve_command() {
                 o << buf;
                 o.flush();
             };
+            const long long counted = limit_steps_to_budget(ctx, a.loc, lim.max_steps, "solve");
             ctx.interp.interrupt = false;
             // The time left is known only when the ratio cannot end the run first.
             const bool known_end = !(lim.ratio > 0);
@@ -46,6 +47,7 @@ const CommandSpec& solve_command() {
             const bool lines = talk && ctx.interp.echo;
             const CycleResult r =
                 cycle(m, lim, &ctx.interp.interrupt, lines ? ProgressFn(std::ref(progress)) : ProgressFn(), 100);
+            spend_step_budget(ctx, counted, r.steps);
             if (r.reason == StopReason::Error) fail(a.loc, r.message, {}, "solve");
             if (r.reason == StopReason::BlowUp) {
                 fail(a.loc, "stopped: " + r.message, {"the model is left as it was at that step, for inspection"}, "solve");

@@ -29,11 +29,13 @@ const CommandSpec& step_command() {
                 fail(a.loc, "'step' needs a number of steps or 'time t'", {"for example: step 1000"}, "step");
             }
             Model& m = ctx.model;
+            const long long counted = limit_steps_to_budget(ctx, a.loc, lim.max_steps, "step");
             ctx.interp.interrupt = false;
             const bool talk = !ctx.interp.quiet && ctx.interp.echo;
             ProgressReporter progress(ctx.out, ctx.interp.progress_seconds, m.step, lim.max_steps, m.time, lim.max_time);
             const CycleResult r =
                 cycle(m, lim, &ctx.interp.interrupt, talk ? ProgressFn(std::ref(progress)) : ProgressFn(), 100);
+            spend_step_budget(ctx, counted, r.steps);
             if (r.reason == StopReason::Error) fail(a.loc, r.message, {}, "step");
             if (r.reason == StopReason::Interrupted) {
                 ctx.out << "interrupted after " << r.steps << " steps: step " << m.step << ", time " << num(m.time)

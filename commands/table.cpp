@@ -29,6 +29,7 @@ const CommandSpec& table_command() {
             if (a.has("read")) {
                 const Value& f = a.find("read")->values[0];
                 const std::string path = relative_to_script(f.loc, f.text);
+                check_file_allowed(ctx, f.loc, path, "table");
                 std::string text, why;
                 if (!read_file_text(path, text, why)) fail(f.loc, "cannot open '" + f.text + "': " + why, {}, "table");
                 std::istringstream in(text);

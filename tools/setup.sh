@@ -1,12 +1,17 @@
 #!/usr/bin/env bash
 # Installs what odec needs (Debian packages only) and builds it, incrementally.
 # Sourced by ./odec and ./run-tests; `odec_setup TARGET...` builds those targets.
+# `odec_fuzz_setup TARGET...` does the same in the sanitizer and fuzzing build (build-fuzz/,
+# clang), `odec_san_setup TARGET...` in the sanitizer build with gcc (build-san/).
 set -euo pipefail
 
 ODEC_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 ODEC_BUILD="${ODEC_BUILD:-$ODEC_ROOT/build}"
+ODEC_FUZZ_BUILD="${ODEC_FUZZ_BUILD:-$ODEC_ROOT/build-fuzz}"
+ODEC_SAN_BUILD="${ODEC_SAN_BUILD:-$ODEC_ROOT/build-san}"
 ODEC_PACKAGES=(g++ cmake ninja-build pkg-config libeigen3-dev libreadline-dev libvtk9-dev libosmesa6-dev
-               libegl-dev libgtest-dev)
+               libegl-dev libgtest-dev
+               clang libclang-rt-14-dev) # clang and its libFuzzer and sanitizer runtimes: tests/fuzz/
 
 odec_install_packages() {
     local missing=()
@@ -22,18 +27,45 @@ odec_install_packages() {
     fi
 }
 
-odec_setup() {
-    odec_install_packages
-    if [ ! -f "$ODEC_BUILD/build.ninja" ]; then
-        echo "odec: configuring in $ODEC_BUILD" >&2
-        cmake -S "$ODEC_ROOT" -B "$ODEC_BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release >&2
+# odec_build DIR "CMAKE OPTIONS" TARGET...: configure DIR once with the options, then build.
+odec_build() {
+    local dir="$1" options="$2"
+    shift 2
+    if [ ! -f "$dir/build.ninja" ]; then
+        echo "odec: configuring in $dir" >&2
+        # shellcheck disable=SC2086
+        cmake -S "$ODEC_ROOT" -B "$dir" -G Ninja $options >&2
     fi
     # Incremental: a second run rebuilds only what changed.
     local out
-    if ! out=$(cmake --build "$ODEC_BUILD" --target "$@" -- -j"$(nproc)" 2>&1); then
+    if ! out=$(cmake --build "$dir" --target "$@" -- -j"${ODEC_JOBS:-$(nproc)}" 2>&1); then
         echo "$out" >&2
         echo "odec: build failed" >&2
         return 1
     fi
-    if ! grep -q "no work to do" <<<"$out"; then echo "odec: built $*" >&2; fi
+    if ! grep -q "no work to do" <<<"$out"; then echo "odec: built $* in $dir" >&2; fi
+}
+
+odec_setup() {
+    odec_install_packages
+    odec_build "$ODEC_BUILD" "-DCMAKE_BUILD_TYPE=Release" "$@"
+}
+
+# Whether clang can link a libFuzzer program here.
+odec_have_libfuzzer() {
+    command -v clang++ >/dev/null 2>&1 &&
+        echo 'extern "C" int LLVMFuzzerTestOneInput(const char*, unsigned long) { return 0; }' |
+            clang++ -fsanitize=fuzzer -x c++ - -o /dev/null >/dev/null 2>&1
+}
+
+# AddressSanitizer, UBSan and libFuzzer, clang, no pictures (see CMakeLists.txt).
+odec_fuzz_setup() {
+    odec_install_packages
+    CC=clang CXX=clang++ odec_build "$ODEC_FUZZ_BUILD" "-DCMAKE_BUILD_TYPE=RelWithDebInfo -DODEC_FUZZ=ON" "$@"
+}
+
+# AddressSanitizer and UBSan with gcc, no pictures: where clang's libFuzzer is missing.
+odec_san_setup() {
+    odec_install_packages
+    odec_build "$ODEC_SAN_BUILD" "-DCMAKE_BUILD_TYPE=RelWithDebInfo -DODEC_SANITIZE=ON -DODEC_PICTURES=OFF" "$@"
 }

@@ -102,6 +102,21 @@ public:
     PlotSettings plot;            // kept between plots
     NamedRanges named_ranges;     // `range name X ...`, for `nrange X`
 
+    // Bounds for a session that runs input nobody wrote by hand (the fuzzing targets of
+    // tests/fuzz/); the program sets none of them. A command that would go past one fails
+    // with an error and leaves the model as it was.
+    struct Limits {
+        // Files only by a relative name without '..': whatever `save`, `export`, `plot`,
+        // `hist write`, `set logfile`, `call`, `restore` and `table read` name stays inside
+        // the working directory.
+        bool confine_files = false;
+        // Block-steps (blocks times steps) that `step` and `solve` may still take in all; < 0: no limit.
+        long long block_steps = -1;
+        // Blocks a `jset` may leave at most, counting every plane that crosses a block as a cut;
+        // 0: no limit.
+        long max_blocks = 0;
+    } limits;
+
     // How many files may run at once through `call` (each level takes C++ stack).
     static constexpr int kMaxCallDepth = 64;
 

@@ -1,0 +1,11 @@
+# Fails when tests/fuzz/odec.dict differs from what the command declarations give now.
+execute_process(COMMAND ${DICT} ${OUT} RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "odec_dict failed (${rc})")
+endif()
+file(READ ${OUT} a)
+file(READ ${SRC}/tests/fuzz/odec.dict b)
+if(NOT a STREQUAL b)
+  message(FATAL_ERROR "tests/fuzz/odec.dict is out of date: run 'build/odec_dict tests/fuzz/odec.dict'")
+endif()
+message(STATUS "tests/fuzz/odec.dict is current")

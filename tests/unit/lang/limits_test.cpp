@@ -1,0 +1,58 @@
+// The bounds of a session on unchecked input (Interpreter::Limits), which the fuzzing targets
+// of tests/fuzz/ set: each refuses with a located error and leaves the model as it was.
+#include <gtest/gtest.h>
+
+#include "test_util.h"
+
+using odec::test::Session;
+
+TEST(Limits, ConfinedFilesRefuseAbsoluteAndParentPaths) {
+    Session s;
+    s.interp.limits.confine_files = true;
+    ASSERT_TRUE(s.run("poly brick 0 1 0 1 0 1"));
+    const char* refused[] = {"save '/tmp/odec-limits-test'", "restore '../x.sav'", "call '/etc/passwd'",
+                             "export vtk 'a/../../b'", "plot block file '/tmp/x.png'", "table 1 read '..'",
+                             "set logfile '/tmp/odec.log'", "hist zdis 0,0,0\nhist write 1 file '/tmp/h.csv'"};
+    for (const char* line : refused) {
+        s.err.str("");
+        EXPECT_FALSE(s.run(line)) << line;
+        EXPECT_NE(s.error().find("error: '"), std::string::npos) << line << ": " << s.error();
+        EXPECT_NE(s.error().find("only inside its working directory"), std::string::npos) << line << ": " << s.error();
+    }
+    EXPECT_EQ(s.model.blocks.size(), 1);
+    EXPECT_EQ(s.interp.log_path, "odec.log");
+}
+
+TEST(Limits, StepBudgetCapsStepAndSolve) {
+    Session s;
+    s.interp.limits.block_steps = 250;
+    ASSERT_TRUE(s.run("poly brick 0 1 0 1 0 1\npoly brick 2 3 0 1 0 1\nprop mat=1 dens=1000\nset dt 1e-3"));
+    ASSERT_TRUE(s.run("step 100"));
+    EXPECT_EQ(s.model.step, 100);
+    ASSERT_TRUE(s.run("solve time 10"));
+    EXPECT_EQ(s.model.step, 125); // 250 block-steps for 2 blocks
+    EXPECT_FALSE(s.run("step 1"));
+    EXPECT_NE(s.error().find("t.dat:1:1: error: this session may take no more steps"), std::string::npos) << s.error();
+    EXPECT_EQ(s.model.step, 125);
+}
+
+TEST(Limits, BlockLimitRefusesAJointSetBeforeCutting) {
+    Session s;
+    s.interp.limits.max_blocks = 50;
+    ASSERT_TRUE(s.run("poly brick 0 10 0 10 0 10"));
+    ASSERT_TRUE(s.run("jset dip 0 dd 0 origin 0,0,5 spacing 1 number 9")); // 10 blocks
+    EXPECT_EQ(s.model.blocks.size(), 10);
+    const size_t planes = s.model.joint_planes.size();
+    EXPECT_FALSE(s.run("jset dip 90 dd 90 origin 5,0,0 spacing 1 number 9")); // could make 100
+    EXPECT_NE(s.error().find("t.dat:1:1: error: this session allows at most 50 blocks"), std::string::npos) << s.error();
+    EXPECT_EQ(s.model.blocks.size(), 10);
+    EXPECT_EQ(s.model.joint_planes.size(), planes);
+    EXPECT_FALSE(s.run("jset dip 90 dd 90 origin 5,0,0 spacing 1e-9 number 100000")); // planes times blocks
+}
+
+TEST(Limits, NoneByDefault) {
+    Session s;
+    EXPECT_FALSE(s.interp.limits.confine_files);
+    EXPECT_LT(s.interp.limits.block_steps, 0);
+    EXPECT_EQ(s.interp.limits.max_blocks, 0);
+}
