@@ -61,6 +61,16 @@ std::map<long, LevelLoad> loads_by_level(const odec::Model& m) {
     return out;
 }
 
+// A fixed base and a 1 m cube turned 45 degrees about x, standing exactly on one edge on it.
+std::string cube_on_its_edge() {
+    const double h = std::sqrt(0.5);
+    std::ostringstream cube;
+    cube << "poly brick -2 3 -2 2 -1 " << std::to_string(-h) << "\n";
+    cube << "poly prism a (0,0," << h << ") (0," << h << ",0) (0,0,-" << h << ") (0,-" << h << ",0) b (1,0," << h
+         << ") (1," << h << ",0) (1,0,-" << h << ") (1,-" << h << ",0)\n";
+    return cube.str();
+}
+
 } // namespace
 
 TEST(ContactTrust, CutBlocksStartWithoutForce) {
@@ -209,13 +219,8 @@ TEST(ContactTrust, AnEdgeThatPressesInIsFeltAtOnce) {
     // A cube standing exactly on one edge (turned 45 degrees about x) on a fixed base: the
     // contact starts with no area; as the edge presses in, sub-contacts appear while the
     // overlap is still a small fraction of the contact tolerance, not after ctol/10 of motion.
-    const double h = std::sqrt(0.5);
-    std::ostringstream cube;
-    cube << "poly prism a (0,0," << h << ") (0," << h << ",0) (0,0,-" << h << ") (0,-" << h << ",0) b (1,0," << h
-         << ") (1," << h << ",0) (1,0,-" << h << ") (1,-" << h << ",0)\n";
     Session s;
-    ASSERT_TRUE(s.run("poly brick -2 3 -2 2 -1 " + std::to_string(-h) + "\n" + cube.str() +
-                      "prop mat=1 dens=2600\nprop jmat=1 jkn=1e10 jks=1e10 jfric=30\ngrav 0 0 -10\n"
+    ASSERT_TRUE(s.run(cube_on_its_edge() + "prop mat=1 dens=2600\nprop jmat=1 jkn=1e10 jks=1e10 jfric=30\ngrav 0 0 -10\n"
                       "fix range z -1 -0.8\nset dt 1e-5"))
         << s.error();
     const odec::ContactSet& cs = s.model.contacts;
@@ -234,13 +239,8 @@ TEST(ContactTrust, ACubeRockingOnItsEdgeMakesNoEnergy) {
     // Undamped, a cube set down exactly on one edge oscillates on it: its centroid may never
     // rise above where it started, and the swing must not grow (a force that stiffened as
     // the edge pressed in, with its area updated in jumps, made energy here).
-    const double h = std::sqrt(0.5);
-    std::ostringstream cube;
-    cube << "poly prism a (0,0," << h << ") (0," << h << ",0) (0,0,-" << h << ") (0,-" << h << ",0) b (1,0," << h
-         << ") (1," << h << ",0) (1,0,-" << h << ") (1,-" << h << ",0)\n";
     Session s;
-    ASSERT_TRUE(s.run("poly brick -2 3 -2 2 -1 " + std::to_string(-h) + "\n" + cube.str() +
-                      "prop mat=1 dens=2600\nprop jmat=1 jkn=1e9 jks=1e9 jfric=30\ngrav 0 0 -10\n"
+    ASSERT_TRUE(s.run(cube_on_its_edge() + "prop mat=1 dens=2600\nprop jmat=1 jkn=1e9 jks=1e9 jfric=30\ngrav 0 0 -10\n"
                       "fix range z -1 -0.8\nset dt 1e-5\ndamp off\nhist ncyc 10\nhist zdis 0.5,0,0\nhist zvel 0.5,0,0\n"
                       "step 60000"))
         << s.error();
