@@ -1,5 +1,6 @@
 #include "commands.h"
 #include "common.h"
+#include "engine/zones.h"
 
 namespace odec {
 
@@ -13,11 +14,25 @@ const CommandSpec& bound_command() {
         c.keyword("xload", 2, "apply a force fx, N, to each block").real("fx");
         c.keyword("yload", 2, "apply a force fy, N, to each block").real("fy");
         c.keyword("zload", 2, "apply a force fz, N, to each block").real("fz");
+        c.keyword("stress", 3, "apply the traction of this stress tensor (Pa, tension positive) on the "
+                               "boundary faces of deformable blocks")
+            .real("sxx").real("syy").real("szz").real("sxy").real("sxz").real("syz");
+        c.keyword("xgrad", 2, "with 'stress': its change per metre of x, Pa/m")
+            .real("gxx").real("gyy").real("gzz").real("gxy").real("gxz").real("gyz");
+        c.keyword("ygrad", 2, "with 'stress': its change per metre of y, Pa/m")
+            .real("gxx").real("gyy").real("gzz").real("gxy").real("gxz").real("gyz");
+        c.keyword("zgrad", 2, "with 'stress': its change per metre of z, Pa/m")
+            .real("gxx").real("gyy").real("gzz").real("gxy").real("gxz").real("gyz");
         c.keyword("history", 4, "scale the velocities by table n of time: v(t) = v table(t)").integer("table", 1).labelled();
         c.keyword("free", 3, "release prescribed velocities and remove applied forces");
         c.range();
         c.describe("A prescribed velocity component is held whatever the forces; the others stay free. "
-                   "Loads add to gravity and contact forces. Without a range every block is taken.");
+                   "Loads add to gravity and contact forces. Without a range every block is taken. Rigid "
+                   "blocks are selected by their centroid; in deformable blocks, velocities and loads act on "
+                   "the gridpoints the range selects by their position (a load on each), and 'stress' on the "
+                   "faces of zones on the surface of a continuum whose centre the range selects: each gets the "
+                   "traction sigma n (n its outward normal; a negative normal stress pushes inward), replacing "
+                   "an earlier 'stress' on that face. 'free' removes all of these.");
         c.example("bound xvel 0.01 range z 9 10");
         c.example("apply xvel 2.8 hist table 1 range z -1 0");
         c.example("bound zload -1e6 range id 5");
@@ -26,12 +41,24 @@ const CommandSpec& bound_command() {
             BlockSet& s = m.blocks;
             const char* vel[3] = {"xvelocity", "yvelocity", "zvelocity"};
             const char* load[3] = {"xload", "yload", "zload"};
-            bool any_vel = false, any = a.has("free");
+            bool any_vel = false, any = a.has("free") || a.has("stress");
             for (int i = 0; i < 3; ++i) {
                 any_vel = any_vel || a.has(vel[i]);
                 any = any || a.has(vel[i]) || a.has(load[i]);
             }
-            if (!any) fail(a.loc, "'boundary' needs a velocity (xvel ...), a load (xload ...) or 'free'", {}, "boundary");
+            if (!any) {
+                fail(a.loc, "'boundary' needs a velocity (xvel ...), a load (xload ...), 'stress' or 'free'", {}, "boundary");
+            }
+            for (const char* gk : {"xgrad", "ygrad", "zgrad"}) {
+                if (a.has(gk) && !a.has("stress")) {
+                    fail(a.find(gk)->loc, std::string("'") + gk + "' goes with 'stress'", {}, "boundary");
+                }
+            }
+            if (a.has("stress") && m.zones.size() == 0) {
+                fail(a.find("stress")->loc, "'bound stress' acts on deformable blocks, and there are none",
+                     {"divide blocks into zones first with 'gen edge e'; rigid blocks take forces ('bound xload ...')"},
+                     "boundary");
+            }
             if (a.has("history") && !any_vel) {
                 fail(a.find("history")->loc, "'hist table n' goes with a velocity", {}, "boundary");
             }
@@ -40,7 +67,42 @@ const CommandSpec& bound_command() {
                 fail(a.find("history")->values[0].loc, "there is no table " + std::to_string(table),
                      {"define it first: table " + std::to_string(table) + " x1 y1 x2 y2 ..."}, "boundary");
             }
-            for (int b : blocks_to_change(ctx, a)) {
+            const std::vector<int> gps = select_gridpoints(m, a.range);
+            const std::vector<int> blocks = gps.empty() ? blocks_to_change(ctx, a) : select_blocks(m, a.range);
+            GridpointSet& g = m.gridpoints;
+            for (int i : gps) {
+                if (a.has("free")) {
+                    g.vel_bc[i] = 0;
+                    g.vel_bc_table[i] = 0;
+                    g.applied[i].setZero();
+                    g.half_kick[i] = 1;
+                }
+                for (int k = 0; k < 3; ++k) {
+                    if (a.has(vel[k])) {
+                        g.vel_bc[i] |= static_cast<std::uint8_t>(1 << k);
+                        g.vel_bc_value[i][k] = a.real(vel[k]);
+                        g.vel_bc_table[i] = table;
+                    }
+                    if (a.has(load[k])) g.applied[i][k] = a.real(load[k]);
+                }
+            }
+            if (a.has("free") && g.size() > 0) remove_boundary_stress(m, a.range);
+            if (a.has("stress")) {
+                auto six = [&](const char* k) {
+                    Sym6 s = {0, 0, 0, 0, 0, 0};
+                    if (a.has(k)) {
+                        const KeywordUse* u = a.find(k);
+                        for (int i = 0; i < 6; ++i) s[i] = u->values[i].number;
+                    }
+                    return s;
+                };
+                const int n = apply_boundary_stress(m, a.range, six("stress"), six("xgrad"), six("ygrad"), six("zgrad"));
+                if (n == 0) warn(ctx, a.find("stress")->loc, "the range selects no boundary face of a deformable block, nothing loaded");
+                if (!ctx.interp.quiet) ctx.out << n << " boundary faces loaded\n";
+            }
+            if (!gps.empty()) m.geometry_changed = true;
+            for (int b : blocks) {
+                if (s.flags[b] & kDeformable) continue;
                 if (a.has("free")) {
                     s.vel_bc[b] = 0;
                     s.vel_bc_table[b] = 0;

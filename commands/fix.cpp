@@ -1,5 +1,6 @@
 #include "commands.h"
 #include "common.h"
+#include "engine/zones.h"
 
 namespace odec {
 
@@ -8,18 +9,37 @@ const CommandSpec& fix_command() {
         CommandSpec c("fix", 3, "hold blocks still: no translation, no rotation");
         c.range();
         c.describe("Without a range every block is fixed. A fixed block still pushes on the blocks it "
-                   "touches; 'free' releases it.");
+                   "touches; 'free' releases it. In deformable blocks the gridpoints the range selects by "
+                   "their position are fixed (all three velocity components held at zero); rigid blocks "
+                   "are selected by their centroid.");
         c.example("fix range z -5 0");
+        c.example("fix range z -0.01 0.01");
         c.handle([](CommandContext& ctx, const Args& a) {
-            BlockSet& s = ctx.model.blocks;
+            Model& m = ctx.model;
+            BlockSet& s = m.blocks;
+            const std::vector<int> gps = select_gridpoints(m, a.range);
+            const std::vector<int> blocks = gps.empty() ? blocks_to_change(ctx, a) : select_blocks(m, a.range);
             int n = 0;
-            for (int b : blocks_to_change(ctx, a)) {
+            for (int b : blocks) {
+                if (s.flags[b] & kDeformable) continue;
                 n += !(s.flags[b] & kFixed);
                 s.flags[b] |= kFixed;
                 s.vel[b].setZero();
                 s.ang_vel[b].setZero();
             }
-            if (!ctx.interp.quiet) ctx.out << n << " blocks fixed\n";
+            GridpointSet& g = m.gridpoints;
+            for (int i : gps) {
+                g.vel_bc[i] = 7;
+                g.vel_bc_value[i].setZero();
+                g.vel_bc_table[i] = 0;
+                g.vel[i].setZero();
+            }
+            if (!gps.empty()) m.geometry_changed = true;
+            if (!ctx.interp.quiet) {
+                ctx.out << n << " blocks fixed";
+                if (g.size() > 0) ctx.out << ", " << gps.size() << " gridpoints fixed";
+                ctx.out << "\n";
+            }
         });
         return c;
     }();
@@ -32,16 +52,30 @@ const CommandSpec& free_command() {
         c.range();
         c.example("free range id 3");
         c.handle([](CommandContext& ctx, const Args& a) {
-            BlockSet& s = ctx.model.blocks;
+            Model& m = ctx.model;
+            BlockSet& s = m.blocks;
+            const std::vector<int> gps = select_gridpoints(m, a.range);
+            const std::vector<int> blocks = gps.empty() ? blocks_to_change(ctx, a) : select_blocks(m, a.range);
             int n = 0;
-            for (int b : blocks_to_change(ctx, a)) {
+            for (int b : blocks) {
                 if (s.flags[b] & kFixed) {
                     s.flags[b] &= static_cast<std::uint8_t>(~kFixed);
                     s.half_kick[b] = 1;
                     ++n;
                 }
             }
-            if (!ctx.interp.quiet) ctx.out << n << " blocks freed\n";
+            GridpointSet& g = m.gridpoints;
+            for (int i : gps) {
+                g.vel_bc[i] = 0;
+                g.vel_bc_table[i] = 0;
+                g.half_kick[i] = 1;
+            }
+            if (!gps.empty()) m.geometry_changed = true;
+            if (!ctx.interp.quiet) {
+                ctx.out << n << " blocks freed";
+                if (g.size() > 0) ctx.out << ", " << gps.size() << " gridpoints freed";
+                ctx.out << "\n";
+            }
         });
         return c;
     }();

@@ -2,6 +2,7 @@
 #include "common.h"
 #include "engine/blocks.h"
 #include "engine/contact.h"
+#include "engine/zones.h"
 #include "io/csv.h"
 
 #include <cmath>
@@ -38,6 +39,16 @@ const CommandSpec& hist_command() {
                 .vec("x,y,z")
                 .in_choice(1);
         }
+        for (const char* s : {"sxx", "syy", "szz", "sxy", "sxz", "syz"}) {
+            c.keyword(s, 3, std::string(s) + " stress of the zone containing or nearest the point, Pa (tension positive)")
+                .vec("x,y,z")
+                .in_choice(1);
+        }
+        for (const char* r : {"xreaction", "yreaction", "zreaction"}) {
+            c.keyword(r, 4, std::string("total ") + r[0] + " unbalanced force on the held gridpoints "
+                            "(and fixed blocks) of the range: the load on the supports, N")
+                .in_choice(1);
+        }
         c.keyword("nstress", 2, "normal stress of the contact nearest the point (or the one given by contact), Pa (compression positive)").vec("x,y,z").optional().in_choice(1);
         c.keyword("sstress", 2, "shear stress of the contact nearest the point (or the one given by contact), Pa").vec("x,y,z").optional().in_choice(1);
         c.keyword("ndis", 2, "normal closure of the contact nearest the point (or the one given by contact), m").vec("x,y,z").optional().in_choice(1);
@@ -49,9 +60,15 @@ const CommandSpec& hist_command() {
         c.keyword("file", 2, "with 'write': the CSV file").string("name");
         c.keyword("ncyc", 2, "steps between samples (for all histories)").integer("n", 1).defaults("10");
         c.keyword("label", 3, "title of history n").integer("n", 1).string("text");
+        c.range("with a reaction: which gridpoints (by position) and rigid blocks (by centroid) are summed");
         c.describe("Each history is numbered in the order it was made, from 1. Samples are taken every "
                    "'ncyc' steps. A block quantity follows the block found at the point when the history "
-                   "is made.");
+                   "is made; in a deformable block, the gridpoint nearest the point. A zone stress follows "
+                   "the zone containing the point. A reaction sums, over the gridpoints of the range whose "
+                   "velocity component is held ('fix', 'bound xvel ...') and the fixed rigid blocks of the "
+                   "range, the unbalanced force there: the force the rest of the model exerts on what holds "
+                   "it. A footing pushed down at constant velocity reads the resistance of the ground as a "
+                   "positive 'zreaction'; a base carrying a weight reads it as a negative one.");
         c.example("hist zdis 0,0,5");
         c.example("hist write 1 2 vs 3 file 'fall.csv'");
         c.handle([](CommandContext& ctx, const Args& a) {
@@ -93,6 +110,9 @@ const CommandSpec& hist_command() {
                 }
                 return;
             }
+            if (a.has_range && what.find("reaction") == std::string::npos) {
+                fail(a.loc, "'range' goes with a reaction (xreaction, yreaction, zreaction)", {}, "history");
+            }
             History h;
             if (what == "unbalanced") h.kind = HistoryKind::Unbalanced;
             else if (what == "ratio") h.kind = HistoryKind::Ratio;
@@ -113,7 +133,36 @@ const CommandSpec& hist_command() {
                 const int b = find_block_at(m, h.point);
                 if (b < 0) fail(a.find(what)->loc, "there are no blocks to follow", {"create blocks first"}, "history");
                 h.block_id = m.blocks.id[b];
+                if (m.blocks.flags[b] & kDeformable) h.gridpoint = find_gridpoint_near(m, h.point);
                 h.body_offset = m.blocks.orientation[b].conjugate() * (h.point - m.blocks.centroid[b]);
+            }
+            const struct { const char* name; HistoryKind kind; } zone_quantities[] = {
+                {"sxx", HistoryKind::SXX}, {"syy", HistoryKind::SYY}, {"szz", HistoryKind::SZZ},
+                {"sxy", HistoryKind::SXY}, {"sxz", HistoryKind::SXZ}, {"syz", HistoryKind::SYZ}};
+            for (const auto& q : zone_quantities) {
+                if (what != q.name) continue;
+                h.kind = q.kind;
+                h.point = a.vec(what);
+                h.zone = find_zone_at(m, h.point);
+                if (h.zone < 0) {
+                    fail(a.find(what)->loc, "there are no zones to follow",
+                         {"divide blocks into zones with 'gen edge e'"}, "history");
+                }
+            }
+            const struct { const char* name; HistoryKind kind; } reactions[] = {
+                {"xreaction", HistoryKind::XReaction}, {"yreaction", HistoryKind::YReaction},
+                {"zreaction", HistoryKind::ZReaction}};
+            for (const auto& q : reactions) {
+                if (what != q.name) continue;
+                h.kind = q.kind;
+                h.gridpoints = select_gridpoints(m, a.range);
+                for (int b : select_blocks(m, a.range)) {
+                    if (!(m.blocks.flags[b] & kDeformable)) h.blocks.push_back(m.blocks.id[b]);
+                }
+                if (h.gridpoints.empty() && h.blocks.empty()) {
+                    fail(a.find(what)->loc, "the range selects no gridpoint or block to sum the reaction over", {},
+                         "history");
+                }
             }
             const struct { const char* name; HistoryKind kind; } contact_quantities[] = {
                 {"nstress", HistoryKind::NStress}, {"sstress", HistoryKind::SStress},

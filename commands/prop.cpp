@@ -89,8 +89,8 @@ const CommandSpec& prop_command() {
                     }
                 }
             }
-            ensure_index(m.materials, n);
-            Material& mat = m.materials[n];
+            // Computed aside and checked, then stored: a refused command changes nothing.
+            Material mat = n < static_cast<int>(m.materials.size()) ? m.materials[n] : Material();
             mat.defined = true;
             mat.density = a.real_or("density", mat.density);
             mat.bulk = a.real_or("k", a.real_or("bulk", mat.bulk));
@@ -104,17 +104,18 @@ const CommandSpec& prop_command() {
             mat.friction = a.real_or("friction", mat.friction);
             mat.tension = a.real_or("tension", mat.tension);
             mat.dilation = a.real_or("dilation", mat.dilation);
-            if (a.has("density")) update_masses(m);
-            // Elastic and strength constants belong to deformable blocks, which odec does not
-            // model yet: they are kept (and saved) but change nothing. Say so once per command.
-            for (const char* k : {"bulk", "k", "shear", "g", "ymod", "prat", "cohesion", "friction", "tension", "dilation"}) {
-                if (const KeywordUse* u = a.find(k)) {
-                    warn(ctx, u->loc, "'" + u->spec->name + "' and the other elastic and strength properties of "
-                                      "a block material are kept for deformable blocks, which odec does not model "
-                                      "yet: rigid blocks use only 'density'");
-                    break;
-                }
+            if (mat.dilation > mat.friction && (a.has("dilation") || a.has("friction"))) {
+                const KeywordUse* u = a.has("dilation") ? a.find("dilation") : a.find("friction");
+                fail(u->values[0].loc,
+                     "the dilation angle (" + num(mat.dilation) + " deg) may not exceed the friction angle (" +
+                         num(mat.friction) + " deg): a zone would create energy as it yields",
+                     {"give 'dil' at most 'fric'"}, "prop");
             }
+            ensure_index(m.materials, n);
+            m.materials[n] = mat;
+            if (a.has("density")) update_masses(m);
+            // Zone masses, stiffnesses and the timestep follow the new values.
+            m.geometry_changed = true;
         });
         return c;
     }();

@@ -13,9 +13,10 @@ const CommandTable& command_table() {
             // geometry
             &poly_command(), &jset_command(), &delete_command(), &excavate_command(), &fill_command(),
             &group_command(), &hide_command(), &seek_command(), &join_command(), &range_command(),
+            &generate_command(),
             // properties and conditions
             &prop_command(), &change_command(), &grav_command(), &fix_command(), &free_command(),
-            &bound_command(), &ini_command(), &table_command(), &damp_command(), &set_command(),
+            &bound_command(), &insitu_command(), &ini_command(), &table_command(), &damp_command(), &set_command(),
             // solution
             &step_command(), &solve_command(), &reset_command(),
             // results

@@ -10,7 +10,7 @@ ODEC_BUILD="${ODEC_BUILD:-$ODEC_ROOT/build}"
 ODEC_FUZZ_BUILD="${ODEC_FUZZ_BUILD:-$ODEC_ROOT/build-fuzz}"
 ODEC_SAN_BUILD="${ODEC_SAN_BUILD:-$ODEC_ROOT/build-san}"
 ODEC_PACKAGES=(g++ cmake ninja-build pkg-config libeigen3-dev libreadline-dev libvtk9-dev libosmesa6-dev
-               libegl-dev libgtest-dev
+               libegl-dev libgtest-dev libgmsh-dev
                clang libclang-rt-14-dev) # clang and its libFuzzer and sanitizer runtimes: tests/fuzz/
 
 odec_install_packages() {

@@ -14,7 +14,7 @@ static void for_each_array(BlockSet& s, F&& f) {
     f(s.accel); f(s.ang_accel); f(s.force); f(s.moment); f(s.applied_force); f(s.force_scale);
     f(s.disp); f(s.rotation); f(s.volume); f(s.mass); f(s.inertia_body); f(s.inertia_unit);
     f(s.material); f(s.region); f(s.group); f(s.flags); f(s.vel_bc); f(s.vel_bc_value);
-    f(s.vel_bc_table); f(s.half_kick);
+    f(s.vel_bc_table); f(s.half_kick); f(s.cons); f(s.corner_gp); f(s.body);
 }
 
 int add_block(Model& m, const Polyhedron& world, int region, int group, int material) {
@@ -48,6 +48,9 @@ int add_block(Model& m, const Polyhedron& world, int region, int group, int mate
     s.vel_bc_value.push_back(Vec3::Zero());
     s.vel_bc_table.push_back(0);
     s.half_kick.push_back(1);
+    s.cons.push_back(kZoneElastic);
+    s.corner_gp.emplace_back();
+    s.body.push_back(0);
     const int b = s.size() - 1;
     const int mat = material;
     const double rho = (mat > 0 && mat < static_cast<int>(m.materials.size())) ? m.materials[mat].density : 0.0;
@@ -95,6 +98,13 @@ void remove_blocks(Model& m, std::vector<int> idx) {
     const int n = m.blocks.size();
     std::vector<char> gone(n, 0);
     for (int b : idx) gone[b] = 1;
+    remove_zones(m, idx);
+    std::vector<int> new_index(n, -1);
+    for (int r = 0, w = 0; r < n; ++r) {
+        if (!gone[r]) new_index[r] = w++;
+    }
+    for (int& b : m.zones.block) b = new_index[b];
+    for (int& b : m.gridpoints.block) b = new_index[b];
     for_each_array(m.blocks, [&](auto& v) {
         int w = 0;
         for (int r = 0; r < n; ++r) {
@@ -137,10 +147,16 @@ void refresh_world_vertices(Model& m) {
         Vec3* out = s.world_vertices.data() + s.vertex_offset[b];
         for (const Vec3& v : s.shape[b].vertices) *out++ = c + r * v;
     }
+    refresh_deformable_vertices(m);
 }
 
 Polyhedron world_shape(const Model& m, int b) {
     Polyhedron p = m.blocks.shape[b];
+    if (m.blocks.flags[b] & kDeformable) {
+        const auto& corners = m.blocks.corner_gp[b];
+        for (size_t v = 0; v < corners.size(); ++v) p.vertices[v] = m.gridpoints.pos[corners[v]];
+        return p;
+    }
     const Mat3 r = m.blocks.orientation[b].toRotationMatrix();
     for (Vec3& v : p.vertices) v = m.blocks.centroid[b] + r * v;
     return p;

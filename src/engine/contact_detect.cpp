@@ -754,6 +754,9 @@ void broad_phase(const Model& m, double tol, std::vector<std::int64_t>& pairs) {
             for (long j = i + 1; j < cell_start[c + 1]; ++j) {
                 const int b = cell_items[j];
                 if ((s.flags[a] & kFixed) && (s.flags[b] & kFixed) && !s.vel_bc[a] && !s.vel_bc[b]) continue;
+                // Deformable blocks touch others through their gridpoints (zones.h), and the
+                // blocks of one continuum share them.
+                if ((s.flags[a] | s.flags[b]) & kDeformable) continue;
                 if ((lo[a].array() > hi[b].array()).any() || (lo[b].array() > hi[a].array()).any()) continue;
                 const Vec3 il = lo[a].cwiseMax(lo[b]);
                 const long owner = (cell_of(il.z(), 2) * dims[1] + cell_of(il.y(), 1)) * dims[0] + cell_of(il.x(), 0);

@@ -32,6 +32,8 @@ std::string num_text(double x) {
 }
 
 bool is_active(const BlockSet& s, int b) { return !(s.flags[b] & kExcavated); }
+// A rigid block that moves as a whole (not excavated, not divided into zones).
+bool is_rigid_active(const BlockSet& s, int b) { return !(s.flags[b] & (kExcavated | kDeformable)); }
 
 void apply_loads(Model& m) {
     BlockSet& s = m.blocks;
@@ -97,7 +99,7 @@ int integrate(Model& m, double dt) {
     AutoDampingPower power;
     int bad = -1;
     for (int b = 0; b < s.size(); ++b) {
-        if (!is_active(s, b)) continue;
+        if (!is_rigid_active(s, b)) continue;
         if (s.flags[b] & kFixed) {
             // Held still, except for the velocity components a boundary condition drives
             // (the fixed base of a shake table moves as its table says, without turning).
@@ -169,6 +171,8 @@ int integrate(Model& m, double dt) {
             bad = b;
         }
     }
+    const int bad_gp = integrate_gridpoints(m, dt, auto_damp ? &power.damping : nullptr, &power.forcing);
+    if (bad < 0 && bad_gp >= 0) bad = m.gridpoints.block[bad_gp];
     if (auto_damp) adjust_auto_damping(m.damping, power, m.step, dt);
     return bad;
 }
@@ -316,10 +320,19 @@ double max_unbalanced_force(const Model& m) {
     const BlockSet& s = m.blocks;
     double fmax = 0;
     for (int b = 0; b < s.size(); ++b) {
-        if (!is_active(s, b) || (s.flags[b] & kFixed)) continue;
+        if (!is_rigid_active(s, b) || (s.flags[b] & kFixed)) continue;
         Vec3 f = s.force[b];
         for (int i = 0; i < 3; ++i) {
             if (s.vel_bc[b] & (1 << i)) f[i] = 0;
+        }
+        fmax = std::max(fmax, f.norm());
+    }
+    const GridpointSet& g = m.gridpoints;
+    for (int i = 0; i < g.size(); ++i) {
+        if (!(g.mass[i] > 0) || g.vel_bc[i] == 7) continue;
+        Vec3 f = g.force[i];
+        for (int k = 0; k < 3; ++k) {
+            if (g.vel_bc[i] & (1 << k)) f[k] = 0;
         }
         fmax = std::max(fmax, f.norm());
     }
@@ -330,9 +343,19 @@ double unbalanced_ratio(const Model& m) {
     const BlockSet& s = m.blocks;
     double unbal = 0, total = 0;
     for (int b = 0; b < s.size(); ++b) {
-        if (!is_active(s, b) || (s.flags[b] & kFixed)) continue;
+        if (!is_rigid_active(s, b) || (s.flags[b] & kFixed)) continue;
         unbal += s.force[b].norm();
         total += s.force_scale[b];
+    }
+    const GridpointSet& g = m.gridpoints;
+    for (int i = 0; i < g.size(); ++i) {
+        if (!(g.mass[i] > 0) || g.vel_bc[i] == 7) continue;
+        Vec3 f = g.force[i];
+        for (int k = 0; k < 3; ++k) {
+            if (g.vel_bc[i] & (1 << k)) f[k] = 0;
+        }
+        unbal += f.norm();
+        total += g.force_scale[i];
     }
     return total > 0 ? unbal / total : 0.0;
 }
@@ -384,7 +407,7 @@ namespace {
 std::string prepare_cycle_once(Model& m) {
     const BlockSet& s = m.blocks;
     for (int b = 0; b < s.size(); ++b) {
-        if (!is_active(s, b) || (s.flags[b] & kFixed)) continue;
+        if (!is_rigid_active(s, b) || (s.flags[b] & kFixed)) continue;
         if (!(s.mass[b] > 0)) {
             const int mat = s.material[b];
             const bool defined = mat > 0 && mat < static_cast<int>(m.materials.size()) && m.materials[mat].defined;
@@ -397,7 +420,7 @@ std::string prepare_cycle_once(Model& m) {
     // The loads must be numbers: gravity or a density near the top of the double range
     // makes a weight of inf, which would turn every velocity to NaN in the first step.
     for (int b = 0; b < s.size(); ++b) {
-        if (!is_active(s, b) || (s.flags[b] & kFixed)) continue;
+        if (!is_rigid_active(s, b) || (s.flags[b] & kFixed)) continue;
         const Vec3 w = s.mass[b] * m.gravity + s.applied_force[b];
         if (!std::isfinite(s.mass[b]) || !s.inertia_body[b].allFinite() || !w.allFinite()) {
             return "the load on block " + std::to_string(s.id[b]) + " is not a finite number (mass " +
@@ -405,11 +428,24 @@ std::string prepare_cycle_once(Model& m) {
                    num_text(s.applied_force[b].stableNorm()) + " N): give smaller values";
         }
     }
+    {
+        const std::string zp = zones_problem(m);
+        if (!zp.empty()) return zp;
+    }
     if (m.geometry_changed) {
         refresh_world_vertices(m);
         detect_contacts(m);
+        update_gridpoint_masses(m);
+        const std::string cp = deformable_contact_problem(m, m.contacts.ctol);
+        if (!cp.empty()) return cp;
     }
+    const double zone_dt = zone_critical_timestep(m);
     if (m.settings.dt_fixed > 0) {
+        if (zone_dt > 0 && m.settings.dt_fixed > zone_dt / 0.9) {
+            return "the forced timestep " + num_text(m.settings.dt_fixed) +
+                   " s ('set dt') is larger than the stable limit of the zones, about " + num_text(zone_dt / 0.9) +
+                   " s: the motion would run away. Use 'set dt auto' or a timestep below " + num_text(zone_dt) + " s";
+        }
         // A forced step beyond the stable limit can only blow up: refuse it before cycling.
         int worst = -1;
         const double limit = stable_timestep_limit(m, &worst);
@@ -423,9 +459,10 @@ std::string prepare_cycle_once(Model& m) {
         }
         m.dt = m.settings.dt_fixed;
     } else {
-        const double dt = contact_critical_timestep(m);
+        double dt = contact_critical_timestep(m);
+        if (zone_dt > 0 && (!(dt > 0) || zone_dt < dt)) dt = zone_dt;
         if (!(dt > 0)) {
-            return "no timestep: there are no contacts to set one, so give it with 'set dt'";
+            return "no timestep: there are no contacts or zones to set one, so give it with 'set dt'";
         }
         m.dt = dt;
     }
@@ -436,7 +473,7 @@ std::string prepare_cycle_once(Model& m) {
     int active = 0;
     for (int b = 0; b < s.size() && active < 2; ++b) active += is_active(s, b) ? 1 : 0;
     for (int b = 0; b < s.size() && active > 1; ++b) {
-        if (!is_active(s, b) || !(s.mass[b] > 0)) continue;
+        if (!is_rigid_active(s, b) || !(s.mass[b] > 0)) continue;
         const bool fixed = s.flags[b] & kFixed;
         if (fixed && !s.vel_bc[b]) continue;
         Vec3 v = fixed ? Vec3::Zero() : s.vel[b];
@@ -549,6 +586,10 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
         {
             StageTimer t{prof, Stage::UpdateContacts};
             update_contacts(m, m.dt);
+        }
+        if (m.zones.size() > 0) {
+            StageTimer t{prof, Stage::Zones};
+            zone_forces(m, m.dt);
         }
         int bad;
         {

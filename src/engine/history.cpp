@@ -29,7 +29,46 @@ double history_value(const Model& m, const History& h) {
         if (h.kind == HistoryKind::NDis) return ci.normal_disp;
         return ci.shear_disp;
     }
+    case HistoryKind::SXX:
+    case HistoryKind::SYY:
+    case HistoryKind::SZZ:
+    case HistoryKind::SXY:
+    case HistoryKind::SXZ:
+    case HistoryKind::SYZ: {
+        if (h.zone < 0 || h.zone >= m.zones.size()) return 0.0;
+        return m.zones.stress[h.zone][static_cast<int>(h.kind) - static_cast<int>(HistoryKind::SXX)];
+    }
+    case HistoryKind::XReaction:
+    case HistoryKind::YReaction:
+    case HistoryKind::ZReaction: {
+        const int k = static_cast<int>(h.kind) - static_cast<int>(HistoryKind::XReaction);
+        double sum = 0;
+        const GridpointSet& g = m.gridpoints;
+        for (int i : h.gridpoints) {
+            if (i < g.size() && (g.vel_bc[i] & (1 << k))) sum += g.force[i][k];
+        }
+        for (int id : h.blocks) {
+            const int b = m.block_index(id);
+            if (b < 0) continue;
+            const bool held = (m.blocks.flags[b] & kFixed) || (m.blocks.vel_bc[b] & (1 << k));
+            if (held) sum += m.blocks.force[b][k];
+        }
+        return sum;
+    }
     default: break;
+    }
+    if (h.gridpoint >= 0) {
+        if (h.gridpoint >= m.gridpoints.size()) return 0.0;
+        const Vec3& d = m.gridpoints.disp[h.gridpoint];
+        switch (h.kind) {
+        case HistoryKind::XDis: return d.x();
+        case HistoryKind::YDis: return d.y();
+        case HistoryKind::ZDis: return d.z();
+        case HistoryKind::XVel: return gridpoint_velocity_at_t(m, h.gridpoint).x();
+        case HistoryKind::YVel: return gridpoint_velocity_at_t(m, h.gridpoint).y();
+        case HistoryKind::ZVel: return gridpoint_velocity_at_t(m, h.gridpoint).z();
+        default: return 0.0;
+        }
     }
     const int b = m.block_index(h.block_id);
     if (b < 0) return 0.0; // the block was deleted
@@ -65,6 +104,15 @@ static const char* kind_word(HistoryKind k) {
     case HistoryKind::SStress: return "sstress";
     case HistoryKind::NDis: return "ndis";
     case HistoryKind::SDis: return "sdis";
+    case HistoryKind::SXX: return "sxx";
+    case HistoryKind::SYY: return "syy";
+    case HistoryKind::SZZ: return "szz";
+    case HistoryKind::SXY: return "sxy";
+    case HistoryKind::SXZ: return "sxz";
+    case HistoryKind::SYZ: return "syz";
+    case HistoryKind::XReaction: return "xreaction";
+    case HistoryKind::YReaction: return "yreaction";
+    case HistoryKind::ZReaction: return "zreaction";
     }
     return "?";
 }
@@ -72,7 +120,16 @@ static const char* kind_word(HistoryKind k) {
 std::string history_default_label(const History& h) {
     std::string s = kind_word(h.kind);
     char buf[160];
-    if (h.block_id > 0) {
+    if (h.zone >= 0) {
+        std::snprintf(buf, sizeof buf, " (%g,%g,%g) zone %d", h.point.x(), h.point.y(), h.point.z(), h.zone + 1);
+        s += buf;
+    } else if (h.gridpoint >= 0) {
+        std::snprintf(buf, sizeof buf, " (%g,%g,%g) gp %d", h.point.x(), h.point.y(), h.point.z(), h.gridpoint + 1);
+        s += buf;
+    } else if (!h.gridpoints.empty() || !h.blocks.empty()) {
+        std::snprintf(buf, sizeof buf, " of %zu gridpoints, %zu blocks", h.gridpoints.size(), h.blocks.size());
+        s += buf;
+    } else if (h.block_id > 0) {
         std::snprintf(buf, sizeof buf, " (%g,%g,%g) block %d", h.point.x(), h.point.y(), h.point.z(), h.block_id);
         s += buf;
     } else if (h.contact_id > 0) {

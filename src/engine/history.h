@@ -19,6 +19,9 @@ enum class HistoryKind {
     Ratio,      // mean unbalanced-force ratio
     NStress, SStress,   // contact normal (compression positive) and shear stress, Pa
     NDis, SDis,         // contact normal closure and shear displacement, m
+    SXX, SYY, SZZ, SXY, SXZ, SYZ, // stress of the zone at a point, Pa (tension positive)
+    XReaction, YReaction, ZReaction, // sum of the unbalanced forces of the held gridpoints (and fixed
+                                     // blocks) of a range, N: what the model exerts on its supports
 };
 
 struct History {
@@ -28,6 +31,11 @@ struct History {
     Eigen::Vector3d body_offset = Eigen::Vector3d::Zero(); // m, the sampled material point in the
                                                      // block's body frame, from its centroid
     int contact_id = 0;                              // contact sampled (contact quantities)
+    int gridpoint = -1;                              // gridpoint sampled (displacement and velocity
+                                                     // in a deformable block), else -1
+    int zone = -1;                                   // zone sampled (stress), else -1
+    std::vector<int> gridpoints;                     // reactions: the gridpoints summed
+    std::vector<int> blocks;                         // reactions: the rigid block ids summed
     std::string label;                               // column title
     std::vector<double> values;                      // (n_samples)
 };

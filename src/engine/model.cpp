@@ -9,6 +9,7 @@ const char* stage_name(Stage s) {
     case Stage::ApplyLoads: return "apply_loads";
     case Stage::DetectContacts: return "detect_contacts";
     case Stage::UpdateContacts: return "update_contacts";
+    case Stage::Zones: return "zones";
     case Stage::Integrate: return "integrate";
     case Stage::Record: return "record";
     case Stage::Count: break;

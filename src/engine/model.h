@@ -8,8 +8,9 @@
 // the world position of each vertex is centroid + R * local, refreshed once per
 // step into the flat array `world_vertices` that contact detection reads.
 //
-// Deformable blocks (zones and gridpoints) will live beside BlockSet in a
-// ZoneSet/GridpointSet of their own; a block then refers to its zones by range.
+// Deformable blocks keep their zones and gridpoints beside BlockSet, in a ZoneSet and a
+// GridpointSet of their own (zones.h); a zone knows its block, a deformable block the
+// gridpoints at its corners.
 #pragma once
 
 #include <cstdint>
@@ -23,6 +24,7 @@
 #include "engine/history.h"
 #include "engine/polyhedron.h"
 #include "engine/table.h"
+#include "engine/zones.h"
 
 namespace odec {
 
@@ -66,6 +68,7 @@ enum BlockFlags : std::uint8_t {
     kFixed = 1,      // `fix`: velocity and spin held at zero
     kHidden = 2,     // `hide`: left out of jset and pictures
     kExcavated = 4,  // `excavate`: null block, kept for a later `fill`
+    kDeformable = 8, // divided into zones (`gen edge`): its gridpoints move, not the block
 };
 
 struct BlockSet {
@@ -95,6 +98,10 @@ struct BlockSet {
     std::vector<Vec3> vel_bc_value;       // (n_blocks) m/s, prescribed velocity components
     std::vector<int> vel_bc_table;        // (n_blocks) table number scaling vel_bc_value, 0 none
     std::vector<std::uint8_t> half_kick;  // (n_blocks) 1: velocity given at t, first kick is dt/2
+    std::vector<std::uint8_t> cons;       // (n_blocks) zone model its zones get (ZoneModel)
+    std::vector<std::vector<int>> corner_gp; // (n_blocks) deformable: gridpoint at each vertex; else empty
+    std::vector<int> body;                // (n_blocks) deformable: continuum it belongs to (blocks zoned
+                                          //            together and joined share gridpoints), 1-based; rigid 0
 
     // Derived, refreshed every step: world vertex positions of all blocks.
     std::vector<int> vertex_offset;       // (n_blocks + 1) start of each block in world_vertices
@@ -104,7 +111,7 @@ struct BlockSet {
 };
 
 // Cycle stages, timed into Profile.
-enum class Stage { ApplyLoads, DetectContacts, UpdateContacts, Integrate, Record, Count };
+enum class Stage { ApplyLoads, DetectContacts, UpdateContacts, Zones, Integrate, Record, Count };
 const char* stage_name(Stage s);
 
 struct Profile {
@@ -141,6 +148,9 @@ struct Model {
     int n_joint_sets = 0;                       // `jset` commands so far
     int slivers_skipped = 0;                    // cuts not made because a piece would be a sliver
     ContactSet contacts;
+    ZoneSet zones;                              // tetrahedral zones of deformable blocks
+    GridpointSet gridpoints;                    // their corners
+    StressBoundary stress_boundary;             // faces loaded by `bound stress`
     HistorySet histories;
     TableSet tables;
     Vec3 gravity = Vec3::Zero();  // m/s^2

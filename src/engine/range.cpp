@@ -72,6 +72,24 @@ bool Range::contains_contact(const Model& m, const Vec3& point, int a, int b) co
     return true;
 }
 
+bool Range::contains_point(const Model& m, const Vec3& point, int b) const {
+    for (const Filter& f : filters) {
+        bool pass;
+        switch (f.kind) {
+        case FilterKind::Region:
+        case FilterKind::Group:
+        case FilterKind::Id: pass = test_filter(m, b, f); break;
+        case FilterKind::AnyOf:
+            pass = false;
+            for (const Range& r : f.any_of) pass = pass || r.contains_point(m, point, b);
+            break;
+        default: pass = test_point_filter(point, f); break;
+        }
+        if (pass == f.negate) return false;
+    }
+    return true;
+}
+
 std::vector<int> select_blocks(const Model& m, const Range& r, bool include_excavated) {
     std::vector<int> out;
     for (int b = 0; b < m.blocks.size(); ++b) {

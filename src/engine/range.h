@@ -34,6 +34,9 @@ struct Range {
     // True when a contact at `point` between blocks a and b passes every filter: location
     // filters test the point; region, group and id filters pass if either block does.
     bool contains_contact(const Model& m, const Eigen::Vector3d& point, int block_a, int block_b) const;
+    // True when a point of block b (a gridpoint, a zone centroid, a boundary face) passes:
+    // location filters test the point, region, group and id filters the block.
+    bool contains_point(const Model& m, const Eigen::Vector3d& point, int block) const;
 };
 
 // Indices of the blocks that r selects (excavated blocks are skipped unless asked).

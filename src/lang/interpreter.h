@@ -115,6 +115,8 @@ public:
         // Blocks a `jset` may leave at most, counting every plane that crosses a block as a cut;
         // 0: no limit.
         long max_blocks = 0;
+        // Zones a `generate` may make at most; 0: the built-in limit.
+        long max_zones = 0;
     } limits;
 
     // How many files may run at once through `call` (each level takes C++ stack).

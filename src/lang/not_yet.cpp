@@ -11,12 +11,6 @@ struct Missing {
 
 // Sorted by nothing but reading order; each is matched by a prefix of 3 letters or more.
 const Missing kMissing[] = {
-    {"generate", "'generate' (zoning of deformable blocks into tetrahedral zones) is not available yet: odec "
-                 "models rigid blocks only"},
-    {"zone", "'zone' (deformable blocks: zoning, zone models, zone properties) is not available yet: odec "
-             "models rigid blocks only"},
-    {"insitu", "'insitu' (initial zone and contact stresses) is not available yet: it needs deformable blocks; "
-               "rigid-block models settle under gravity with 'solve'"},
     {"gridpoint", "'gridpoint' (gridpoints of deformable blocks) is not available yet: odec models rigid blocks "
                   "only"},
     {"define", "FISH ('define' ... 'end') is not available yet: the command language runs, FISH functions do not"},
@@ -30,8 +24,8 @@ const Missing kMissing[] = {
 
 std::string not_yet_available(const std::string& w) {
     if (w.size() < 3 && w != "gp") return "";
-    if (w == "gp") return kMissing[3].what;
-    if (w == "def") return kMissing[4].what;
+    if (w == "gp") return kMissing[0].what;
+    if (w == "def") return kMissing[1].what;
     for (const Missing& m : kMissing) {
         const std::string full = m.word;
         if (w.size() <= full.size() && full.compare(0, w.size(), w) == 0) return m.what;

@@ -184,7 +184,7 @@ TEST(Errors, KeywordGivenTwiceAndExclusiveChoices) {
 
 TEST(Errors, NoTimestepAndNoMass) {
     EXPECT_EQ(error_of("poly brick 0 1 0 1 0 1\nprop mat=1 dens=1000\nstep 10"),
-              "t.dat:3:1: error: no timestep: there are no contacts to set one, so give it with 'set dt'\n"
+              "t.dat:3:1: error: no timestep: there are no contacts or zones to set one, so give it with 'set dt'\n"
               "    step 10\n"
               "    ^~~~\n"
               "  see 'help step'\n");
@@ -264,7 +264,7 @@ TEST(Errors, CommandsThatNeedSomethingToDoSaySo) {
     EXPECT_NE(error_of("reset").find("t.dat:1:1: error: 'reset' needs what to reset: displacement, jdisp, time, "
                                      "history or velocity"),
               std::string::npos);
-    EXPECT_NE(error_of("bound range z 0 1").find("error: 'boundary' needs a velocity (xvel ...), a load (xload ...) or 'free'"),
+    EXPECT_NE(error_of("bound range z 0 1").find("error: 'boundary' needs a velocity (xvel ...), a load (xload ...), 'stress' or 'free'"),
               std::string::npos);
     EXPECT_NE(error_of("excavate").find("t.dat:1:1: error: 'excavate' needs a range"), std::string::npos);
     EXPECT_NE(error_of("damp").find("t.dat:1:1: error: 'damping' needs one of: local, auto, mass, off"), std::string::npos);

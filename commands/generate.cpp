@@ -1,0 +1,132 @@
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "commands.h"
+#include "common.h"
+#include "engine/blocks.h"
+#include "engine/contact.h"
+#include "engine/zones.h"
+#include "mesh/tet_mesh.h"
+
+namespace odec {
+
+namespace {
+
+// Most zones one command makes (a regular tetrahedron of edge e has volume e^3 / (6 sqrt 2)):
+// beyond it the memory of the model and its cycle time are out of any session's reach.
+constexpr double kMaxZones = 5e7;
+
+int find_root(std::vector<int>& parent, int i) {
+    while (parent[i] != i) {
+        parent[i] = parent[parent[i]];
+        i = parent[i];
+    }
+    return i;
+}
+
+} // namespace
+
+const CommandSpec& generate_command() {
+    static const CommandSpec spec = [] {
+        CommandSpec c("generate", 3, "make blocks deformable: divide them into tetrahedral zones");
+        c.alias("zone");
+        c.keyword("edge", 2, "mean edge length of the zones, m").real("e", 0, kInf, Limit::Open);
+        c.range();
+        c.describe("Each block of the range (every block when no range is given) is divided into "
+                   "tetrahedral zones of mean edge length about e: its degrees of freedom become the "
+                   "zones' corners (gridpoints), and its material gives the zones their density, elastic "
+                   "moduli ('prop mat=n dens=... k=... g=...' or 'ymod=... prat=...') and strength. Zones "
+                   "take the zone model of their block ('poly ... cons c' or 'change cons=c': 1 elastic, the "
+                   "default, 2 Mohr-Coulomb, 0 null). Blocks zoned in one command that are joined ('join', "
+                   "'jset ... join') and share a whole face get the same gridpoints on it: they deform as "
+                   "one continuum. Zoning a deformable block again replaces its zones (their stresses are "
+                   "lost). The command reports the zones and gridpoints made and the worst zone's radius "
+                   "ratio (3 r_in / r_out: 1 for a regular tetrahedron).");
+        c.example("gen edge 0.5");
+        c.example("zone edge 0.2 range z -5 0");
+        c.handle([](CommandContext& ctx, const Args& a) {
+            Model& m = ctx.model;
+            if (!a.has("edge")) fail(a.loc, "'generate' needs 'edge e', the zone size", {"e.g. 'gen edge 0.5'"}, "generate");
+            const KeywordUse* eu = a.find("edge");
+            const double edge = a.real("edge");
+            std::vector<int> blocks = blocks_to_change(ctx, a);
+            if (blocks.empty()) return;
+            // The count of zones before meshing: refuse what no session could hold.
+            double volume = 0, largest = 0;
+            for (int b : blocks) {
+                volume += m.blocks.volume[b];
+                Vec3 lo, hi;
+                m.blocks.shape[b].bounds(lo, hi);
+                largest = std::max(largest, (hi - lo).maxCoeff());
+            }
+            const double per_zone = edge * edge * edge / (6.0 * std::sqrt(2.0));
+            const double estimate = volume / per_zone;
+            const double limit = ctx.interp.limits.max_zones > 0 ? static_cast<double>(ctx.interp.limits.max_zones) : kMaxZones;
+            if (!(estimate <= limit)) {
+                fail(eu->values[0].loc,
+                     "an edge of " + num(edge) + " m would make about " + num(std::round(estimate)) + " zones in " +
+                         std::to_string(blocks.size()) + " blocks (" + num(volume) + " m^3), more than the " +
+                         num(limit) + " one command may make",
+                     {"give a larger edge: " + num(edge * std::cbrt(estimate / limit)) + " m or more"}, "generate");
+            }
+            // Bodies: joined blocks of the range that share a whole face deform as one.
+            refresh_world_vertices(m);
+            detect_contacts(m);
+            std::vector<Polyhedron> solids;
+            solids.reserve(blocks.size());
+            for (int b : blocks) solids.push_back(world_shape(m, b));
+            TetMesh mesh;
+            const std::string why = mesh_solids(solids, edge, mesh);
+            if (!why.empty()) fail(a.loc, why, {"try another edge length"}, "generate");
+            std::vector<int> position(m.blocks.size(), -1);
+            for (size_t k = 0; k < blocks.size(); ++k) position[blocks[k]] = static_cast<int>(k);
+            std::vector<int> parent(blocks.size());
+            std::iota(parent.begin(), parent.end(), 0);
+            auto share_face = [&](int ka, int kb) {
+                for (int sa : mesh.face_surface[ka]) {
+                    for (int sb : mesh.face_surface[kb]) {
+                        if (sa == sb) return true;
+                    }
+                }
+                return false;
+            };
+            auto unite = [&](int ka, int kb) {
+                if (share_face(ka, kb)) parent[find_root(parent, ka)] = find_root(parent, kb);
+            };
+            const ContactSet& cs = m.contacts;
+            for (int c = 0; c < cs.size(); ++c) {
+                if (!cs.joined[c]) continue;
+                const int ka = position[cs.block_a[c]], kb = position[cs.block_b[c]];
+                if (ka >= 0 && kb >= 0) unite(ka, kb);
+            }
+            // Deformable blocks zoned again keep their continuum.
+            for (size_t i = 0; i < blocks.size(); ++i) {
+                for (size_t j = i + 1; j < blocks.size(); ++j) {
+                    const int bi = blocks[i], bj = blocks[j];
+                    if (m.blocks.body[bi] > 0 && m.blocks.body[bi] == m.blocks.body[bj]) {
+                        unite(static_cast<int>(i), static_cast<int>(j));
+                    }
+                }
+            }
+            std::vector<int> body(blocks.size());
+            for (size_t k = 0; k < blocks.size(); ++k) body[k] = find_root(parent, static_cast<int>(k));
+            BlockMesh bm;
+            bm.nodes = std::move(mesh.nodes);
+            bm.tets = std::move(mesh.tets);
+            bm.corner_node = std::move(mesh.corner_node);
+            zone_blocks(m, blocks, body, bm);
+            long made = 0;
+            for (const auto& t : bm.tets) made += static_cast<long>(t.size());
+            if (!ctx.interp.quiet) {
+                ctx.out << "zoned " << blocks.size() << " blocks: " << made << " zones, " << m.gridpoints.size()
+                        << " gridpoints in the model; zone quality (radius ratio) worst " << num(mesh.worst_quality)
+                        << ", mean " << num(mesh.mean_quality) << "\n";
+            }
+        });
+        return c;
+    }();
+    return spec;
+}
+
+} // namespace odec

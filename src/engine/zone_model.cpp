@@ -1,0 +1,83 @@
+#include "engine/zone_model.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Eigenvalues>
+
+#include "engine/model.h"
+
+namespace odec {
+
+ZoneMaterialConstants zone_constants(const Material& mat) {
+    ZoneMaterialConstants c;
+    c.bulk = mat.bulk;
+    c.shear = mat.shear;
+    c.alpha1 = mat.bulk + 4.0 * mat.shear / 3.0;
+    c.alpha2 = mat.bulk - 2.0 * mat.shear / 3.0;
+    c.cohesion = mat.cohesion;
+    const double sphi = std::sin(mat.friction * M_PI / 180.0);
+    const double spsi = std::sin(mat.dilation * M_PI / 180.0);
+    c.nphi = (1 + sphi) / (1 - sphi);
+    c.npsi = (1 + spsi) / (1 - spsi);
+    c.sqrt_nphi = std::sqrt(c.nphi);
+    c.tension = mat.tension;
+    if (mat.friction > 0) {
+        const double apex = mat.cohesion / std::tan(mat.friction * M_PI / 180.0);
+        c.tension = std::min(c.tension, apex);
+    }
+    return c;
+}
+
+void elastic_increment(const ZoneMaterialConstants& c, const Sym6& de, Sym6& s) {
+    const double ev = de[0] + de[1] + de[2];
+    const double g2 = 2.0 * c.shear;
+    const double lam = c.alpha2 * ev;
+    s[0] += g2 * de[0] + lam;
+    s[1] += g2 * de[1] + lam;
+    s[2] += g2 * de[2] + lam;
+    s[3] += g2 * de[3];
+    s[4] += g2 * de[4];
+    s[5] += g2 * de[5];
+}
+
+std::uint8_t mohr_coulomb_increment(const ZoneMaterialConstants& c, const Sym6& de, Sym6& s) {
+    elastic_increment(c, de, s);
+    Mat3 t;
+    t << s[0], s[3], s[4], s[3], s[1], s[5], s[4], s[5], s[2];
+    // Quick test on bounds before the eigen-decomposition: the largest principal stress is at
+    // most the largest Gershgorin bound; the criteria can only fail near the surfaces.
+    Eigen::SelfAdjointEigenSolver<Mat3> eig;
+    eig.computeDirect(t);
+    Vec3 p = eig.eigenvalues();  // ascending: p[0] = s1 (most compressive), p[2] = s3
+    const double fs = p[0] - p[2] * c.nphi + 2.0 * c.cohesion * c.sqrt_nphi;
+    const double ft = c.tension - p[2];
+    if (fs >= 0 && ft >= 0) return 0;
+    std::uint8_t now = 0;
+    // Corner bisector between shear and tension surfaces.
+    const double ap = std::sqrt(1.0 + c.nphi * c.nphi) + c.nphi;
+    const double sp = c.tension * c.nphi - 2.0 * c.cohesion * c.sqrt_nphi;
+    const double h = p[2] - c.tension + ap * (p[0] - sp);
+    if (fs < 0 && h <= 0) {
+        const double lam = fs / ((c.alpha1 - c.alpha2 * c.npsi) - (c.alpha2 - c.alpha1 * c.npsi) * c.nphi);
+        p[0] -= lam * (c.alpha1 - c.alpha2 * c.npsi);
+        p[1] -= lam * (c.alpha2 - c.alpha2 * c.npsi);
+        p[2] -= lam * (c.alpha2 - c.alpha1 * c.npsi);
+        now = kShearNow;
+    } else {
+        const double lam = (p[2] - c.tension) / c.alpha1;
+        p[0] -= lam * c.alpha2;
+        p[1] -= lam * c.alpha2;
+        p[2] = c.tension;
+        now = kTensionNow;
+        // The two other stresses may now be beyond the cut-off too.
+        p[1] = std::min(p[1], c.tension);
+        p[0] = std::min(p[0], c.tension);
+    }
+    const Mat3 v = eig.eigenvectors();
+    const Mat3 r = v * p.asDiagonal() * v.transpose();
+    s = {r(0, 0), r(1, 1), r(2, 2), r(0, 1), r(0, 2), r(1, 2)};
+    return now;
+}
+
+} // namespace odec

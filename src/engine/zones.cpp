@@ -1,0 +1,685 @@
+#include "engine/zones.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <unordered_map>
+
+#include <Eigen/Eigenvalues>
+
+#include "engine/blocks.h"
+#include "engine/model.h"
+#include "engine/range.h"
+#include "engine/table.h"
+#include "engine/zone_model.h"
+
+namespace odec {
+
+namespace {
+
+double sign(double x) { return (x > 0) - (x < 0); }
+
+// Gradients of the shape functions of corners 1..3 of a tetrahedron (rows of the inverse of
+// its edge matrix), and its volume; corner 0's gradient is minus their sum.
+struct TetGeometry {
+    Vec3 grad[4];
+    double volume;
+};
+
+inline TetGeometry tet_geometry(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& x3) {
+    const Vec3 e1 = x1 - x0, e2 = x2 - x0, e3 = x3 - x0;
+    // Rows of J^-1, J = [e1 e2 e3]: (e2 x e3, e3 x e1, e1 x e2) / det.
+    const Vec3 c1 = e2.cross(e3), c2 = e3.cross(e1), c3 = e1.cross(e2);
+    const double det = e1.dot(c1);
+    TetGeometry t;
+    const double inv = 1.0 / det;
+    t.grad[1] = c1 * inv;
+    t.grad[2] = c2 * inv;
+    t.grad[3] = c3 * inv;
+    t.grad[0] = -(t.grad[1] + t.grad[2] + t.grad[3]);
+    t.volume = det / 6.0;
+    return t;
+}
+
+bool zone_active(const Model& m, int z) {
+    return m.zones.model[z] != kZoneNull && !(m.blocks.flags[m.zones.block[z]] & kExcavated);
+}
+
+const Material* zone_material(const Model& m, int z) {
+    const int mat = m.blocks.material[m.zones.block[z]];
+    if (mat <= 0 || mat >= static_cast<int>(m.materials.size()) || !m.materials[mat].defined) return nullptr;
+    return &m.materials[mat];
+}
+
+double prescribed_scale(const Model& m, int table) {
+    if (table <= 0) return 1.0;
+    const Table* t = m.tables.find(table);
+    return t ? t->at(m.time) : 0.0;
+}
+
+} // namespace
+
+bool is_deformable(const Model& m, int b) { return (m.blocks.flags[b] & kDeformable) != 0; }
+
+void zone_blocks(Model& m, const std::vector<int>& blocks, const std::vector<int>& body, const BlockMesh& mesh) {
+    remove_zones(m, blocks);
+    GridpointSet& g = m.gridpoints;
+    ZoneSet& z = m.zones;
+    BlockSet& s = m.blocks;
+    // (body, node) -> gridpoint
+    std::unordered_map<long long, int> gp_of;
+    const long long n_nodes = static_cast<long long>(mesh.nodes.size());
+    int first_body = 1;
+    for (int b = 0; b < s.size(); ++b) first_body = std::max(first_body, s.body[b] + 1);
+    auto gridpoint = [&](int k, int node) {
+        const long long key = static_cast<long long>(body[k]) * n_nodes + node;
+        auto it = gp_of.find(key);
+        if (it != gp_of.end()) return it->second;
+        const int b = blocks[k];
+        const Vec3& x = mesh.nodes[node];
+        g.pos.push_back(x);
+        g.ref.push_back(x);
+        // A block that was moving keeps its motion: each gridpoint starts with the velocity
+        // its point had in the rigid block.
+        g.vel.push_back(velocity_at_point(m, b, x - s.centroid[b]));
+        g.disp.push_back(Vec3::Zero());
+        g.force.push_back(Vec3::Zero());
+        g.applied.push_back(Vec3::Zero());
+        g.traction.push_back(Vec3::Zero());
+        g.mass.push_back(0);
+        g.stiffness.push_back(0);
+        g.force_scale.push_back(0);
+        g.nmd_volume.push_back(0);
+        g.nmd_rate.push_back(0);
+        g.block.push_back(b);
+        g.vel_bc.push_back(s.flags[b] & kFixed ? 7 : 0);
+        g.vel_bc_value.push_back(Vec3::Zero());
+        g.vel_bc_table.push_back(0);
+        g.half_kick.push_back(1);
+        const int index = g.size() - 1;
+        gp_of.emplace(key, index);
+        return index;
+    };
+    for (size_t k = 0; k < blocks.size(); ++k) {
+        const int b = blocks[k];
+        for (const auto& t : mesh.tets[k]) {
+            std::array<int, 4> q;
+            for (int i = 0; i < 4; ++i) q[i] = gridpoint(static_cast<int>(k), t[i]);
+            z.gp.push_back(q);
+            z.block.push_back(b);
+            z.model.push_back(s.cons[b]);
+            z.state.push_back(0);
+            z.stress.push_back(Sym6{0, 0, 0, 0, 0, 0});
+            const TetGeometry tg = tet_geometry(g.pos[q[0]], g.pos[q[1]], g.pos[q[2]], g.pos[q[3]]);
+            z.volume.push_back(tg.volume);
+            z.ev.push_back(0);
+        }
+        std::vector<int> corners;
+        for (int node : mesh.corner_node[k]) corners.push_back(gridpoint(static_cast<int>(k), node));
+        s.corner_gp[b] = std::move(corners);
+        // The shape in world axes about the centroid (see refresh_deformable_vertices).
+        const Mat3 r = s.orientation[b].toRotationMatrix();
+        for (Vec3& v : s.shape[b].vertices) v = r * v;
+        s.orientation[b] = Quat::Identity();
+        s.vel[b].setZero();
+        s.ang_vel[b].setZero();
+        s.flags[b] |= kDeformable;
+        s.flags[b] &= static_cast<std::uint8_t>(~kFixed);
+        s.body[b] = first_body + body[k];
+    }
+    update_gridpoint_masses(m);
+    m.geometry_changed = true;
+}
+
+void remove_zones(Model& m, const std::vector<int>& blocks) {
+    if (m.zones.size() == 0) {
+        for (int b : blocks) {
+            m.blocks.corner_gp[b].clear();
+            m.blocks.body[b] = 0;
+            m.blocks.flags[b] &= static_cast<std::uint8_t>(~kDeformable);
+        }
+        return;
+    }
+    std::vector<char> gone(m.blocks.size(), 0);
+    for (int b : blocks) gone[b] = 1;
+    ZoneSet& z = m.zones;
+    GridpointSet& g = m.gridpoints;
+    // Keep the zones of the other blocks.
+    int w = 0;
+    std::vector<char> used(g.size(), 0);
+    for (int i = 0; i < z.size(); ++i) {
+        if (gone[z.block[i]]) continue;
+        z.gp[w] = z.gp[i];
+        z.block[w] = z.block[i];
+        z.model[w] = z.model[i];
+        z.state[w] = z.state[i];
+        z.stress[w] = z.stress[i];
+        z.volume[w] = z.volume[i];
+        z.ev[w] = z.ev[i];
+        for (int c : z.gp[w]) used[c] = 1;
+        ++w;
+    }
+    z.gp.resize(w); z.block.resize(w); z.model.resize(w); z.state.resize(w);
+    z.stress.resize(w); z.volume.resize(w); z.ev.resize(w);
+    // Keep the gridpoints still used.
+    std::vector<int> new_index(g.size(), -1);
+    int n = 0;
+    for (int i = 0; i < g.size(); ++i) {
+        if (!used[i]) continue;
+        new_index[i] = n;
+        g.pos[n] = g.pos[i]; g.ref[n] = g.ref[i]; g.vel[n] = g.vel[i]; g.disp[n] = g.disp[i];
+        g.force[n] = g.force[i]; g.applied[n] = g.applied[i]; g.traction[n] = g.traction[i]; g.mass[n] = g.mass[i];
+        g.stiffness[n] = g.stiffness[i]; g.force_scale[n] = g.force_scale[i];
+        g.nmd_volume[n] = g.nmd_volume[i]; g.nmd_rate[n] = g.nmd_rate[i]; g.block[n] = g.block[i];
+        g.vel_bc[n] = g.vel_bc[i]; g.vel_bc_value[n] = g.vel_bc_value[i];
+        g.vel_bc_table[n] = g.vel_bc_table[i]; g.half_kick[n] = g.half_kick[i];
+        ++n;
+    }
+    g.pos.resize(n); g.ref.resize(n); g.vel.resize(n); g.disp.resize(n); g.force.resize(n);
+    g.applied.resize(n); g.traction.resize(n); g.mass.resize(n); g.stiffness.resize(n); g.force_scale.resize(n);
+    g.nmd_volume.resize(n); g.nmd_rate.resize(n); g.block.resize(n); g.vel_bc.resize(n);
+    g.vel_bc_value.resize(n); g.vel_bc_table.resize(n); g.half_kick.resize(n);
+    for (auto& q : z.gp) {
+        for (int& c : q) c = new_index[c];
+    }
+    // Loaded faces lose those of the removed zones.
+    auto& faces = m.stress_boundary.faces;
+    size_t fw = 0;
+    for (size_t f = 0; f < faces.size(); ++f) {
+        BoundaryFace bf = faces[f];
+        bool keep = true;
+        for (int& c : bf.gp) {
+            c = new_index[c];
+            keep = keep && c >= 0;
+        }
+        if (keep) faces[fw++] = bf;
+    }
+    faces.resize(fw);
+    std::fill(g.traction.begin(), g.traction.end(), Vec3::Zero());
+    for (const BoundaryFace& bf : faces) {
+        for (int c : bf.gp) g.traction[c] += bf.force / 3.0;
+    }
+    // A gridpoint's block is one whose zones still use it.
+    for (int i = 0; i < z.size(); ++i) {
+        for (int c : z.gp[i]) {
+            if (gone[g.block[c]]) g.block[c] = z.block[i];
+        }
+    }
+    for (int b = 0; b < m.blocks.size(); ++b) {
+        if (gone[b]) {
+            m.blocks.corner_gp[b].clear();
+            m.blocks.body[b] = 0;
+            m.blocks.flags[b] &= static_cast<std::uint8_t>(~kDeformable);
+        } else {
+            for (int& c : m.blocks.corner_gp[b]) c = new_index[c];
+        }
+    }
+    update_gridpoint_masses(m);
+    m.geometry_changed = true;
+}
+
+void update_gridpoint_masses(Model& m) {
+    GridpointSet& g = m.gridpoints;
+    const ZoneSet& z = m.zones;
+    std::fill(g.mass.begin(), g.mass.end(), 0.0);
+    std::fill(g.stiffness.begin(), g.stiffness.end(), 0.0);
+    const bool large = m.settings.large_strain;
+    for (int i = 0; i < z.size(); ++i) {
+        if (!zone_active(m, i)) continue;
+        const Material* mat = zone_material(m, i);
+        if (!mat) continue;
+        const auto& q = z.gp[i];
+        const std::vector<Vec3>& x = large ? g.pos : g.ref;
+        const TetGeometry t = tet_geometry(x[q[0]], x[q[1]], x[q[2]], x[q[3]]);
+        const double quarter = 0.25 * mat->density * t.volume;
+        double norms[4], sum = 0;
+        for (int k = 0; k < 4; ++k) {
+            norms[k] = t.grad[k].norm();
+            sum += norms[k];
+        }
+        const double modulus = (mat->bulk + 4.0 * mat->shear / 3.0) * t.volume;
+        for (int k = 0; k < 4; ++k) {
+            g.mass[q[k]] += quarter;
+            g.stiffness[q[k]] += modulus * norms[k] * sum;
+        }
+    }
+}
+
+void refresh_deformable_vertices(Model& m) {
+    BlockSet& s = m.blocks;
+    for (int b = 0; b < s.size(); ++b) {
+        if (!(s.flags[b] & kDeformable)) continue;
+        const auto& corners = s.corner_gp[b];
+        Vec3* out = s.world_vertices.data() + s.vertex_offset[b];
+        Vec3 c = Vec3::Zero(), local = Vec3::Zero(), d = Vec3::Zero();
+        for (size_t v = 0; v < corners.size(); ++v) {
+            out[v] = m.gridpoints.pos[corners[v]];
+            c += out[v];
+            local += s.shape[b].vertices[v];
+            d += m.gridpoints.disp[corners[v]];
+        }
+        // The block's centroid and displacement follow its corners (for ranges and tables):
+        // its shape was put in world axes when it was zoned, so the centroid is the mean of
+        // the corners less the mean of the shape's vertices about it.
+        if (!corners.empty()) {
+            const double n = static_cast<double>(corners.size());
+            s.centroid[b] = (c - local) / n;
+            s.disp[b] = d / n;
+        }
+    }
+}
+
+std::string zones_problem(const Model& m) {
+    const ZoneSet& z = m.zones;
+    const BlockSet& s = m.blocks;
+    std::vector<char> seen(s.size(), 0);
+    for (int i = 0; i < z.size(); ++i) {
+        const int b = z.block[i];
+        if (seen[b] || !zone_active(m, i)) continue;
+        seen[b] = 1;
+        const int mat = s.material[b];
+        const Material* mp = zone_material(m, i);
+        const std::string id = std::to_string(s.id[b]);
+        if (!mp) {
+            return "the zones of block " + id + " have no material: material " + std::to_string(mat) +
+                   " is not defined (give one with 'prop mat=" + std::to_string(mat) + " dens=... k=... g=...')";
+        }
+        if (!(mp->density > 0)) {
+            return "the zones of block " + id + " have no mass: material " + std::to_string(mat) +
+                   " has no density (give one with 'prop mat=" + std::to_string(mat) + " dens=...')";
+        }
+        if (!(mp->bulk > 0) || !(mp->shear > 0)) {
+            return "the zones of block " + id + " have no stiffness: material " + std::to_string(mat) +
+                   " needs a bulk and a shear modulus (give them with 'prop mat=" + std::to_string(mat) +
+                   " k=... g=...' or 'ymod=... prat=...')";
+        }
+    }
+    for (int i = 0; i < z.size(); ++i) {
+        if (!zone_active(m, i)) continue;
+        const auto& q = z.gp[i];
+        const std::vector<Vec3>& x = m.settings.large_strain ? m.gridpoints.pos : m.gridpoints.ref;
+        const TetGeometry t = tet_geometry(x[q[0]], x[q[1]], x[q[2]], x[q[3]]);
+        if (!(t.volume > 0)) {
+            return "a zone of block " + std::to_string(s.id[z.block[i]]) +
+                   " has turned inside out (its volume is no longer positive): the deformation is too large "
+                   "for its zones";
+        }
+    }
+    return "";
+}
+
+std::string deformable_contact_problem(const Model& m, double ctol) {
+    const BlockSet& s = m.blocks;
+    std::vector<Vec3> lo(s.size()), hi(s.size());
+    for (int b = 0; b < s.size(); ++b) {
+        lo[b] = hi[b] = s.world_vertices[s.vertex_offset[b]];
+        for (int v = s.vertex_offset[b]; v < s.vertex_offset[b + 1]; ++v) {
+            lo[b] = lo[b].cwiseMin(s.world_vertices[v]);
+            hi[b] = hi[b].cwiseMax(s.world_vertices[v]);
+        }
+    }
+    for (int a = 0; a < s.size(); ++a) {
+        if (!(s.flags[a] & kDeformable) || (s.flags[a] & kExcavated)) continue;
+        for (int b = 0; b < s.size(); ++b) {
+            if (b == a || (s.flags[b] & kExcavated)) continue;
+            if ((s.flags[b] & kDeformable) && s.body[b] == s.body[a]) continue;
+            if (((lo[a].array() - ctol) > hi[b].array()).any() || ((lo[b].array() - ctol) > hi[a].array()).any()) continue;
+            return "deformable block " + std::to_string(s.id[a]) + " touches block " + std::to_string(s.id[b]) +
+                   ", which is not part of its continuum: contacts of deformable blocks are not available yet "
+                   "(zone touching blocks together after 'join', or keep both rigid)";
+        }
+    }
+    return "";
+}
+
+double zone_critical_timestep(const Model& m) {
+    const GridpointSet& g = m.gridpoints;
+    double dt = 0;
+    for (int i = 0; i < g.size(); ++i) {
+        if (!(g.mass[i] > 0) || !(g.stiffness[i] > 0) || g.vel_bc[i] == 7) continue;
+        const double d = 2.0 * std::sqrt(g.mass[i] / g.stiffness[i]);
+        if (dt == 0 || d < dt) dt = d;
+    }
+    // The bound on the stiffness is already on the safe side; a little more margin for the
+    // geometry that changes between refreshes in large strain.
+    return 0.9 * dt;
+}
+
+void zone_forces(Model& m, double dt) {
+    GridpointSet& g = m.gridpoints;
+    ZoneSet& z = m.zones;
+    const int ng = g.size();
+    const Vec3 grav = m.gravity;
+    for (int i = 0; i < ng; ++i) {
+        const Vec3 w = g.mass[i] * grav;
+        g.force[i] = w + g.applied[i] + g.traction[i];
+        g.force_scale[i] = w.norm() + g.applied[i].norm() + g.traction[i].norm();
+        g.nmd_volume[i] = 0;
+        g.nmd_rate[i] = 0;
+    }
+    const int nz = z.size();
+    if (nz == 0) return;
+    const bool large = m.settings.large_strain;
+    const std::vector<Vec3>& x = large ? g.pos : g.ref;
+    // Material constants once per material.
+    std::vector<ZoneMaterialConstants> constants(m.materials.size());
+    for (size_t k = 0; k < m.materials.size(); ++k) {
+        if (m.materials[k].defined) constants[k] = zone_constants(m.materials[k]);
+    }
+    // Pass 1: volumetric strain rates, averaged at the gridpoints.
+    for (int i = 0; i < nz; ++i) {
+        if (!zone_active(m, i)) continue;
+        const auto& q = z.gp[i];
+        const TetGeometry t = tet_geometry(x[q[0]], x[q[1]], x[q[2]], x[q[3]]);
+        double ev = 0;
+        for (int k = 0; k < 4; ++k) ev += g.vel[q[k]].dot(t.grad[k]);
+        z.ev[i] = ev;
+        z.volume[i] = t.volume;
+        for (int k = 0; k < 4; ++k) {
+            g.nmd_rate[q[k]] += t.volume * ev;
+            g.nmd_volume[q[k]] += t.volume;
+        }
+    }
+    for (int i = 0; i < ng; ++i) {
+        if (g.nmd_volume[i] > 0) g.nmd_rate[i] /= g.nmd_volume[i];
+    }
+    // Pass 2: stresses and corner forces.
+    for (int i = 0; i < nz; ++i) {
+        if (!zone_active(m, i)) continue;
+        const auto& q = z.gp[i];
+        const TetGeometry t = tet_geometry(x[q[0]], x[q[1]], x[q[2]], x[q[3]]);
+        Mat3 l = Mat3::Zero();
+        for (int k = 0; k < 4; ++k) l += g.vel[q[k]] * t.grad[k].transpose();
+        const double ev_bar = 0.25 * (g.nmd_rate[q[0]] + g.nmd_rate[q[1]] + g.nmd_rate[q[2]] + g.nmd_rate[q[3]]);
+        const double dv = (ev_bar - z.ev[i]) / 3.0;
+        Sym6 de = {(l(0, 0) + dv) * dt, (l(1, 1) + dv) * dt, (l(2, 2) + dv) * dt,
+                   0.5 * (l(0, 1) + l(1, 0)) * dt, 0.5 * (l(0, 2) + l(2, 0)) * dt, 0.5 * (l(1, 2) + l(2, 1)) * dt};
+        Sym6& s = z.stress[i];
+        if (large) {
+            // Jaumann rotation of the stress with the spin w = (L - L^T)/2 over the step.
+            Mat3 sg;
+            sg << s[0], s[3], s[4], s[3], s[1], s[5], s[4], s[5], s[2];
+            const Mat3 w = 0.5 * (l - l.transpose()) * dt;
+            const Mat3 r = sg + w * sg - sg * w;
+            s = {r(0, 0), r(1, 1), r(2, 2), r(0, 1), r(0, 2), r(1, 2)};
+        }
+        const ZoneMaterialConstants& c = constants[m.blocks.material[z.block[i]]];
+        if (z.model[i] == kZoneMohrCoulomb) {
+            const std::uint8_t now = mohr_coulomb_increment(c, de, s);
+            z.state[i] = static_cast<std::uint8_t>((z.state[i] & (kShearPast | kTensionPast)) | now |
+                                                   ((now & kShearNow) ? kShearPast : 0) |
+                                                   ((now & kTensionNow) ? kTensionPast : 0));
+        } else {
+            elastic_increment(c, de, s);
+        }
+        const double v = t.volume;
+        for (int k = 0; k < 4; ++k) {
+            const Vec3& a = t.grad[k];
+            const Vec3 f(-v * (s[0] * a.x() + s[3] * a.y() + s[4] * a.z()),
+                         -v * (s[3] * a.x() + s[1] * a.y() + s[5] * a.z()),
+                         -v * (s[4] * a.x() + s[5] * a.y() + s[2] * a.z()));
+            g.force[q[k]] += f;
+            g.force_scale[q[k]] += f.norm();
+        }
+    }
+}
+
+int integrate_gridpoints(Model& m, double dt, double* damping_power, double* forcing_power) {
+    GridpointSet& g = m.gridpoints;
+    const Damping& d = m.damping;
+    int bad = -1;
+    for (int i = 0; i < g.size(); ++i) {
+        const double mass = g.mass[i];
+        if (!(mass > 0)) {
+            // Only null zones around it: it does not move.
+            g.vel[i].setZero();
+            continue;
+        }
+        const double kick = g.half_kick[i] ? 0.5 * dt : dt;
+        const double scale = g.vel_bc[i] ? prescribed_scale(m, g.vel_bc_table[i]) : 1.0;
+        Vec3 v;
+        for (int k = 0; k < 3; ++k) {
+            if (g.vel_bc[i] & (1 << k)) {
+                v[k] = g.vel_bc_value[i][k] * scale;
+                continue;
+            }
+            const double f = g.force[i][k], vk = g.vel[i][k];
+            double fd = f;
+            switch (d.mode) {
+            case DampingMode::Local: fd = f - d.local * std::abs(f) * sign(vk); break;
+            case DampingMode::Auto: fd = f - d.auto_coefficient * mass * vk; break;
+            case DampingMode::Rayleigh:
+                fd = f - 2.0 * d.rayleigh_fraction * 2.0 * M_PI * d.rayleigh_frequency * mass * vk;
+                break;
+            case DampingMode::Off: break;
+            }
+            v[k] = vk + fd / mass * kick;
+        }
+        if (damping_power) {
+            *damping_power += mass * g.vel[i].squaredNorm();
+            *forcing_power += std::abs(g.force[i].dot(g.vel[i]));
+        }
+        g.vel[i] = v;
+        const Vec3 dx = v * dt;
+        g.pos[i] += dx;
+        g.disp[i] += dx;
+        g.half_kick[i] = 0;
+        if (bad < 0 && !(v.allFinite() && g.pos[i].allFinite())) bad = i;
+    }
+    return bad;
+}
+
+std::vector<int> select_gridpoints(const Model& m, const Range& r) {
+    const GridpointSet& g = m.gridpoints;
+    std::vector<int> out;
+    // A gridpoint shared by blocks of one continuum passes when one of its blocks does.
+    std::vector<char> pass(g.size(), 0);
+    const ZoneSet& z = m.zones;
+    for (int i = 0; i < z.size(); ++i) {
+        const int b = z.block[i];
+        if (m.blocks.flags[b] & kExcavated) continue;
+        for (int c : z.gp[i]) {
+            if (!pass[c] && r.contains_point(m, g.pos[c], b)) pass[c] = 1;
+        }
+    }
+    for (int i = 0; i < g.size(); ++i) {
+        if (pass[i]) out.push_back(i);
+    }
+    return out;
+}
+
+std::vector<std::pair<int, int>> boundary_faces(const Model& m) {
+    const ZoneSet& z = m.zones;
+    // Sorted corner triple -> (zone, opposite corner); a second sighting marks it interior.
+    struct Entry {
+        std::array<int, 3> key;
+        int zone, corner;
+    };
+    std::vector<Entry> all;
+    all.reserve(4 * static_cast<size_t>(z.size()));
+    for (int i = 0; i < z.size(); ++i) {
+        if (!zone_active(m, i)) continue;
+        const auto& q = z.gp[i];
+        for (int k = 0; k < 4; ++k) {
+            std::array<int, 3> f;
+            int n = 0;
+            for (int j = 0; j < 4; ++j) {
+                if (j != k) f[n++] = q[j];
+            }
+            std::sort(f.begin(), f.end());
+            all.push_back({f, i, k});
+        }
+    }
+    std::sort(all.begin(), all.end(), [](const Entry& a, const Entry& b) {
+        return a.key != b.key ? a.key < b.key : a.zone < b.zone;
+    });
+    std::vector<std::pair<int, int>> out;
+    for (size_t i = 0; i < all.size();) {
+        size_t j = i + 1;
+        while (j < all.size() && all[j].key == all[i].key) ++j;
+        if (j == i + 1) out.emplace_back(all[i].zone, all[i].corner);
+        i = j;
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+namespace {
+
+Sym6 stress_at(const Vec3& x, const Sym6& s, const Sym6& gx, const Sym6& gy, const Sym6& gz) {
+    Sym6 r;
+    for (int k = 0; k < 6; ++k) r[k] = s[k] + x.x() * gx[k] + x.y() * gy[k] + x.z() * gz[k];
+    return r;
+}
+
+void recompute_tractions(Model& m) {
+    GridpointSet& g = m.gridpoints;
+    std::fill(g.traction.begin(), g.traction.end(), Vec3::Zero());
+    for (const BoundaryFace& bf : m.stress_boundary.faces) {
+        for (int c : bf.gp) g.traction[c] += bf.force / 3.0;
+    }
+}
+
+// Corners of zone z's face opposite corner k, and its area vector (area times outward normal).
+std::array<int, 3> face_corners(const ZoneSet& z, int i, int k) {
+    std::array<int, 3> f;
+    int n = 0;
+    for (int j = 0; j < 4; ++j) {
+        if (j != k) f[n++] = z.gp[i][j];
+    }
+    std::sort(f.begin(), f.end());
+    return f;
+}
+
+} // namespace
+
+int apply_boundary_stress(Model& m, const Range& r, const Sym6& s, const Sym6& gx, const Sym6& gy,
+                          const Sym6& gz) {
+    const ZoneSet& z = m.zones;
+    const GridpointSet& g = m.gridpoints;
+    auto& faces = m.stress_boundary.faces;
+    std::vector<BoundaryFace> loaded;
+    for (const auto& [i, k] : boundary_faces(m)) {
+        const std::array<int, 3> f = face_corners(z, i, k);
+        const Vec3 centre = (g.pos[f[0]] + g.pos[f[1]] + g.pos[f[2]]) / 3.0;
+        if (!r.contains_point(m, centre, z.block[i])) continue;
+        const auto& q = z.gp[i];
+        const TetGeometry t = tet_geometry(g.pos[q[0]], g.pos[q[1]], g.pos[q[2]], g.pos[q[3]]);
+        const Vec3 area = -3.0 * t.volume * t.grad[k];  // outward, |area| = face area
+        const Sym6 st = stress_at(centre, s, gx, gy, gz);
+        const Vec3 force(st[0] * area.x() + st[3] * area.y() + st[4] * area.z(),
+                         st[3] * area.x() + st[1] * area.y() + st[5] * area.z(),
+                         st[4] * area.x() + st[5] * area.y() + st[2] * area.z());
+        loaded.push_back({f, force});
+    }
+    // Replace what was on those faces.
+    std::sort(loaded.begin(), loaded.end(), [](const BoundaryFace& a, const BoundaryFace& b) { return a.gp < b.gp; });
+    size_t w = 0;
+    for (size_t i = 0; i < faces.size(); ++i) {
+        const bool replaced = std::binary_search(loaded.begin(), loaded.end(), faces[i],
+                                                 [](const BoundaryFace& a, const BoundaryFace& b) { return a.gp < b.gp; });
+        if (!replaced) faces[w++] = faces[i];
+    }
+    faces.resize(w);
+    faces.insert(faces.end(), loaded.begin(), loaded.end());
+    recompute_tractions(m);
+    return static_cast<int>(loaded.size());
+}
+
+int remove_boundary_stress(Model& m, const Range& r) {
+    auto& faces = m.stress_boundary.faces;
+    const GridpointSet& g = m.gridpoints;
+    size_t w = 0;
+    int removed = 0;
+    for (size_t i = 0; i < faces.size(); ++i) {
+        const auto& f = faces[i].gp;
+        const Vec3 centre = (g.pos[f[0]] + g.pos[f[1]] + g.pos[f[2]]) / 3.0;
+        if (r.contains_point(m, centre, g.block[f[0]])) {
+            ++removed;
+            continue;
+        }
+        faces[w++] = faces[i];
+    }
+    faces.resize(w);
+    recompute_tractions(m);
+    return removed;
+}
+
+int set_insitu_stress(Model& m, const Range& r, const Sym6& s, const Sym6& gx, const Sym6& gy, const Sym6& gz) {
+    ZoneSet& z = m.zones;
+    int n = 0;
+    for (int i = 0; i < z.size(); ++i) {
+        if (m.blocks.flags[z.block[i]] & kExcavated) continue;
+        const Vec3 c = zone_centroid(m, i);
+        if (!r.contains_point(m, c, z.block[i])) continue;
+        z.stress[i] = stress_at(c, s, gx, gy, gz);
+        ++n;
+    }
+    return n;
+}
+
+Vec3 gridpoint_velocity_at_t(const Model& m, int i) {
+    const GridpointSet& g = m.gridpoints;
+    if (g.half_kick[i] || !(g.mass[i] > 0)) return g.vel[i];
+    Vec3 v = g.vel[i];
+    // Half a step of the last acceleration (force over mass, damping aside).
+    for (int k = 0; k < 3; ++k) {
+        if (!(g.vel_bc[i] & (1 << k))) v[k] += 0.5 * m.dt * g.force[i][k] / g.mass[i];
+    }
+    return v;
+}
+
+void principal_stresses(const Sym6& s, Vec3& values, Mat3* directions) {
+    Mat3 t;
+    t << s[0], s[3], s[4], s[3], s[1], s[5], s[4], s[5], s[2];
+    Eigen::SelfAdjointEigenSolver<Mat3> eig;
+    eig.computeDirect(t, directions ? Eigen::ComputeEigenvectors : Eigen::EigenvaluesOnly);
+    values = eig.eigenvalues();
+    if (directions) *directions = eig.eigenvectors();
+}
+
+Vec3 zone_centroid(const Model& m, int z) {
+    const auto& q = m.zones.gp[z];
+    const auto& x = m.gridpoints.pos;
+    return 0.25 * (x[q[0]] + x[q[1]] + x[q[2]] + x[q[3]]);
+}
+
+int find_zone_at(const Model& m, const Vec3& p) {
+    const ZoneSet& z = m.zones;
+    int best = -1;
+    double best_d = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < z.size(); ++i) {
+        if (m.blocks.flags[z.block[i]] & kExcavated) continue;
+        const auto& q = z.gp[i];
+        const auto& x = m.gridpoints.pos;
+        const TetGeometry t = tet_geometry(x[q[0]], x[q[1]], x[q[2]], x[q[3]]);
+        // Barycentric coordinates: N_k = 1/4 + grad_k . (p - centroid).
+        const Vec3 c = 0.25 * (x[q[0]] + x[q[1]] + x[q[2]] + x[q[3]]);
+        double lowest = 1;
+        for (int k = 0; k < 4; ++k) lowest = std::min(lowest, 0.25 + t.grad[k].dot(p - c));
+        if (lowest >= -1e-9) return i;
+        const double d = (c - p).squaredNorm();
+        if (d < best_d) {
+            best_d = d;
+            best = i;
+        }
+    }
+    return best;
+}
+
+int find_gridpoint_near(const Model& m, const Vec3& p) {
+    const GridpointSet& g = m.gridpoints;
+    int best = -1;
+    double best_d = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < g.size(); ++i) {
+        if (m.blocks.flags[g.block[i]] & kExcavated) continue;
+        const double d = (g.pos[i] - p).squaredNorm();
+        if (d < best_d) {
+            best_d = d;
+            best = i;
+        }
+    }
+    return best;
+}
+
+} // namespace odec

@@ -1,0 +1,339 @@
+#include "mesh/tet_mesh.h"
+
+#include <dlfcn.h>
+#include <gmshc.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <mutex>
+#include <unordered_map>
+
+namespace odec {
+
+double radius_ratio(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+    const Vec3 u = b - a, v = c - a, w = d - a;
+    const double six_v = u.dot(v.cross(w));
+    if (!(std::abs(six_v) > 0)) return 0;
+    const double area = 0.5 * ((b - a).cross(c - a).norm() + (b - a).cross(d - a).norm() +
+                               (c - a).cross(d - a).norm() + (c - b).cross(d - b).norm());
+    const double r_in = 0.5 * std::abs(six_v) / area;  // 3 V / A
+    const Vec3 o = (u.squaredNorm() * v.cross(w) + v.squaredNorm() * w.cross(u) + w.squaredNorm() * u.cross(v)) /
+                   (2.0 * six_v);
+    const double r_out = o.norm();
+    return r_out > 0 ? 3.0 * r_in / r_out : 0.0;
+}
+
+namespace {
+
+// Gmsh is opened when a block is first zoned, not when odec starts: it brings in some hundred
+// shared libraries (its CAD kernels among them), which would triple the start-up time of
+// every session and every script that never zones. Its C interface is looked up by name.
+struct Gmsh {
+    bool loaded = false;
+    std::string why;  // when it could not be opened
+    decltype(&gmshInitialize) initialize = nullptr;
+    decltype(&gmshOptionSetNumber) set_number = nullptr;
+    decltype(&gmshClear) clear = nullptr;
+    decltype(&gmshModelAdd) model_add = nullptr;
+    decltype(&gmshModelGeoAddPoint) add_point = nullptr;
+    decltype(&gmshModelGeoAddLine) add_line = nullptr;
+    decltype(&gmshModelGeoAddCurveLoop) add_curve_loop = nullptr;
+    decltype(&gmshModelGeoAddPlaneSurface) add_plane_surface = nullptr;
+    decltype(&gmshModelGeoAddSurfaceLoop) add_surface_loop = nullptr;
+    decltype(&gmshModelGeoAddVolume) add_volume = nullptr;
+    decltype(&gmshModelGeoSynchronize) synchronize = nullptr;
+    decltype(&gmshModelMeshGenerate) generate = nullptr;
+    decltype(&gmshModelMeshClear) mesh_clear = nullptr;
+    decltype(&gmshModelMeshGetNodes) get_nodes = nullptr;
+    decltype(&gmshModelMeshGetElementsByType) get_elements_by_type = nullptr;
+    decltype(&gmshFree) free = nullptr;
+    decltype(&gmshLoggerGetLastError) last_error = nullptr;
+};
+
+std::mutex gmsh_mutex;
+
+template <class F>
+bool find_symbol(void* lib, const char* name, F& f, std::string& why) {
+    f = reinterpret_cast<F>(dlsym(lib, name));
+    if (!f && why.empty()) why = std::string("the mesher library has no '") + name + "'";
+    return f != nullptr;
+}
+
+Gmsh& gmsh_library() {
+    static Gmsh g = [] {
+        Gmsh r;
+        void* lib = nullptr;
+        for (const char* name : {"libgmsh.so.4.8", "libgmsh.so"}) {
+            lib = dlopen(name, RTLD_NOW | RTLD_LOCAL);
+            if (lib) break;
+        }
+        if (!lib) {
+            r.why = "the mesher (Gmsh's library, libgmsh.so.4.8) cannot be opened: install Debian's libgmsh-dev "
+                    "(tools/setup.sh does)";
+            return r;
+        }
+        bool ok = find_symbol(lib, "gmshInitialize", r.initialize, r.why);
+        ok &= find_symbol(lib, "gmshOptionSetNumber", r.set_number, r.why);
+        ok &= find_symbol(lib, "gmshClear", r.clear, r.why);
+        ok &= find_symbol(lib, "gmshModelAdd", r.model_add, r.why);
+        ok &= find_symbol(lib, "gmshModelGeoAddPoint", r.add_point, r.why);
+        ok &= find_symbol(lib, "gmshModelGeoAddLine", r.add_line, r.why);
+        ok &= find_symbol(lib, "gmshModelGeoAddCurveLoop", r.add_curve_loop, r.why);
+        ok &= find_symbol(lib, "gmshModelGeoAddPlaneSurface", r.add_plane_surface, r.why);
+        ok &= find_symbol(lib, "gmshModelGeoAddSurfaceLoop", r.add_surface_loop, r.why);
+        ok &= find_symbol(lib, "gmshModelGeoAddVolume", r.add_volume, r.why);
+        ok &= find_symbol(lib, "gmshModelGeoSynchronize", r.synchronize, r.why);
+        ok &= find_symbol(lib, "gmshModelMeshGenerate", r.generate, r.why);
+        ok &= find_symbol(lib, "gmshModelMeshClear", r.mesh_clear, r.why);
+        ok &= find_symbol(lib, "gmshModelMeshGetNodes", r.get_nodes, r.why);
+        ok &= find_symbol(lib, "gmshModelMeshGetElementsByType", r.get_elements_by_type, r.why);
+        ok &= find_symbol(lib, "gmshFree", r.free, r.why);
+        ok &= find_symbol(lib, "gmshLoggerGetLastError", r.last_error, r.why);
+        if (!ok) return r;
+        int ierr = 0;
+        r.initialize(0, nullptr, 0, &ierr);
+        if (ierr) {
+            r.why = "the mesher could not start";
+            return r;
+        }
+        r.set_number("General.Terminal", 0, &ierr);
+        r.loaded = true;
+        return r;
+    }();
+    return g;
+}
+
+// Vertices of different solids that are the same point (within tol) become one geometry
+// point: a hash grid of cells 4 tol wide, searched in the 27 cells around a point.
+struct PointMerge {
+    double tol;
+    double cell;
+    std::map<std::array<long long, 3>, std::vector<int>> grid;
+    std::vector<Vec3> points;
+
+    explicit PointMerge(double t) : tol(t), cell(4 * t) {}
+    int find_or_add(const Vec3& p) {
+        std::array<long long, 3> k;
+        for (int i = 0; i < 3; ++i) k[i] = static_cast<long long>(std::floor(p[i] / cell));
+        for (int dx = -1; dx <= 1; ++dx)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dz = -1; dz <= 1; ++dz) {
+                    auto it = grid.find({k[0] + dx, k[1] + dy, k[2] + dz});
+                    if (it == grid.end()) continue;
+                    for (int q : it->second) {
+                        if ((points[q] - p).cwiseAbs().maxCoeff() <= tol) return q;
+                    }
+                }
+        points.push_back(p);
+        grid[k].push_back(static_cast<int>(points.size()) - 1);
+        return static_cast<int>(points.size()) - 1;
+    }
+};
+
+// A failed call of the mesher: its message.
+struct MeshError {
+    std::string what;
+};
+
+void check(const Gmsh& g, int ierr, const char* what) {
+    if (!ierr) return;
+    std::string text = what;
+    char* last = nullptr;
+    int e2 = 0;
+    g.last_error(&last, &e2);
+    if (last) {
+        if (*last) text += std::string(": ") + last;
+        g.free(last);
+    }
+    throw MeshError{text};
+}
+
+// Arrays the mesher allocates, freed with it.
+template <class T>
+struct GmshArray {
+    const Gmsh& g;
+    T* data = nullptr;
+    size_t n = 0;
+    explicit GmshArray(const Gmsh& gm) : g(gm) {}
+    ~GmshArray() {
+        if (data) g.free(data);
+    }
+    GmshArray(const GmshArray&) = delete;
+    GmshArray& operator=(const GmshArray&) = delete;
+};
+
+void mesh_with(const Gmsh& g, const std::vector<Polyhedron>& solids, double edge, PointMerge& merge, TetMesh& out) {
+    int ierr = 0;
+    auto option = [&](const char* name, double v) {
+        g.set_number(name, v, &ierr);
+        check(g, ierr, "the mesher refused an option");
+    };
+    option("General.Terminal", 0);
+    option("General.Verbosity", 1);
+    g.clear(&ierr);
+    check(g, ierr, "the mesher could not start a model");
+    option("General.NumThreads", 1);
+    option("Mesh.Algorithm", 6);      // frontal-Delaunay on the faces
+    option("Mesh.Algorithm3D", 10);   // HXT in the volumes
+    option("Mesh.MeshSizeMax", edge);
+    option("Mesh.MeshSizeMin", 0);
+    option("Mesh.MeshSizeExtendFromBoundary", 1);
+    option("Mesh.Optimize", 1);
+    option("Mesh.RandomSeed", 1);
+    option("Geometry.Tolerance", 1e-12);
+    g.model_add("odec", &ierr);
+    check(g, ierr, "the mesher could not start a model");
+
+    // Geometry: shared points, lines and faces are one entity each.
+    std::vector<int> point_tag;                 // merged point -> gmsh tag
+    std::map<std::pair<int, int>, int> lines;   // (lo, hi) merged points -> line tag
+    std::map<std::vector<int>, int> faces;      // sorted merged points -> surface tag
+    std::vector<std::vector<int>> solid_points(solids.size());
+    std::vector<int> volume_tag(solids.size());
+    out.face_surface.assign(solids.size(), {});
+    for (size_t s = 0; s < solids.size(); ++s) {
+        const Polyhedron& p = solids[s];
+        std::vector<int>& sp = solid_points[s];
+        for (const Vec3& v : p.vertices) {
+            const int q = merge.find_or_add(v);
+            if (q == static_cast<int>(point_tag.size())) {
+                point_tag.push_back(g.add_point(v.x(), v.y(), v.z(), edge, -1, &ierr));
+                check(g, ierr, "the mesher refused a corner of a block");
+            }
+            sp.push_back(q);
+        }
+        std::vector<int> surfaces;
+        for (int f = 0; f < p.n_faces(); ++f) {
+            std::vector<int> loop;
+            for (int k = 0; k < p.face_size(f); ++k) loop.push_back(sp[p.face_vertex(f, k)]);
+            std::vector<int> key = loop;
+            std::sort(key.begin(), key.end());
+            auto it = faces.find(key);
+            if (it != faces.end()) {
+                surfaces.push_back(it->second);
+                out.face_surface[s].push_back(it->second);
+                continue;
+            }
+            std::vector<int> curve;
+            for (size_t k = 0; k < loop.size(); ++k) {
+                const int a = loop[k], b = loop[(k + 1) % loop.size()];
+                const auto lk = std::make_pair(std::min(a, b), std::max(a, b));
+                auto li = lines.find(lk);
+                int tag;
+                if (li != lines.end()) {
+                    tag = li->second;
+                } else {
+                    tag = g.add_line(point_tag[lk.first], point_tag[lk.second], -1, &ierr);
+                    check(g, ierr, "the mesher refused an edge of a block");
+                    lines[lk] = tag;
+                }
+                curve.push_back(a < b ? tag : -tag);
+            }
+            const int cl = g.add_curve_loop(curve.data(), curve.size(), -1, 0, &ierr);
+            check(g, ierr, "the mesher refused a face of a block");
+            int wire = cl;
+            const int sf = g.add_plane_surface(&wire, 1, -1, &ierr);
+            check(g, ierr, "the mesher refused a face of a block");
+            faces[key] = sf;
+            surfaces.push_back(sf);
+            out.face_surface[s].push_back(sf);
+        }
+        const int shell = g.add_surface_loop(surfaces.data(), surfaces.size(), -1, &ierr);
+        check(g, ierr, "the mesher refused the surface of a block");
+        int shell_tag = shell;
+        volume_tag[s] = g.add_volume(&shell_tag, 1, -1, &ierr);
+        check(g, ierr, "the mesher refused a block");
+    }
+    g.synchronize(&ierr);
+    check(g, ierr, "the mesher refused the geometry");
+    g.generate(3, &ierr);
+    if (ierr) {
+        // HXT refuses some inputs that the classic Delaunay mesher takes.
+        g.mesh_clear(nullptr, 0, &ierr);
+        option("Mesh.Algorithm3D", 1);
+        g.generate(3, &ierr);
+        check(g, ierr, "the mesher failed");
+    }
+
+    // Nodes, renumbered densely in the order of their tags.
+    GmshArray<size_t> tags(g);
+    GmshArray<double> xyz(g), param(g);
+    g.get_nodes(&tags.data, &tags.n, &xyz.data, &xyz.n, &param.data, &param.n, -1, -1, 0, 0, &ierr);
+    check(g, ierr, "the mesher gave no nodes");
+    std::unordered_map<std::size_t, int> index;
+    std::vector<std::size_t> order(tags.n);
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return tags.data[a] < tags.data[b]; });
+    out.nodes.reserve(tags.n);
+    for (size_t i : order) {
+        index[tags.data[i]] = static_cast<int>(out.nodes.size());
+        out.nodes.emplace_back(xyz.data[3 * i], xyz.data[3 * i + 1], xyz.data[3 * i + 2]);
+    }
+    // Tetrahedra of each solid, oriented with positive volume.
+    out.tets.resize(solids.size());
+    out.corner_node.resize(solids.size());
+    double worst = 1, sum = 0;
+    long count = 0;
+    for (size_t s = 0; s < solids.size(); ++s) {
+        GmshArray<size_t> elems(g), enodes(g);
+        g.get_elements_by_type(4, &elems.data, &elems.n, &enodes.data, &enodes.n, volume_tag[s], 0, 1, &ierr);
+        check(g, ierr, "the mesher gave no zones");
+        auto& tv = out.tets[s];
+        tv.reserve(elems.n);
+        for (size_t e = 0; e < elems.n; ++e) {
+            std::array<int, 4> t;
+            for (int k = 0; k < 4; ++k) t[k] = index.at(enodes.data[4 * e + k]);
+            const Vec3& a = out.nodes[t[0]];
+            if ((out.nodes[t[1]] - a).dot((out.nodes[t[2]] - a).cross(out.nodes[t[3]] - a)) < 0) std::swap(t[2], t[3]);
+            const double q = radius_ratio(out.nodes[t[0]], out.nodes[t[1]], out.nodes[t[2]], out.nodes[t[3]]);
+            worst = std::min(worst, q);
+            sum += q;
+            ++count;
+            tv.push_back(t);
+        }
+        if (tv.empty()) throw MeshError{"the mesher made no zones in a block"};
+        // The node at each vertex of the solid: the mesh node of its geometry point.
+        for (int q : solid_points[s]) {
+            GmshArray<size_t> nt(g);
+            GmshArray<double> c(g), pc(g);
+            g.get_nodes(&nt.data, &nt.n, &c.data, &c.n, &pc.data, &pc.n, 0, point_tag[q], 0, 0, &ierr);
+            check(g, ierr, "the mesher left out a corner of a block");
+            if (nt.n == 0) throw MeshError{"the mesher left out a corner of a block"};
+            out.corner_node[s].push_back(index.at(nt.data[0]));
+        }
+    }
+    out.worst_quality = worst;
+    out.mean_quality = count > 0 ? sum / count : 1;
+    g.clear(&ierr);
+}
+
+} // namespace
+
+std::string mesh_solids(const std::vector<Polyhedron>& solids, double edge, TetMesh& out) {
+    out = TetMesh();
+    if (solids.empty()) return "";
+    if (!(edge > 0) || !std::isfinite(edge)) return "the zone edge length must be a positive number";
+    Vec3 lo = solids[0].vertices[0], hi = lo;
+    for (const Polyhedron& p : solids) {
+        for (const Vec3& v : p.vertices) {
+            lo = lo.cwiseMin(v);
+            hi = hi.cwiseMax(v);
+        }
+    }
+    PointMerge merge(1e-9 * std::max((hi - lo).norm(), edge));
+    std::lock_guard<std::mutex> lock(gmsh_mutex);
+    const Gmsh& g = gmsh_library();
+    if (!g.loaded) return g.why;
+    try {
+        mesh_with(g, solids, edge, merge, out);
+    } catch (const MeshError& e) {
+        int ierr = 0;
+        g.clear(&ierr);
+        out = TetMesh();
+        return e.what;
+    }
+    return "";
+}
+
+} // namespace odec

@@ -1,0 +1,40 @@
+// Tetrahedral meshes of convex blocks, for zoning deformable blocks.
+//
+// The mesher is Gmsh's library (Debian's libgmsh-dev, GPL-2-or-later with exceptions,
+// compatible with odec's GPL-3), opened at the first zoning: its frontal-Delaunay surface
+// mesher and HXT volume mesher
+// give zones of good quality quickly, and, because all the blocks of one call are given to
+// it as one geometry in which a face shared by two blocks (the same polygon) is one surface,
+// the meshes of neighbouring blocks conform on their shared faces node for node.
+//
+// This file knows nothing of the model: blocks go in as polyhedra, nodes and tetrahedra come
+// out. The engine decides which blocks share nodes (joined ones) and which get copies.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "engine/polyhedron.h"
+
+namespace odec {
+
+struct TetMesh {
+    std::vector<Vec3> nodes;                         // (n_nodes) m, shared by all the solids
+    std::vector<std::vector<std::array<int, 4>>> tets; // (n_solids) node indices, positive volume
+    std::vector<std::vector<int>> corner_node;       // (n_solids) node of each vertex of the solid
+    std::vector<std::vector<int>> face_surface;      // (n_solids) per face: which surface it is; two
+                                                     // solids with a face on one surface share its nodes
+    double worst_quality = 1;                        // smallest radius ratio 3 r_in / r_out (1: regular)
+    double mean_quality = 1;
+};
+
+// Mesh each convex solid into tetrahedra of mean edge length about `edge` (m). Returns ""
+// on success, else why not (the mesher's own message). The same solids and edge give the
+// same mesh, bit for bit.
+std::string mesh_solids(const std::vector<Polyhedron>& solids, double edge, TetMesh& out);
+
+// Radius ratio of a tetrahedron: 3 r_in / r_circumscribed, 1 for a regular one, 0 when flat.
+double radius_ratio(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+
+} // namespace odec
