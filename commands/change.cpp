@@ -2,6 +2,7 @@
 #include "common.h"
 #include "engine/blocks.h"
 #include "engine/contact.h"
+#include "engine/zones.h"
 
 namespace odec {
 
@@ -17,13 +18,15 @@ const CommandSpec& change_command() {
         c.describe("Blocks in the range (every block when no range is given) take the material; their "
                    "mass and inertia follow its density. Contacts whose centroid is in the range take the "
                    "joint material and joint model; contacts made later take those of the joint plane they "
-                   "lie on, or the defaults of 'set jmat' and 'set jcons'. 'cons' is kept for deformable "
-                   "blocks; rigid blocks have no zones.");
+                   "lie on, or the defaults of 'set jmat' and 'set jcons'. 'cons' sets the zone model of the "
+                   "zones whose centroid is in the range (0 null: the zone carries nothing; 1 elastic; 2 "
+                   "Mohr-Coulomb, with 'prop coh fric ten dil'), and of the rigid blocks of the range for "
+                   "when they are zoned.");
         c.example("change mat=2 range z -10 0");
         c.handle([](CommandContext& ctx, const Args& a) {
             Model& m = ctx.model;
             if (!a.has("material") && !a.has("jmat") && !a.has("jcons") && !a.has("cons")) {
-                fail(a.loc, "'change' needs 'mat=n', 'jmat=n' or 'jcons=j'", {}, "change");
+                fail(a.loc, "'change' needs 'mat=n', 'cons=c', 'jmat=n' or 'jcons=j'", {}, "change");
             }
             if (a.has("jmat") || a.has("jcons")) {
                 const int jmat = a.has("jmat") ? defined_joint_material(m, a, "change") : 0;
@@ -51,6 +54,24 @@ const CommandSpec& change_command() {
                 }
                 for (int b : blocks) m.blocks.material[b] = n;
                 update_masses(m);
+            }
+            if (a.has("cons")) {
+                const int c = a.integer("cons");
+                int zones = 0, blocks = 0;
+                for (int b : select_blocks(m, a.range)) {
+                    if (m.blocks.flags[b] & kDeformable) continue;
+                    m.blocks.cons[b] = static_cast<std::uint8_t>(c);
+                    ++blocks;
+                }
+                for (int z = 0; z < m.zones.size(); ++z) {
+                    if (m.blocks.flags[m.zones.block[z]] & kExcavated) continue;
+                    if (!a.range.contains_point(m, zone_centroid(m, z), m.zones.block[z])) continue;
+                    m.zones.model[z] = static_cast<std::uint8_t>(c);
+                    ++zones;
+                }
+                m.geometry_changed = true;
+                if (zones + blocks == 0) warn(ctx, a.find("cons")->loc, "the range selects no zone or block, nothing changed");
+                if (!ctx.interp.quiet) ctx.out << zones << " zones and " << blocks << " rigid blocks take zone model " << c << "\n";
             }
         });
         return c;

@@ -45,7 +45,7 @@ const CommandSpec& poly_command() {
         c.keyword("region", 3, "region number of the new block, for 'range region'").integer("n", 0).defaults("0");
         c.keyword("group", 2, "group name of the new block").word("name");
         c.keyword("material", 3, "material number of the new block").integer("n", 1, 1000000).defaults("1");
-        c.keyword("cons", 3, "zone model for when the block is made deformable (rigid blocks ignore it)")
+        c.keyword("cons", 3, "zone model its zones get when it is divided into zones (0 null, 1 elastic, 2 Mohr-Coulomb)")
             .integer("c", 0, 2);
         c.require_one_of(1);
         c.describe("The block is rigid: it moves as a whole, with three translations and three rotations "
@@ -136,7 +136,8 @@ const CommandSpec& poly_command() {
                 if (!problem.empty()) fail(where, problem, {"odec works in metres, kilograms and seconds"}, "poly");
             }
             const int group = a.has("group") ? m.group_index(a.text("group"), true) : -1;
-            add_block(m, p, region, group, material);
+            const int b = add_block(m, p, region, group, material);
+            if (a.has("cons")) m.blocks.cons[b] = static_cast<std::uint8_t>(a.integer("cons"));
         });
         return c;
     }();

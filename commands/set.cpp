@@ -17,15 +17,13 @@ const CommandSpec& set_command() {
         c.keyword("jmat", 4, "joint material of contacts made from now on").integer("n", 1, 1000000).defaults("1");
         c.keyword("jcons", 4, "joint model of contacts made from now on").integer("j", 1, 2).defaults("1");
         c.keyword("plot", 2, "picture options kept between plots: the options of 'plot set'").forward_to("plot");
-        c.keyword("large", 2, "large-displacement mode (rigid blocks always are)");
-        c.keyword("small", 2, "small-displacement mode (not available for rigid blocks)");
+        c.keyword("large", 2, "large-strain mode (the default): zones follow their gridpoints' positions");
+        c.keyword("small", 2, "small-strain mode: zone geometry stays as it was zoned (rigid blocks still move "
+                              "by large displacements)");
         c.example("set dt 1e-4 echo off");
         c.handle([](CommandContext& ctx, const Args& a) {
             Model& m = ctx.model;
-            if (a.has("small")) {
-                fail(a.find("small")->loc, "small-displacement mode is not available: rigid blocks always move by "
-                                            "large displacements", {}, "set");
-            }
+            if (a.has("small") && a.has("large")) fail(a.find("small")->loc, "'small' and 'large' exclude each other", {}, "set");
             if (a.uses.empty()) fail(a.loc, "'set' needs a setting", {"type 'help set' for the settings"}, "set");
             if (a.has("jmat")) defined_joint_material(m, a, "set");
             if (a.has("logfile")) check_file_allowed(ctx, a.find("logfile")->values[0].loc, a.text("logfile"), "set");
@@ -84,6 +82,10 @@ const CommandSpec& set_command() {
             if (a.has("ncyc")) m.histories.ncyc = a.integer("ncyc");
             if (a.has("jmat")) m.settings.default_jmat = a.integer("jmat");
             if (a.has("jcons")) m.settings.default_jcons = a.integer("jcons");
+            if (a.has("small") || a.has("large")) {
+                m.settings.large_strain = a.has("large");
+                m.geometry_changed = true;
+            }
         });
         return c;
     }();

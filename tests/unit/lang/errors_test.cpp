@@ -270,7 +270,7 @@ TEST(Errors, CommandsThatNeedSomethingToDoSaySo) {
     EXPECT_NE(error_of("damp").find("t.dat:1:1: error: 'damping' needs one of: local, auto, mass, off"), std::string::npos);
     EXPECT_NE(error_of("damp 0.05 mass").find("error: 'damp ... mass' needs the critical damping fraction and the frequency"),
               std::string::npos);
-    EXPECT_NE(error_of("set small").find("error: small-displacement mode is not available"), std::string::npos);
+    EXPECT_NE(error_of("set small large").find("error: 'small' and 'large' exclude each other"), std::string::npos);
     EXPECT_NE(error_of("change jcons 3").find("error: 'jcons' must be 1 to 2 (got 3)"), std::string::npos);
     EXPECT_NE(error_of("poly prism a (0,0,0) (1,0,0) (0,1,0)").find("error: 'prism' needs both ends"), std::string::npos);
     EXPECT_NE(error_of("poly brick 0 1 0 1 0 1 a (0,0,0)").find("error: 'a' goes with 'prism'"), std::string::npos);
