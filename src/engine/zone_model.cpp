@@ -43,10 +43,19 @@ void elastic_increment(const ZoneMaterialConstants& c, const Sym6& de, Sym6& s) 
 
 std::uint8_t mohr_coulomb_increment(const ZoneMaterialConstants& c, const Sym6& de, Sym6& s) {
     elastic_increment(c, de, s);
+    // Most zones are well inside the yield surface: bound the principal stresses by the mean
+    // stress p and the deviator's size (every principal deviator lies within sqrt(2/3) |dev| of
+    // zero) and skip the eigen-decomposition when even the bounds satisfy both criteria.
+    {
+        const double p = (s[0] + s[1] + s[2]) / 3.0;
+        const double dx = s[0] - p, dy = s[1] - p, dz = s[2] - p;
+        const double dev2 = dx * dx + dy * dy + dz * dz + 2.0 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5]);
+        const double r = std::sqrt(dev2 * (2.0 / 3.0)) * (1.0 + 1e-12);
+        const double lo = p - r, hi = p + r;
+        if (lo - hi * c.nphi + 2.0 * c.cohesion * c.sqrt_nphi > 0 && hi < c.tension) return 0;
+    }
     Mat3 t;
     t << s[0], s[3], s[4], s[3], s[1], s[5], s[4], s[5], s[2];
-    // Quick test on bounds before the eigen-decomposition: the largest principal stress is at
-    // most the largest Gershgorin bound; the criteria can only fail near the surfaces.
     Eigen::SelfAdjointEigenSolver<Mat3> eig;
     eig.computeDirect(t);
     Vec3 p = eig.eigenvalues();  // ascending: p[0] = s1 (most compressive), p[2] = s3

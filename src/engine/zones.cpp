@@ -112,7 +112,6 @@ void zone_blocks(Model& m, const std::vector<int>& blocks, const std::vector<int
             z.stress.push_back(Sym6{0, 0, 0, 0, 0, 0});
             const TetGeometry tg = tet_geometry(g.pos[q[0]], g.pos[q[1]], g.pos[q[2]], g.pos[q[3]]);
             z.volume.push_back(tg.volume);
-            z.ev.push_back(0);
         }
         std::vector<int> corners;
         for (int node : mesh.corner_node[k]) corners.push_back(gridpoint(static_cast<int>(k), node));
@@ -155,12 +154,12 @@ void remove_zones(Model& m, const std::vector<int>& blocks) {
         z.state[w] = z.state[i];
         z.stress[w] = z.stress[i];
         z.volume[w] = z.volume[i];
-        z.ev[w] = z.ev[i];
         for (int c : z.gp[w]) used[c] = 1;
         ++w;
     }
     z.gp.resize(w); z.block.resize(w); z.model.resize(w); z.state.resize(w);
-    z.stress.resize(w); z.volume.resize(w); z.ev.resize(w);
+    z.stress.resize(w); z.volume.resize(w);
+    z.grad.clear();
     // Keep the gridpoints still used.
     std::vector<int> new_index(g.size(), -1);
     int n = 0;
@@ -223,6 +222,7 @@ void update_gridpoint_masses(Model& m) {
     const ZoneSet& z = m.zones;
     std::fill(g.mass.begin(), g.mass.end(), 0.0);
     std::fill(g.stiffness.begin(), g.stiffness.end(), 0.0);
+    m.zones.grad.clear();  // the geometry in use may have changed (zoning, `set small`)
     const bool large = m.settings.large_strain;
     for (int i = 0; i < z.size(); ++i) {
         if (!zone_active(m, i)) continue;
@@ -345,6 +345,27 @@ double zone_critical_timestep(const Model& m) {
     return 0.9 * dt;
 }
 
+namespace {
+
+// Shape-function gradients and volume of every zone from these positions.
+void refresh_zone_geometry(ZoneSet& z, const std::vector<Vec3>& x) {
+    const int nz = z.size();
+    z.grad.resize(nz);
+    for (int i = 0; i < nz; ++i) {
+        const auto& q = z.gp[i];
+        const TetGeometry t = tet_geometry(x[q[0]], x[q[1]], x[q[2]], x[q[3]]);
+        auto& g = z.grad[i];
+        for (int k = 0; k < 3; ++k) {
+            g[3 * k] = t.grad[k + 1].x();
+            g[3 * k + 1] = t.grad[k + 1].y();
+            g[3 * k + 2] = t.grad[k + 1].z();
+        }
+        z.volume[i] = t.volume;
+    }
+}
+
+} // namespace
+
 void zone_forces(Model& m, double dt) {
     GridpointSet& g = m.gridpoints;
     ZoneSet& z = m.zones;
@@ -360,50 +381,68 @@ void zone_forces(Model& m, double dt) {
     const int nz = z.size();
     if (nz == 0) return;
     const bool large = m.settings.large_strain;
-    const std::vector<Vec3>& x = large ? g.pos : g.ref;
-    // Material constants once per material.
+    // In large strain the zones follow their corners; in small strain their geometry is that
+    // of the model when zoned, computed once.
+    if (large || z.grad.size() != static_cast<size_t>(nz)) refresh_zone_geometry(z, large ? g.pos : g.ref);
+    // Material constants once per material; per zone whether it carries stress.
     std::vector<ZoneMaterialConstants> constants(m.materials.size());
     for (size_t k = 0; k < m.materials.size(); ++k) {
         if (m.materials[k].defined) constants[k] = zone_constants(m.materials[k]);
     }
-    // Pass 1: volumetric strain rates, averaged at the gridpoints.
+    const std::uint8_t* bflags = m.blocks.flags.data();
+    const int* bmat = m.blocks.material.data();
+    const Vec3* vel = g.vel.data();
+    // Pass 1: volumetric strain rates, averaged at the gridpoints (volume-weighted).
     for (int i = 0; i < nz; ++i) {
-        if (!zone_active(m, i)) continue;
+        if (z.model[i] == kZoneNull || (bflags[z.block[i]] & kExcavated)) continue;
         const auto& q = z.gp[i];
-        const TetGeometry t = tet_geometry(x[q[0]], x[q[1]], x[q[2]], x[q[3]]);
-        double ev = 0;
-        for (int k = 0; k < 4; ++k) ev += g.vel[q[k]].dot(t.grad[k]);
-        z.ev[i] = ev;
-        z.volume[i] = t.volume;
+        const auto& gr = z.grad[i];
+        const Vec3 v0 = vel[q[0]];
+        const Vec3 d1 = vel[q[1]] - v0, d2 = vel[q[2]] - v0, d3 = vel[q[3]] - v0;
+        const double ev = d1.x() * gr[0] + d1.y() * gr[1] + d1.z() * gr[2] + d2.x() * gr[3] + d2.y() * gr[4] +
+                          d2.z() * gr[5] + d3.x() * gr[6] + d3.y() * gr[7] + d3.z() * gr[8];
+        const double vev = z.volume[i] * ev;
         for (int k = 0; k < 4; ++k) {
-            g.nmd_rate[q[k]] += t.volume * ev;
-            g.nmd_volume[q[k]] += t.volume;
+            g.nmd_rate[q[k]] += vev;
+            g.nmd_volume[q[k]] += z.volume[i];
         }
     }
     for (int i = 0; i < ng; ++i) {
         if (g.nmd_volume[i] > 0) g.nmd_rate[i] /= g.nmd_volume[i];
     }
-    // Pass 2: stresses and corner forces.
+    // Pass 2: strain increments, stresses and corner forces.
     for (int i = 0; i < nz; ++i) {
-        if (!zone_active(m, i)) continue;
+        if (z.model[i] == kZoneNull || (bflags[z.block[i]] & kExcavated)) continue;
         const auto& q = z.gp[i];
-        const TetGeometry t = tet_geometry(x[q[0]], x[q[1]], x[q[2]], x[q[3]]);
-        Mat3 l = Mat3::Zero();
-        for (int k = 0; k < 4; ++k) l += g.vel[q[k]] * t.grad[k].transpose();
+        const auto& gr = z.grad[i];
+        // Velocity gradient L_ab = sum_k (v_k - v_0)_a grad_k,b over corners 1..3.
+        const Vec3 v0 = vel[q[0]];
+        const Vec3 d1 = vel[q[1]] - v0, d2 = vel[q[2]] - v0, d3 = vel[q[3]] - v0;
+        double l[3][3];
+        for (int a = 0; a < 3; ++a) {
+            for (int b = 0; b < 3; ++b) l[a][b] = d1[a] * gr[b] + d2[a] * gr[3 + b] + d3[a] * gr[6 + b];
+        }
+        const double ev = l[0][0] + l[1][1] + l[2][2];
         const double ev_bar = 0.25 * (g.nmd_rate[q[0]] + g.nmd_rate[q[1]] + g.nmd_rate[q[2]] + g.nmd_rate[q[3]]);
-        const double dv = (ev_bar - z.ev[i]) / 3.0;
-        Sym6 de = {(l(0, 0) + dv) * dt, (l(1, 1) + dv) * dt, (l(2, 2) + dv) * dt,
-                   0.5 * (l(0, 1) + l(1, 0)) * dt, 0.5 * (l(0, 2) + l(2, 0)) * dt, 0.5 * (l(1, 2) + l(2, 1)) * dt};
+        const double dv = (ev_bar - ev) / 3.0;
+        const Sym6 de = {(l[0][0] + dv) * dt, (l[1][1] + dv) * dt, (l[2][2] + dv) * dt,
+                         0.5 * (l[0][1] + l[1][0]) * dt, 0.5 * (l[0][2] + l[2][0]) * dt,
+                         0.5 * (l[1][2] + l[2][1]) * dt};
         Sym6& s = z.stress[i];
         if (large) {
-            // Jaumann rotation of the stress with the spin w = (L - L^T)/2 over the step.
-            Mat3 sg;
-            sg << s[0], s[3], s[4], s[3], s[1], s[5], s[4], s[5], s[2];
-            const Mat3 w = 0.5 * (l - l.transpose()) * dt;
-            const Mat3 r = sg + w * sg - sg * w;
-            s = {r(0, 0), r(1, 1), r(2, 2), r(0, 1), r(0, 2), r(1, 2)};
+            // Jaumann rotation of the stress by the spin over the step, w = (L - L^T) dt / 2:
+            // sigma += w sigma - sigma w.
+            const double wxy = 0.5 * (l[0][1] - l[1][0]) * dt, wxz = 0.5 * (l[0][2] - l[2][0]) * dt,
+                         wyz = 0.5 * (l[1][2] - l[2][1]) * dt;
+            const double sxx = s[0], syy = s[1], szz = s[2], sxy = s[3], sxz = s[4], syz = s[5];
+            s[0] = sxx + 2.0 * (wxy * sxy + wxz * sxz);
+            s[1] = syy + 2.0 * (-wxy * sxy + wyz * syz);
+            s[2] = szz + 2.0 * (-wxz * sxz - wyz * syz);
+            s[3] = sxy + wxy * (syy - sxx) + wxz * syz + wyz * sxz;
+            s[4] = sxz + wxz * (szz - sxx) + wxy * syz - wyz * sxy;
+            s[5] = syz + wyz * (szz - syy) - wxy * sxz - wxz * sxy;
         }
-        const ZoneMaterialConstants& c = constants[m.blocks.material[z.block[i]]];
+        const ZoneMaterialConstants& c = constants[bmat[z.block[i]]];
         if (z.model[i] == kZoneMohrCoulomb) {
             const std::uint8_t now = mohr_coulomb_increment(c, de, s);
             z.state[i] = static_cast<std::uint8_t>((z.state[i] & (kShearPast | kTensionPast)) | now |
@@ -412,15 +451,19 @@ void zone_forces(Model& m, double dt) {
         } else {
             elastic_increment(c, de, s);
         }
-        const double v = t.volume;
-        for (int k = 0; k < 4; ++k) {
-            const Vec3& a = t.grad[k];
-            const Vec3 f(-v * (s[0] * a.x() + s[3] * a.y() + s[4] * a.z()),
-                         -v * (s[3] * a.x() + s[1] * a.y() + s[5] * a.z()),
-                         -v * (s[4] * a.x() + s[5] * a.y() + s[2] * a.z()));
-            g.force[q[k]] += f;
-            g.force_scale[q[k]] += f.norm();
+        // Corner forces -V sigma grad_k; corner 0 takes minus the sum of the others.
+        const double v = z.volume[i];
+        Vec3 f0 = Vec3::Zero();
+        for (int k = 0; k < 3; ++k) {
+            const double ax = gr[3 * k], ay = gr[3 * k + 1], az = gr[3 * k + 2];
+            const Vec3 f(-v * (s[0] * ax + s[3] * ay + s[4] * az), -v * (s[3] * ax + s[1] * ay + s[5] * az),
+                         -v * (s[4] * ax + s[5] * ay + s[2] * az));
+            g.force[q[k + 1]] += f;
+            g.force_scale[q[k + 1]] += f.norm();
+            f0 -= f;
         }
+        g.force[q[0]] += f0;
+        g.force_scale[q[0]] += f0.norm();
     }
 }
 

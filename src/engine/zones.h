@@ -62,8 +62,11 @@ struct ZoneSet {
     std::vector<std::uint8_t> model;     // (n_zones) ZoneModel
     std::vector<std::uint8_t> state;     // (n_zones) ZoneState bits
     std::vector<Sym6> stress;            // (n_zones) Pa, tension positive
-    std::vector<double> volume;          // (n_zones) m^3, at the current geometry
-    std::vector<double> ev;              // (n_zones) 1/s, volumetric strain rate (scratch)
+    std::vector<double> volume;          // (n_zones) m^3, at the geometry in use
+    // Derived from the gridpoint positions (the current ones in large strain, those when zoned in
+    // small strain) and refreshed when they change; empty until first needed.
+    std::vector<std::array<double, 9>> grad; // (n_zones) 1/m, gradients of the shape functions of
+                                          //            corners 1..3 (corner 0's is minus their sum)
 
     int size() const { return static_cast<int>(gp.size()); }
 };
