@@ -3,6 +3,7 @@
 #include "engine/blocks.h"
 #include "engine/contact.h"
 #include "engine/cycle.h"
+#include "engine/zones.h"
 
 #include <cmath>
 
@@ -49,10 +50,79 @@ void print_blocks(CommandContext& ctx, const Args& a) {
     o << sel.size() << " of " << s.size() << " blocks (x, y, z: centroid; m, m/s, m^3, kg; fix: fixed, null: excavated, h: hidden)\n";
 }
 
+std::string zone_state_text(std::uint8_t model, std::uint8_t st) {
+    if (model == kZoneNull) return "null";
+    if (model == kZoneElastic) return "elastic";
+    std::string t;
+    if (st & kShearNow) t += "shear-n,";
+    if (st & kTensionNow) t += "tens-n,";
+    if ((st & kShearPast) && !(st & kShearNow)) t += "shear-p,";
+    if ((st & kTensionPast) && !(st & kTensionNow)) t += "tens-p,";
+    if (t.empty()) return "mc";
+    t.pop_back();
+    return t;
+}
+
+void print_zones(CommandContext& ctx, const Args& a) {
+    const Model& m = ctx.model;
+    const ZoneSet& z = m.zones;
+    std::ostream& o = ctx.out;
+    std::vector<int> sel;
+    for (int i = 0; i < z.size(); ++i) {
+        if (m.blocks.flags[z.block[i]] & kExcavated) continue;
+        if (a.range.contains_point(m, zone_centroid(m, i), z.block[i])) sel.push_back(i);
+    }
+    o << col("zone", 7) << col("block", 6) << col("x", 9) << col("y", 9) << col("z", 9) << col("smin", 10)
+      << col("smid", 10) << col("smax", 10) << "  state\n";
+    for (int i : sel) {
+        const Vec3 c = zone_centroid(m, i);
+        Vec3 p;
+        principal_stresses(z.stress[i], p);
+        o << col(std::to_string(i + 1), 7) << col(std::to_string(m.blocks.id[z.block[i]]), 6) << col(n3(c.x()), 9)
+          << col(n3(c.y()), 9) << col(n3(c.z()), 9) << col(n3(p[0]), 10) << col(n3(p[1]), 10) << col(n3(p[2]), 10)
+          << "  " << zone_state_text(z.model[i], z.state[i]) << "\n";
+    }
+    o << "\n" << col("zone", 7) << col("sxx", 10) << col("syy", 10) << col("szz", 10) << col("sxy", 10)
+      << col("sxz", 10) << col("syz", 10) << "\n";
+    for (int i : sel) {
+        const Sym6& s = z.stress[i];
+        o << col(std::to_string(i + 1), 7);
+        for (int k = 0; k < 6; ++k) o << col(n3(s[k]), 10);
+        o << "\n";
+    }
+    o << sel.size() << " of " << z.size()
+      << " zones (x, y, z: centroid; stresses in Pa, tension positive; smin the most compressive principal "
+         "stress; state: elastic, mc (Mohr-Coulomb, elastic now), shear-n/tens-n yielding now, shear-p/tens-p "
+         "yielded before, null)\n";
+}
+
+void print_gridpoints(CommandContext& ctx, const Args& a) {
+    const Model& m = ctx.model;
+    const GridpointSet& g = m.gridpoints;
+    std::ostream& o = ctx.out;
+    const std::vector<int> sel = select_gridpoints(m, a.range);
+    o << col("gp", 7) << col("x", 9) << col("y", 9) << col("z", 9) << col("xdis", 10) << col("ydis", 10)
+      << col("zdis", 10) << col("xvel", 10) << col("yvel", 10) << col("zvel", 10) << " held\n";
+    for (int i : sel) {
+        const Vec3 v = gridpoint_velocity_at_t(m, i);
+        std::string held;
+        for (int k = 0; k < 3; ++k) {
+            if (g.vel_bc[i] & (1 << k)) held += "xyz"[k];
+        }
+        if (held.empty()) held = "-";
+        o << col(std::to_string(i + 1), 7) << col(n3(g.pos[i].x()), 9) << col(n3(g.pos[i].y()), 9)
+          << col(n3(g.pos[i].z()), 9) << col(n3(g.disp[i].x()), 10) << col(n3(g.disp[i].y()), 10)
+          << col(n3(g.disp[i].z()), 10) << col(n3(v.x()), 10) << col(n3(v.y()), 10) << col(n3(v.z()), 10) << " "
+          << held << "\n";
+    }
+    o << sel.size() << " of " << g.size()
+      << " gridpoints (m, m/s; held: velocity components held by 'fix' or 'bound ...vel')\n";
+}
+
 void print_properties(CommandContext& ctx) {
     const Model& m = ctx.model;
     std::ostream& o = ctx.out;
-    o << "block materials (density kg/m^3; the others are kept for deformable blocks)\n";
+    o << "block materials (density kg/m^3; moduli, cohesion and tension Pa; angles degrees: zones of deformable blocks)\n";
     o << col("mat", 5) << col("density", 10) << col("bulk", 10) << col("shear", 10) << col("cohesion", 10)
       << col("friction", 10) << col("tension", 10) << col("dilation", 10) << "\n";
     int n = 0;
@@ -175,6 +245,51 @@ void print_max(CommandContext& ctx) {
     contact_line("joint shear stress", sstress, "Pa");
     contact_line("joint normal closure", ndis, "m");
     contact_line("joint shear displacement", sdis, "m");
+    if (m.zones.size() > 0) {
+        const ZoneSet& z = m.zones;
+        const GridpointSet& g = m.gridpoints;
+        Max gdisp, gvel, gunbal, smin, smax;
+        for (int i = 0; i < g.size(); ++i) {
+            if (m.blocks.flags[g.block[i]] & kExcavated) continue;
+            take(gdisp, g.disp[i].norm(), i);
+            take(gvel, gridpoint_velocity_at_t(m, i).norm(), i);
+            if (g.mass[i] > 0 && g.vel_bc[i] != 7) {
+                Vec3 f = g.force[i];
+                for (int k = 0; k < 3; ++k) {
+                    if (g.vel_bc[i] & (1 << k)) f[k] = 0;
+                }
+                take(gunbal, f.norm(), i);
+            }
+        }
+        for (int i = 0; i < z.size(); ++i) {
+            if (z.model[i] == kZoneNull || (m.blocks.flags[z.block[i]] & kExcavated)) continue;
+            Vec3 p;
+            principal_stresses(z.stress[i], p);
+            take(smin, -p[0], i);  // the most compressive: largest compression
+            take(smax, p[2], i);
+        }
+        auto gp_line = [&](const char* what, const Max& mx, const char* unit) {
+            o << col(what, 26) << "  ";
+            if (mx.where < 0) {
+                o << "-\n";
+                return;
+            }
+            o << num(mx.value) << " " << unit << " at gridpoint " << mx.where + 1 << " " << vec_text(g.pos[mx.where]) << "\n";
+        };
+        auto zone_line = [&](const char* what, const Max& mx, double sign) {
+            o << col(what, 26) << "  ";
+            if (mx.where < 0) {
+                o << "-\n";
+                return;
+            }
+            o << num(sign * mx.value) << " Pa at zone " << mx.where + 1 << " " << vec_text(zone_centroid(m, mx.where)) << "\n";
+        };
+        gp_line("gridpoint displacement", gdisp, "m");
+        gp_line("gridpoint velocity", gvel, "m/s");
+        gp_line("gridpoint unbalanced force", gunbal, "N");
+        zone_line("smin (most compressive)", smin, -1.0);
+        zone_line("smax (most tensile)", smax, 1.0);
+    }
     o << col("mean unbalanced ratio", 26) << "  " << num(unbalanced_ratio(m)) << "\n";
 }
 
@@ -189,6 +304,15 @@ void print_info(CommandContext& ctx) {
     o << "title:      " << (m.title.empty() ? "(none)" : m.title) << "\n";
     o << "blocks:     " << m.blocks.size() << " (" << n_fixed << " fixed, " << n_excavated << " excavated)\n";
     o << "contacts:   " << m.contacts.size() << "\n";
+    if (m.zones.size() > 0) {
+        int models[3] = {0, 0, 0};
+        for (auto c : m.zones.model) ++models[c < 3 ? c : 0];
+        int deformable = 0;
+        for (int b = 0; b < m.blocks.size(); ++b) deformable += (m.blocks.flags[b] & kDeformable) != 0;
+        o << "zones:      " << m.zones.size() << " in " << deformable << " deformable blocks (" << models[1]
+          << " elastic, " << models[2] << " Mohr-Coulomb, " << models[0] << " null), " << m.gridpoints.size()
+          << " gridpoints, " << (m.settings.large_strain ? "large" : "small") << " strain\n";
+    }
     o << "joint sets: " << m.n_joint_sets << " (" << m.joint_planes.size() << " planes, " << m.slivers_skipped
       << " cuts skipped as slivers)\n";
     o << "materials: ";
@@ -251,16 +375,21 @@ const CommandSpec& print_command() {
         c.keyword("contact", 2, "contacts: blocks, centroid, area, stresses, displacements, state").in_choice(1);
         c.keyword("max", 2, "the largest displacement, velocity, unbalanced force and joint quantities, and where").in_choice(1);
         c.keyword("property", 3, "every block and joint material and its properties").in_choice(1);
+        c.keyword("zone", 2, "zones of deformable blocks: centroid, principal stresses, state, stress tensor").in_choice(1);
+        c.keyword("gridpoint", 2, "gridpoints of deformable blocks: position, displacement, velocity, what holds them").in_choice(1);
+        c.keyword("gp", 2, "same as 'gridpoint'").in_choice(1);
         c.range();
         c.require_one_of(1);
         c.example("print block range z 0 10");
         c.example("print hist 1 2");
         c.handle([](CommandContext& ctx, const Args& a) {
             const std::string what = a.chosen(1);
-            if (a.has_range && what != "block" && what != "contact") {
-                fail(a.range_loc, "'range' goes with 'print block' and 'print contact'", {}, "print");
+            if (a.has_range && what != "block" && what != "contact" && what != "zone" && what != "gridpoint" && what != "gp") {
+                fail(a.range_loc, "'range' goes with 'print block', 'contact', 'zone' and 'gridpoint'", {}, "print");
             }
             if (what == "block") print_blocks(ctx, a);
+            else if (what == "zone") print_zones(ctx, a);
+            else if (what == "gridpoint" || what == "gp") print_gridpoints(ctx, a);
             else if (what == "contact") print_contacts(ctx, a);
             else if (what == "max") print_max(ctx);
             else if (what == "history") print_histories(ctx, a);

@@ -11,8 +11,8 @@ struct Missing {
 
 // Sorted by nothing but reading order; each is matched by a prefix of 3 letters or more.
 const Missing kMissing[] = {
-    {"gridpoint", "'gridpoint' (gridpoints of deformable blocks) is not available yet: odec models rigid blocks "
-                  "only"},
+    {"gridpoint", "the 'gridpoint' command is not available: gridpoints of deformable blocks are held with 'fix' "
+                  "and 'bound ...vel', loaded with 'bound', listed with 'print gp' and recorded with 'hist'"},
     {"define", "FISH ('define' ... 'end') is not available yet: the command language runs, FISH functions do not"},
     {"config", "'config' is not needed: odec always runs the mechanical model, static or dynamic by 'damp'"},
     {"structure", "structural elements ('structure', cables, bolts, liners) are not available yet"},

@@ -175,7 +175,9 @@ void mesh_with(const Gmsh& g, const std::vector<Polyhedron>& solids, double edge
     check(g, ierr, "the mesher could not start a model");
     option("General.NumThreads", 1);
     option("Mesh.Algorithm", 6);      // frontal-Delaunay on the faces
-    option("Mesh.Algorithm3D", 10);   // HXT in the volumes
+    // Classic Delaunay in the volumes: the faster HXT orders its work by memory addresses, so
+    // its meshes change with whatever the session allocated before; results must not.
+    option("Mesh.Algorithm3D", 1);
     option("Mesh.MeshSizeMax", edge);
     option("Mesh.MeshSizeMin", 0);
     option("Mesh.MeshSizeExtendFromBoundary", 1);
@@ -249,9 +251,10 @@ void mesh_with(const Gmsh& g, const std::vector<Polyhedron>& solids, double edge
     check(g, ierr, "the mesher refused the geometry");
     g.generate(3, &ierr);
     if (ierr) {
-        // HXT refuses some inputs that the classic Delaunay mesher takes.
+        // HXT takes some inputs that the classic Delaunay mesher refuses: a mesh that may differ
+        // from run to run is better than none.
         g.mesh_clear(nullptr, 0, &ierr);
-        option("Mesh.Algorithm3D", 1);
+        option("Mesh.Algorithm3D", 10);
         g.generate(3, &ierr);
         check(g, ierr, "the mesher failed");
     }

@@ -2,7 +2,7 @@
 //
 // The mesher is Gmsh's library (Debian's libgmsh-dev, GPL-2-or-later with exceptions,
 // compatible with odec's GPL-3), opened at the first zoning: its frontal-Delaunay surface
-// mesher and HXT volume mesher
+// mesher and Delaunay volume mesher
 // give zones of good quality quickly, and, because all the blocks of one call are given to
 // it as one geometry in which a face shared by two blocks (the same polygon) is one surface,
 // the meshes of neighbouring blocks conform on their shared faces node for node.

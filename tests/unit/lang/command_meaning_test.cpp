@@ -164,7 +164,7 @@ TEST(CommandMeaning, WordsOfMissingFeaturesSayWhatIsMissing) {
     for (const char* line : {"def f", "gp"}) {
         Session s;
         EXPECT_FALSE(s.run(line));
-        EXPECT_NE(s.error().find("is not available yet"), std::string::npos) << line << "\n" << s.error();
+        EXPECT_NE(s.error().find("is not available"), std::string::npos) << line << "\n" << s.error();
         EXPECT_EQ(s.error().find("unknown command"), std::string::npos) << s.error();
     }
     // A plain typo is still unknown, with a suggestion.

@@ -1,0 +1,209 @@
+// Deformable blocks through the interpreter: zoning, continua of joined blocks, boundary
+// conditions on gridpoints, stresses, histories, tables, and the errors of bad input.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "engine/zones.h"
+#include "test_util.h"
+
+using odec::test::Session;
+using namespace odec;
+
+namespace {
+
+const char* kCube = "poly brick 0 1 0 1 0 1\nprop mat=1 dens=2500 ymod=10e9 prat=0.25\n";
+
+} // namespace
+
+TEST(Zones, GenEdgeDividesABlockIntoGoodTetrahedra) {
+    Session s;
+    s.interp.quiet = false;
+    ASSERT_TRUE(s.run(std::string(kCube) + "gen edge 0.25")) << s.error();
+    const Model& m = s.model;
+    EXPECT_TRUE(m.blocks.flags[0] & kDeformable);
+    EXPECT_GT(m.zones.size(), 200);
+    EXPECT_LT(m.zones.size(), 1000);
+    // The zones fill the block: their volumes add up to it, none is flat.
+    double volume = 0, smallest = 1;
+    for (int z = 0; z < m.zones.size(); ++z) {
+        const auto& q = m.zones.gp[z];
+        const auto& x = m.gridpoints.pos;
+        const double v = (x[q[1]] - x[q[0]]).dot((x[q[2]] - x[q[0]]).cross(x[q[3]] - x[q[0]])) / 6.0;
+        volume += v;
+        smallest = std::min(smallest, v);
+    }
+    EXPECT_NEAR(volume, 1.0, 1e-12);
+    EXPECT_GT(smallest, 1e-5);
+    // The report names the counts and the worst quality.
+    const std::string out = s.out.str();
+    EXPECT_NE(out.find("zoned 1 blocks: " + std::to_string(m.zones.size()) + " zones"), std::string::npos) << out;
+    const size_t at = out.find("worst ");
+    ASSERT_NE(at, std::string::npos);
+    EXPECT_GT(std::stod(out.substr(at + 6)), 0.2) << out;
+    // Gridpoint masses add up to the block's mass.
+    double mass = 0;
+    for (double g : m.gridpoints.mass) mass += g;
+    EXPECT_NEAR(mass, 2500.0, 1e-9);
+}
+
+TEST(Zones, TheSameModelGetsTheSameZonesWhateverCameBefore) {
+    Session a, b;
+    ASSERT_TRUE(a.run(std::string(kCube) + "gen edge 0.2")) << a.error();
+    ASSERT_TRUE(b.run("poly brick 0 9 0 9 0 9\njset dip 30 dd 20 spacing 0.7\ngroup 'x' range z 0 4\nnew\n" +
+                      std::string(kCube) + "gen edge 0.2"))
+        << b.error();
+    ASSERT_EQ(a.model.zones.size(), b.model.zones.size());
+    ASSERT_EQ(a.model.gridpoints.size(), b.model.gridpoints.size());
+    EXPECT_TRUE(a.model.zones.gp == b.model.zones.gp);
+    EXPECT_TRUE(a.model.gridpoints.pos == b.model.gridpoints.pos);
+}
+
+TEST(Zones, JoinedBlocksShareGridpointsAndOthersDoNot) {
+    Session joined;
+    ASSERT_TRUE(joined.run("poly brick 0 1 0 1 0 1\npoly brick 0 1 0 1 1 2\nprop mat=1 dens=2500 k=5e9 g=3e9\n"
+                           "join\ngen edge 0.3"))
+        << joined.error();
+    const Model& m = joined.model;
+    EXPECT_EQ(m.blocks.body[0], m.blocks.body[1]);
+    // Gridpoints on the shared face z = 1 belong to zones of both blocks.
+    int shared = 0;
+    std::vector<int> owners(m.gridpoints.size(), 0);
+    for (int z = 0; z < m.zones.size(); ++z) {
+        for (int g : m.zones.gp[z]) owners[g] |= 1 << m.zones.block[z];
+    }
+    for (int g = 0; g < m.gridpoints.size(); ++g) {
+        if (owners[g] == 3) {
+            ++shared;
+            EXPECT_NEAR(m.gridpoints.pos[g].z(), 1.0, 1e-12);
+        }
+    }
+    EXPECT_GE(shared, 9);
+    // The continuum cycles: joined blocks need no contact between them.
+    ASSERT_TRUE(joined.run("grav 0 0 -10\nfix range z -0.01 0.01\nsolve")) << joined.error();
+    double top = 0;
+    for (int g = 0; g < m.gridpoints.size(); ++g) top = std::min(top, m.gridpoints.disp[g].z());
+    EXPECT_LT(top, 0.0);
+
+    Session apart;
+    ASSERT_TRUE(apart.run("poly brick 0 1 0 1 0 1\npoly brick 0 1 0 1 1 2\nprop mat=1 dens=2500 k=5e9 g=3e9\n"
+                          "gen edge 0.3"))
+        << apart.error();
+    EXPECT_NE(apart.model.blocks.body[0], apart.model.blocks.body[1]);
+    EXPECT_FALSE(apart.run("grav 0 0 -10\nstep 1"));
+    EXPECT_NE(apart.error().find("contacts of deformable blocks are not available yet"), std::string::npos)
+        << apart.error();
+}
+
+TEST(Zones, BadInputIsRefusedAndChangesNothing) {
+    Session s;
+    ASSERT_TRUE(s.run(kCube)) << s.error();
+    EXPECT_FALSE(s.run("gen edge 0"));
+    EXPECT_NE(s.error().find("'edge' must be > 0 (got 0)"), std::string::npos) << s.error();
+    EXPECT_FALSE(s.run("gen edge -1"));
+    EXPECT_FALSE(s.run("gen edge 1e-4"));
+    EXPECT_NE(s.error().find("zones in 1 blocks"), std::string::npos) << s.error();
+    EXPECT_NE(s.error().find("give a larger edge"), std::string::npos) << s.error();
+    EXPECT_FALSE(s.run("gen"));
+    EXPECT_NE(s.error().find("'generate' needs 'edge e'"), std::string::npos) << s.error();
+    EXPECT_EQ(s.model.zones.size(), 0);
+    EXPECT_FALSE(s.model.blocks.flags[0] & kDeformable);
+    EXPECT_FALSE(s.run("insitu stress -1e6 -1e6 -1e6 0 0 0"));
+    EXPECT_NE(s.error().find("there are no zones: rigid blocks carry no stress"), std::string::npos) << s.error();
+    EXPECT_FALSE(s.run("bound stress 0 0 -1e6 0 0 0"));
+    EXPECT_NE(s.error().find("'bound stress' acts on deformable blocks"), std::string::npos) << s.error();
+    // A model whose zones lack elastic moduli, or a material, cannot cycle, and says which.
+    Session t;
+    ASSERT_TRUE(t.run("poly brick 0 1 0 1 0 1\nprop mat=1 dens=2500\ngen edge 0.5")) << t.error();
+    EXPECT_FALSE(t.run("step 1"));
+    EXPECT_NE(t.error().find("the zones of block 1 have no stiffness: material 1 needs a bulk and a shear modulus"),
+              std::string::npos)
+        << t.error();
+    EXPECT_EQ(t.model.step, 0);
+    Session u;
+    ASSERT_TRUE(u.run("poly brick 0 1 0 1 0 1 material 3\ngen edge 0.5")) << u.error();
+    EXPECT_FALSE(u.run("step 1"));
+    EXPECT_NE(u.error().find("material 3 is not defined"), std::string::npos) << u.error();
+    // An excavated block is not zoned; the range selects nothing, and says so.
+    Session v;
+    ASSERT_TRUE(v.run(std::string(kCube) + "excavate range id 1\ngen edge 0.5")) << v.error();
+    EXPECT_EQ(v.model.zones.size(), 0);
+    EXPECT_NE(v.error().find("the range selects no blocks"), std::string::npos) << v.error();
+}
+
+TEST(Zones, InsituStressWithGradientAndChangeCons) {
+    Session s;
+    ASSERT_TRUE(s.run(std::string(kCube) + "gen edge 0.3\ninsitu stress -1e6 -2e6 -3e6 1e5 0 0 zgrad 0 0 1e4 0 0 0\n"
+                                           "change cons=2 range z 0 0.5"))
+        << s.error();
+    const Model& m = s.model;
+    int mc = 0;
+    for (int z = 0; z < m.zones.size(); ++z) {
+        const Vec3 c = zone_centroid(m, z);
+        EXPECT_DOUBLE_EQ(m.zones.stress[z][0], -1e6);
+        EXPECT_DOUBLE_EQ(m.zones.stress[z][3], 1e5);
+        EXPECT_NEAR(m.zones.stress[z][2], -3e6 + 1e4 * c.z(), 1e-6);
+        mc += m.zones.model[z] == kZoneMohrCoulomb;
+        EXPECT_EQ(m.zones.model[z] == kZoneMohrCoulomb, c.z() <= 0.5 + 1e-9);
+    }
+    EXPECT_GT(mc, 0);
+}
+
+TEST(Zones, GravityLoadsTheBaseWithTheWeightAndStressGrowsWithDepth) {
+    Session s;
+    ASSERT_TRUE(s.run("poly brick 0 1 0 1 0 2\nprop mat=1 dens=2000 k=5e9 g=3e9\ngen edge 0.25\ngrav 0 0 -10\n"
+                      "bound zvel 0 range z -0.001 0.001\nbound xvel 0 range x -0.001 0.001\n"
+                      "bound xvel 0 range x 0.999 1.001\nbound yvel 0 range y -0.001 0.001\n"
+                      "bound yvel 0 range y 0.999 1.001\n"
+                      "hist zreaction range z -0.001 0.001\nhist szz 0.5,0.5,0.5\nsolve ratio 1e-7"))
+        << s.error();
+    const Model& m = s.model;
+    // The base carries the weight, 2000 kg/m^3 x 2 m^3 x 10 m/s^2, pushing down on its support.
+    EXPECT_NEAR(m.histories.items[0].values.back(), -40000.0, 40.0);
+    // Zones: szz = -rho g (2 - z). Each uniform-strain zone has one stress for a field that
+    // varies across it, so the check is on the fit over all zones: the slope (rho g) within 2 %,
+    // the stress at the top within 2 % of the base stress, and the volume-weighted mean (the
+    // weight over the area, averaged over the height) within 0.5 %.
+    double sv = 0, sz = 0, ss = 0, szz2 = 0, szs = 0, vol = 0, mean = 0;
+    for (int z = 0; z < m.zones.size(); ++z) {
+        const double zc = zone_centroid(m, z).z(), st = m.zones.stress[z][2];
+        sv += 1;
+        sz += zc;
+        ss += st;
+        szz2 += zc * zc;
+        szs += zc * st;
+        vol += m.zones.volume[z];
+        mean += m.zones.volume[z] * st;
+    }
+    const double slope = (sv * szs - sz * ss) / (sv * szz2 - sz * sz);
+    const double at_top = (ss - slope * sz) / sv + slope * 2.0;
+    EXPECT_NEAR(slope, 2e4, 0.02 * 2e4);
+    EXPECT_NEAR(at_top, 0.0, 0.02 * 4e4);
+    EXPECT_NEAR(mean / vol, -2e4, 0.005 * 2e4);
+    // print lists zones and gridpoints; print max names the most compressive stress.
+    s.interp.quiet = false;
+    ASSERT_TRUE(s.run("print zone range z 0 0.3\nprint gp range z 1.99 2.01\nprint max\nprint info")) << s.error();
+    const std::string out = s.out.str();
+    EXPECT_NE(out.find("zones (x, y, z: centroid; stresses in Pa, tension positive"), std::string::npos) << out;
+    EXPECT_NE(out.find("gridpoints (m, m/s; held"), std::string::npos) << out;
+    EXPECT_NE(out.find("smin (most compressive)"), std::string::npos) << out;
+    EXPECT_NE(out.find("zones:      " + std::to_string(m.zones.size()) + " in 1 deformable blocks"), std::string::npos)
+        << out;
+}
+
+TEST(Zones, FixAndFreeActOnGridpointsByPosition) {
+    Session s;
+    s.interp.quiet = false;
+    ASSERT_TRUE(s.run(std::string(kCube) + "gen edge 0.5\nfix range z -0.01 0.01")) << s.error();
+    const Model& m = s.model;
+    int held = 0;
+    for (int g = 0; g < m.gridpoints.size(); ++g) {
+        EXPECT_EQ(m.gridpoints.vel_bc[g] == 7, m.gridpoints.pos[g].z() < 1e-9);
+        held += m.gridpoints.vel_bc[g] == 7;
+    }
+    EXPECT_NE(s.out.str().find("0 blocks fixed, " + std::to_string(held) + " gridpoints fixed"), std::string::npos)
+        << s.out.str();
+    ASSERT_TRUE(s.run("free range z -0.01 0.01")) << s.error();
+    for (int g = 0; g < m.gridpoints.size(); ++g) EXPECT_EQ(m.gridpoints.vel_bc[g], 0);
+}
