@@ -41,7 +41,9 @@ const CommandSpec& generate_command() {
                    "default, 2 Mohr-Coulomb, 0 null). Blocks zoned in one command that are joined ('join', "
                    "'jset ... join') and share a whole face get the same gridpoints on it: they deform as "
                    "one continuum. Zoning a deformable block again replaces its zones (their stresses are "
-                   "lost). The command reports the zones and gridpoints made and the worst zone's radius "
+                   "lost) and zones the rest of its continuum again with it at their own size, so that a "
+                   "continuum can be zoned finer where it matters: 'gen edge 1' then 'gen edge 0.2 range ...' "
+                   "grades from 0.2 m to 1 m, conforming. The command reports the zones and gridpoints made and the worst zone's radius "
                    "ratio (3 r_in / r_out: 1 for a regular tetrahedron).");
         c.example("gen edge 0.5");
         c.example("zone edge 0.2 range z -5 0");
@@ -52,16 +54,33 @@ const CommandSpec& generate_command() {
             const double edge = a.real("edge");
             std::vector<int> blocks = blocks_to_change(ctx, a);
             if (blocks.empty()) return;
-            // The count of zones before meshing: refuse what no session could hold.
-            double volume = 0, largest = 0;
-            for (int b : blocks) {
-                volume += m.blocks.volume[b];
-                Vec3 lo, hi;
-                m.blocks.shape[b].bounds(lo, hi);
-                largest = std::max(largest, (hi - lo).maxCoeff());
+            // The other blocks of a continuum being zoned again are zoned with it, at their own
+            // size, so that its zones still conform (and grade from fine to coarse).
+            std::vector<double> edges(blocks.size(), edge);
+            {
+                std::vector<char> chosen(m.blocks.size(), 0);
+                std::vector<char> bodies;
+                for (int b : blocks) {
+                    chosen[b] = 1;
+                    const int body = m.blocks.body[b];
+                    if (body > 0) {
+                        if (static_cast<int>(bodies.size()) <= body) bodies.resize(body + 1, 0);
+                        bodies[body] = 1;
+                    }
+                }
+                for (int b = 0; b < m.blocks.size(); ++b) {
+                    const int body = m.blocks.body[b];
+                    if (chosen[b] || body <= 0 || body >= static_cast<int>(bodies.size()) || !bodies[body]) continue;
+                    blocks.push_back(b);
+                    edges.push_back(m.blocks.zone_edge[b] > 0 ? m.blocks.zone_edge[b] : edge);
+                }
             }
-            const double per_zone = edge * edge * edge / (6.0 * std::sqrt(2.0));
-            const double estimate = volume / per_zone;
+            // The count of zones before meshing: refuse what no session could hold.
+            double volume = 0, estimate = 0;
+            for (size_t k = 0; k < blocks.size(); ++k) {
+                volume += m.blocks.volume[blocks[k]];
+                estimate += m.blocks.volume[blocks[k]] / (edges[k] * edges[k] * edges[k] / (6.0 * std::sqrt(2.0)));
+            }
             const double limit = ctx.interp.limits.max_zones > 0 ? static_cast<double>(ctx.interp.limits.max_zones) : kMaxZones;
             if (!(estimate <= limit)) {
                 fail(eu->values[0].loc,
@@ -77,7 +96,7 @@ const CommandSpec& generate_command() {
             solids.reserve(blocks.size());
             for (int b : blocks) solids.push_back(world_shape(m, b));
             TetMesh mesh;
-            const std::string why = mesh_solids(solids, edge, mesh);
+            const std::string why = mesh_solids(solids, edges, mesh);
             if (!why.empty()) fail(a.loc, why, {"try another edge length"}, "generate");
             std::vector<int> position(m.blocks.size(), -1);
             for (size_t k = 0; k < blocks.size(); ++k) position[blocks[k]] = static_cast<int>(k);
@@ -116,6 +135,7 @@ const CommandSpec& generate_command() {
             bm.tets = std::move(mesh.tets);
             bm.corner_node = std::move(mesh.corner_node);
             zone_blocks(m, blocks, body, bm);
+            for (size_t k = 0; k < blocks.size(); ++k) m.blocks.zone_edge[blocks[k]] = edges[k];
             long made = 0;
             for (const auto& t : bm.tets) made += static_cast<long>(t.size());
             if (!ctx.interp.quiet) {

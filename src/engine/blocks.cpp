@@ -14,7 +14,7 @@ static void for_each_array(BlockSet& s, F&& f) {
     f(s.accel); f(s.ang_accel); f(s.force); f(s.moment); f(s.applied_force); f(s.force_scale);
     f(s.disp); f(s.rotation); f(s.volume); f(s.mass); f(s.inertia_body); f(s.inertia_unit);
     f(s.material); f(s.region); f(s.group); f(s.flags); f(s.vel_bc); f(s.vel_bc_value);
-    f(s.vel_bc_table); f(s.half_kick); f(s.cons); f(s.corner_gp); f(s.body);
+    f(s.vel_bc_table); f(s.half_kick); f(s.cons); f(s.corner_gp); f(s.zone_edge); f(s.body);
 }
 
 int add_block(Model& m, const Polyhedron& world, int region, int group, int material) {
@@ -50,6 +50,7 @@ int add_block(Model& m, const Polyhedron& world, int region, int group, int mate
     s.half_kick.push_back(1);
     s.cons.push_back(kZoneElastic);
     s.corner_gp.emplace_back();
+    s.zone_edge.push_back(0);
     s.body.push_back(0);
     const int b = s.size() - 1;
     const int mat = material;

@@ -100,6 +100,7 @@ struct BlockSet {
     std::vector<std::uint8_t> half_kick;  // (n_blocks) 1: velocity given at t, first kick is dt/2
     std::vector<std::uint8_t> cons;       // (n_blocks) zone model its zones get (ZoneModel)
     std::vector<std::vector<int>> corner_gp; // (n_blocks) deformable: gridpoint at each vertex; else empty
+    std::vector<double> zone_edge;        // (n_blocks) m, deformable: the edge length it was zoned with
     std::vector<int> body;                // (n_blocks) deformable: continuum it belongs to (blocks zoned
                                           //            together and joined share gridpoints), 1-based; rigid 0
 

@@ -135,6 +135,7 @@ void remove_zones(Model& m, const std::vector<int>& blocks) {
         for (int b : blocks) {
             m.blocks.corner_gp[b].clear();
             m.blocks.body[b] = 0;
+            m.blocks.zone_edge[b] = 0;
             m.blocks.flags[b] &= static_cast<std::uint8_t>(~kDeformable);
         }
         return;
@@ -208,6 +209,7 @@ void remove_zones(Model& m, const std::vector<int>& blocks) {
         if (gone[b]) {
             m.blocks.corner_gp[b].clear();
             m.blocks.body[b] = 0;
+            m.blocks.zone_edge[b] = 0;
             m.blocks.flags[b] &= static_cast<std::uint8_t>(~kDeformable);
         } else {
             for (int& c : m.blocks.corner_gp[b]) c = new_index[c];

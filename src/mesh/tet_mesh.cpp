@@ -163,7 +163,9 @@ struct GmshArray {
     GmshArray& operator=(const GmshArray&) = delete;
 };
 
-void mesh_with(const Gmsh& g, const std::vector<Polyhedron>& solids, double edge, PointMerge& merge, TetMesh& out) {
+void mesh_with(const Gmsh& g, const std::vector<Polyhedron>& solids, const std::vector<double>& edges,
+               PointMerge& merge, TetMesh& out) {
+    const double edge = *std::max_element(edges.begin(), edges.end());
     int ierr = 0;
     auto option = [&](const char* name, double v) {
         g.set_number(name, v, &ierr);
@@ -188,23 +190,31 @@ void mesh_with(const Gmsh& g, const std::vector<Polyhedron>& solids, double edge
     check(g, ierr, "the mesher could not start a model");
 
     // Geometry: shared points, lines and faces are one entity each.
-    std::vector<int> point_tag;                 // merged point -> gmsh tag
+    // Points first: one per merged vertex, sized by the finest solid that has it, so that the
+    // zones grade from fine blocks to coarse ones.
+    std::vector<std::vector<int>> solid_points(solids.size());
+    std::vector<double> point_size;
+    for (size_t s = 0; s < solids.size(); ++s) {
+        for (const Vec3& v : solids[s].vertices) {
+            const int q = merge.find_or_add(v);
+            if (q == static_cast<int>(point_size.size())) point_size.push_back(edges[s]);
+            point_size[q] = std::min(point_size[q], edges[s]);
+            solid_points[s].push_back(q);
+        }
+    }
+    std::vector<int> point_tag(point_size.size());  // merged point -> gmsh tag
+    for (size_t q = 0; q < point_size.size(); ++q) {
+        const Vec3& v = merge.points[q];
+        point_tag[q] = g.add_point(v.x(), v.y(), v.z(), point_size[q], -1, &ierr);
+        check(g, ierr, "the mesher refused a corner of a block");
+    }
     std::map<std::pair<int, int>, int> lines;   // (lo, hi) merged points -> line tag
     std::map<std::vector<int>, int> faces;      // sorted merged points -> surface tag
-    std::vector<std::vector<int>> solid_points(solids.size());
     std::vector<int> volume_tag(solids.size());
     out.face_surface.assign(solids.size(), {});
     for (size_t s = 0; s < solids.size(); ++s) {
         const Polyhedron& p = solids[s];
-        std::vector<int>& sp = solid_points[s];
-        for (const Vec3& v : p.vertices) {
-            const int q = merge.find_or_add(v);
-            if (q == static_cast<int>(point_tag.size())) {
-                point_tag.push_back(g.add_point(v.x(), v.y(), v.z(), edge, -1, &ierr));
-                check(g, ierr, "the mesher refused a corner of a block");
-            }
-            sp.push_back(q);
-        }
+        const std::vector<int>& sp = solid_points[s];
         std::vector<int> surfaces;
         for (int f = 0; f < p.n_faces(); ++f) {
             std::vector<int> loop;
@@ -313,10 +323,15 @@ void mesh_with(const Gmsh& g, const std::vector<Polyhedron>& solids, double edge
 
 } // namespace
 
-std::string mesh_solids(const std::vector<Polyhedron>& solids, double edge, TetMesh& out) {
+std::string mesh_solids(const std::vector<Polyhedron>& solids, const std::vector<double>& edges, TetMesh& out) {
     out = TetMesh();
     if (solids.empty()) return "";
-    if (!(edge > 0) || !std::isfinite(edge)) return "the zone edge length must be a positive number";
+    if (edges.size() != solids.size()) return "one zone size per block is needed";
+    double edge = 0;
+    for (double e : edges) {
+        if (!(e > 0) || !std::isfinite(e)) return "the zone edge length must be a positive number";
+        edge = std::max(edge, e);
+    }
     Vec3 lo = solids[0].vertices[0], hi = lo;
     for (const Polyhedron& p : solids) {
         for (const Vec3& v : p.vertices) {
@@ -329,7 +344,7 @@ std::string mesh_solids(const std::vector<Polyhedron>& solids, double edge, TetM
     const Gmsh& g = gmsh_library();
     if (!g.loaded) return g.why;
     try {
-        mesh_with(g, solids, edge, merge, out);
+        mesh_with(g, solids, edges, merge, out);
     } catch (const MeshError& e) {
         int ierr = 0;
         g.clear(&ierr);

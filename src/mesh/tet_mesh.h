@@ -29,10 +29,11 @@ struct TetMesh {
     double mean_quality = 1;
 };
 
-// Mesh each convex solid into tetrahedra of mean edge length about `edge` (m). Returns ""
-// on success, else why not (the mesher's own message). The same solids and edge give the
-// same mesh, bit for bit.
-std::string mesh_solids(const std::vector<Polyhedron>& solids, double edge, TetMesh& out);
+// Mesh each convex solid into tetrahedra of mean edge length about edges[s] (m): a vertex
+// shared by solids takes the smallest, and sizes grade in between. Returns "" on success,
+// else why not (the mesher's own message). The same solids and edges give the same mesh, bit
+// for bit, whatever the session did before.
+std::string mesh_solids(const std::vector<Polyhedron>& solids, const std::vector<double>& edges, TetMesh& out);
 
 // Radius ratio of a tetrahedron: 3 r_in / r_circumscribed, 1 for a regular one, 0 when flat.
 double radius_ratio(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
