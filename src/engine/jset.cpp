@@ -46,18 +46,6 @@ struct SplitMix64 {
     double uniform() { return static_cast<double>(next() >> 11) * (1.0 / 9007199254740992.0); }
 };
 
-// Sine of an angle in degrees, exact at multiples of 90.
-double sin_deg(double a) {
-    double r = std::fmod(a, 360.0);
-    if (r < 0) r += 360.0;
-    if (r == 0 || r == 180) return 0;
-    if (r == 90) return 1;
-    if (r == 270) return -1;
-    return std::sin(r * (kPi / 180.0));
-}
-
-double cos_deg(double a) { return sin_deg(a + 90.0); }
-
 double density(const Model& m, int material) {
     return (material > 0 && material < static_cast<int>(m.materials.size())) ? m.materials[material].density : 0.0;
 }
@@ -79,6 +67,22 @@ void set_shape(Model& m, int b, const Polyhedron& piece, const MassProperties& m
 }
 
 } // namespace
+
+double sin_deg(double a) {
+    double r = std::fmod(a, 360.0);
+    if (r < 0) r += 360.0;
+    if (r == 0 || r == 180) return 0;
+    if (r == 90) return 1;
+    if (r == 270) return -1;
+    return std::sin(r * (kPi / 180.0));
+}
+
+double cos_deg(double a) { return sin_deg(a + 90.0); }
+
+Vec3 dip_vector(double dip, double dd) {
+    const double cd = cos_deg(dip);
+    return Vec3(cd * sin_deg(dd), cd * cos_deg(dd), -sin_deg(dip));
+}
 
 Vec3 plane_normal(double dip, double dd) {
     const double sd = sin_deg(dip);
