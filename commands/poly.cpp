@@ -1,8 +1,8 @@
 #include "commands.h"
 #include "common.h"
 #include "engine/blocks.h"
-#include "engine/jset.h"
 #include "engine/tunnel.h"
+#include "tunnel_axis.h"
 
 namespace odec {
 
@@ -34,38 +34,8 @@ void make_tunnel(CommandContext& ctx, const Args& a) {
     Model& m = ctx.model;
     const SourceLoc where = a.find("tunnel")->loc;
     auto loc_of = [&](const std::string& kw) { return a.has(kw) ? a.find(kw)->loc : where; };
-    const char* direction_words[] = {"dip", "dd", "origin", "length"};
-    const KeywordUse* direction = nullptr;
-    for (const char* k : direction_words) {
-        if (!direction && a.has(k)) direction = a.find(k);
-    }
     TunnelSpec s;
-    if (a.has("a") || a.has("b")) {
-        if (direction) {
-            fail(direction->loc, "give the tunnel's axis either by 'a' and 'b' or by 'dip', 'dd', 'origin' and 'length', not both",
-                 {}, "poly");
-        }
-        if (!a.has("a") || !a.has("b")) fail(where, "'tunnel' needs both ends of its axis: 'a (x,y,z) b (x,y,z)'", {}, "poly");
-        for (const char* k : {"a", "b"}) {
-            const KeywordUse* u = a.find(k);
-            const std::vector<Vec3> pts = points_of(*u);
-            if (pts.size() != 1) {
-                fail(u->values[1].loc, std::string("with 'tunnel', '") + k + "' takes one point, an end of the axis (got " +
-                                           std::to_string(pts.size()) + ")",
-                     {}, "poly");
-            }
-            (k[0] == 'a' ? s.a : s.b) = pts[0];
-        }
-    } else if (a.has("length")) {
-        const Vec3 dir = dip_vector(a.real_or("dip", 0), a.real_or("dd", 0));
-        const Vec3 origin = a.has("origin") ? a.vec("origin") : Vec3::Zero();
-        s.a = origin + a.real("length", 0) * dir;
-        s.b = origin + a.real("length", 1) * dir;
-    } else {
-        fail(direction ? direction->loc : where,
-             "'tunnel' needs its axis: 'a (x,y,z) b (x,y,z)', or 'dip d dd a length l1 l2' (from 'origin', default 0,0,0)",
-             {}, "poly");
-    }
+    read_tunnel_axis(a, where, "poly", s);
     if (!a.has("radius")) fail(where, "'tunnel' needs 'radius r'", {}, "poly");
     s.radius = a.real("radius");
     s.n_sides = a.has("ntheta") ? a.integer("ntheta") : 16;

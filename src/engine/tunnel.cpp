@@ -30,6 +30,7 @@
 #include <cmath>
 #include <limits>
 
+#include "engine/blocks.h"
 #include "engine/jset.h"
 
 namespace odec {
@@ -293,6 +294,151 @@ bool make_tunnel_blocks(const TunnelSpec& s, int tag, std::vector<TunnelBlock>& 
         }
     }
     return true;
+}
+
+long TunnelCutPlan::n_pieces() const {
+    long n = 0;
+    for (const auto& p : pieces) n += static_cast<long>(p.size());
+    return n;
+}
+
+TunnelCutPlan plan_tunnel_cut(const Model& m, const TunnelSpec& s, const std::vector<int>& targets, int tag,
+                              double sliver_tol) {
+    TunnelCutPlan plan;
+    const TunnelFrame f = tunnel_frame(s.a, s.b);
+    const int n = s.n_sides, m_rings = s.n_rings, ns = s.n_segments;
+    const std::vector<std::vector<Vec2>> ring = tunnel_rings(s, false); // rings 0 .. n_rings
+    // Rays and sector chords in world axes.
+    std::vector<Vec3> ray3(n), across(n), chord(n);
+    for (int j = 0; j < n; ++j) {
+        const Vec2 d = ray(j, n);
+        ray3[j] = d.x() * f.u + d.y() * f.v;
+        across[j] = -d.y() * f.u + d.x() * f.v; // normal of the plane through the axis and ray j
+    }
+    for (int j = 0; j < n; ++j) chord[j] = (ray3[j] + ray3[(j + 1) % n]).normalized();
+
+    for (int b : targets) {
+        const Vec3 c0 = m.blocks.centroid[b];
+        const Vec3 a_rel = s.a - c0; // the axis's start, seen from the block's centroid
+        Polyhedron turned = m.blocks.shape[b];
+        const Mat3 rot = m.blocks.orientation[b].toRotationMatrix();
+        for (Vec3& x : turned.vertices) x = rot * x;
+        int slivers = 0;
+        // Cut p by the plane nrm.(x - a) = offset; false when it does not cross p.
+        auto split = [&](const Polyhedron& p, const Vec3& nrm, double offset, Polyhedron& lo, Polyhedron& hi) {
+            SplitOutcome why = SplitOutcome::Missed;
+            split_by_plane(p, nrm, nrm.dot(a_rel) + offset, sliver_tol, tag, lo, hi, &why);
+            if (why == SplitOutcome::Sliver) ++slivers;
+            return why == SplitOutcome::Split;
+        };
+        // A point inside a convex piece, relative to the axis's start.
+        auto inner = [&](const Polyhedron& p) {
+            Vec3 c = Vec3::Zero();
+            for (const Vec3& x : p.vertices) c += x;
+            return Vec3(c / static_cast<double>(p.n_vertices()) - a_rel);
+        };
+        std::vector<Polyhedron> pieces;
+        std::vector<int> layers;
+        auto done = [&](Polyhedron p, int layer) {
+            pieces.push_back(std::move(p));
+            layers.push_back(layer);
+        };
+
+        // Along the axis: the parts beyond a and b are done; the rest is cut into segments.
+        std::vector<Polyhedron> work{turned}, next;
+        for (int end = 0; end < 2; ++end) {
+            next.clear();
+            const double at = end == 0 ? 0.0 : f.length;
+            for (Polyhedron& p : work) {
+                Polyhedron lo, hi;
+                if (split(p, f.w, at, lo, hi)) {
+                    done(end == 0 ? lo : hi, -1);
+                    next.push_back(end == 0 ? hi : lo);
+                } else if ((f.w.dot(inner(p)) < at) == (end == 0)) {
+                    done(p, -1);
+                } else {
+                    next.push_back(p);
+                }
+            }
+            work.swap(next);
+        }
+        for (int k = 1; k < ns; ++k) {
+            next.clear();
+            for (Polyhedron& p : work) {
+                Polyhedron lo, hi;
+                if (split(p, f.w, f.length * (static_cast<double>(k) / ns), lo, hi)) {
+                    next.push_back(lo);
+                    next.push_back(hi);
+                } else {
+                    next.push_back(p);
+                }
+            }
+            work.swap(next);
+        }
+        // Around the axis: the plane through rays 0 (and n/2) first, then each ray's plane
+        // only in the half that holds that ray, where the plane is the ray's own half-plane.
+        for (int j = 0; j < n; ++j) {
+            const double deg = 360.0 * j / n;
+            if (j > 0 && deg == 180.0) continue; // the plane of ray 0 again
+            next.clear();
+            for (Polyhedron& p : work) {
+                const bool upper = f.v.dot(inner(p)) >= 0;
+                Polyhedron lo, hi;
+                if ((j == 0 || upper == (deg < 180.0)) && split(p, across[j], 0.0, lo, hi)) {
+                    next.push_back(lo);
+                    next.push_back(hi);
+                } else {
+                    next.push_back(p);
+                }
+            }
+            work.swap(next);
+        }
+        // In each sector, the wall's chord and every ring's, from the inside out.
+        for (Polyhedron& p : work) {
+            const Vec3 q = inner(p);
+            double deg = std::atan2(f.v.dot(q), f.u.dot(q)) * (180.0 / kPi);
+            if (deg < 0) deg += 360.0;
+            const int j = std::min(n - 1, std::max(0, static_cast<int>(deg * n / 360.0)));
+            Polyhedron rest = p;
+            int layer = 0;
+            for (; layer <= m_rings; ++layer) {
+                const double offset = ring[layer][j].norm() * chord[j].dot(ray3[j]);
+                Polyhedron lo, hi;
+                if (split(rest, chord[j], offset, lo, hi)) {
+                    done(lo, layer);
+                    rest = hi;
+                } else if (chord[j].dot(inner(rest)) <= offset) {
+                    break;
+                }
+            }
+            done(rest, layer);
+        }
+        plan.slivers_skipped += slivers;
+        bool reached = false;
+        for (int l : layers) reached = reached || (l >= 0 && l <= m_rings);
+        if (!reached || pieces.size() < 2) continue;
+        plan.blocks.push_back(b);
+        plan.origins.push_back(c0);
+        plan.pieces.push_back(std::move(pieces));
+        plan.layers.push_back(std::move(layers));
+    }
+    return plan;
+}
+
+void apply_tunnel_cut(Model& m, const TunnelCutPlan& plan, int core_group) {
+    for (size_t k = 0; k < plan.blocks.size(); ++k) {
+        const std::vector<int> made = replace_by_pieces(m, plan.blocks[k], plan.pieces[k], plan.origins[k]);
+        for (size_t i = 0; i < made.size(); ++i) {
+            if (plan.layers[k][i] == 0 && core_group >= 0) m.blocks.group[made[i]] = core_group;
+        }
+    }
+    m.slivers_skipped += plan.slivers_skipped;
+    if (!plan.blocks.empty()) {
+        // Contacts name vertices and faces of the old shapes.
+        m.contacts.clear();
+        refresh_world_vertices(m);
+    }
+    m.geometry_changed = true;
 }
 
 } // namespace odec

@@ -65,6 +65,31 @@ struct TunnelBlock {
 // block comes out invalid (which tunnel_problem should have prevented).
 bool make_tunnel_blocks(const TunnelSpec& spec, int joint_tag, std::vector<TunnelBlock>& out, std::string& error);
 
+// The cut of existing blocks by the pattern of `spec` (which must pass tunnel_problem with
+// box = false), worked out before the model changes. Each block that reaches into the wall
+// or the rings between a and b is cut, in world axes about its centroid: by the planes across
+// the axis at a and at b (where they cross it) and between the segments, then by the radial
+// planes through the axis at the polygon's corners (the wall's sectors, which go on to the
+// block's own faces), then in each sector by the chords of the wall and of every ring. The
+// core is the n wedges inside the wall. Every new face carries joint_tag. A cut that would
+// leave a piece thinner than sliver_tol is not made. A block the rings do not reach is left
+// whole.
+struct TunnelCutPlan {
+    std::vector<int> blocks;                        // indices of the blocks to cut
+    std::vector<Vec3> origins;                      // (blocks) m, each block's centroid
+    std::vector<std::vector<Polyhedron>> pieces;    // (blocks) its pieces, world axes, about the centroid
+    std::vector<std::vector<int>> layers;           // (blocks)(pieces) 0: inside the wall; k: ring k;
+                                                    //   n_rings + 1: beyond the rings; -1: beyond a or b
+    int slivers_skipped = 0;                        // cuts not made
+    long n_pieces() const;
+};
+TunnelCutPlan plan_tunnel_cut(const Model& m, const TunnelSpec& spec, const std::vector<int>& targets, int joint_tag,
+                              double sliver_tol);
+
+// Carry out a plan: each block is replaced by its pieces (the first keeps its index and id;
+// see replace_by_pieces). The pieces inside the wall join group core_group (-1: keep theirs).
+void apply_tunnel_cut(Model& m, const TunnelCutPlan& plan, int core_group);
+
 // The 2D cross-section (coordinates along u and v) of every ring corner: ring k, ray j, for
 // rings 0 (the wall) to n_rings - 1 (poly tunnel, whose last ring is the box) or n_rings (tunnel).
 std::vector<std::vector<Eigen::Vector2d>> tunnel_rings(const TunnelSpec& spec, bool box);

@@ -288,7 +288,9 @@ TEST(JointSet, EdgeContactsAcrossJoinedCutsAreJoined) {
             const Vec3 d = m.blocks.centroid[m.contacts.block_a[c]] - m.blocks.centroid[m.contacts.block_b[c]];
             const bool edge = std::abs(d.x()) > 0.5 && std::abs(d.z()) > 0.5;
             diagonal += edge;
-            if (edge) EXPECT_EQ(m.contacts.joined[c] != 0, second_joined);
+            if (edge) {
+                EXPECT_EQ(m.contacts.joined[c] != 0, second_joined);
+            }
             joined += m.contacts.joined[c] != 0;
         }
         EXPECT_EQ(diagonal, 2);

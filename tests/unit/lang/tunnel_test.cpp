@@ -400,11 +400,11 @@ TEST(Tunnel, BadInputIsRefusedAndChangesNothing) {
         {"poly tunnel a (1,1,1) b (1,1,1) radius 1", "t.dat:1:23: error: the tunnel's axis from a to b has no length"},
         {"poly tunnel length 2 2 radius 1", "t.dat:1:13: error: the tunnel's axis from a to b has no length"},
         {"poly tunnel a (0,0,0) b (0,1,0)", "t.dat:1:6: error: 'tunnel' needs 'radius r'"},
-        {"poly tunnel radius 1", "t.dat:1:6: error: 'tunnel' needs its axis: 'a (x,y,z) b (x,y,z)'"},
-        {"poly tunnel dip 30 radius 1", "t.dat:1:13: error: 'tunnel' needs its axis"},
-        {"poly tunnel a (0,0,0) radius 1", "error: 'tunnel' needs both ends of its axis"},
+        {"poly tunnel radius 1", "t.dat:1:6: error: the tunnel needs its axis: 'a (x,y,z) b (x,y,z)'"},
+        {"poly tunnel dip 30 radius 1", "t.dat:1:13: error: the tunnel needs its axis"},
+        {"poly tunnel a (0,0,0) radius 1", "error: the tunnel needs both ends of its axis"},
         {"poly tunnel a (0,0,0) (1,0,0) b (0,1,0) radius 1",
-         "t.dat:1:23: error: with 'tunnel', 'a' takes one point, an end of the axis (got 2)"},
+         "t.dat:1:23: error: 'a' takes one point here, an end of the tunnel's axis (got 2)"},
         {"poly tunnel a (0,0,0) b (0,1,0) dip 0 length 0 1 radius 1", "t.dat:1:33: error: give the tunnel's axis either"},
         {"poly brick 0 1 0 1 0 1 radius 1", "t.dat:1:24: error: 'radius' goes with 'tunnel'"},
         {"poly tetra (0,0,0) (1,0,0) (0,1,0) (0,0,1) nseg 2", "error: 'nseg' goes with 'tunnel'"},
@@ -443,4 +443,154 @@ TEST(Tunnel, SessionBlockLimitIsKept) {
     EXPECT_NE(s.error().find("this session allows at most 300 blocks: the tunnel would make 321 more"), std::string::npos)
         << s.error();
     EXPECT_EQ(s.model.blocks.size(), 65);
+}
+
+// ---- 'tunnel': the same pattern cut into blocks that exist ----
+
+// A brick crossed by a tunnel: the pieces fill it, those inside the wall have the circle's
+// area times the length inside the brick, every piece is convex, and they keep the brick's
+// region, material and group (but the core's).
+TEST(TunnelCut, PiecesFillTheBlockAndTheCoreHasTheCircleArea) {
+    struct Case {
+        std::string cmd;
+        double r, inside;
+    };
+    const std::vector<Case> cases = {
+        {"tunnel a (0,-1,0) b (0,9,0) radius 2 outer 6 nrad 3", 2, 8},
+        {"tunnel a (0,-1,0) b (0,9,0) radius 1 ntheta 12 nrad 2 ratio 1.5 nseg 3", 1, 8},
+        {"tunnel a (1,2,0.5) b (1,6,0.5) radius 1.5 ntheta 8 nrad 2", 1.5, 4},      // ends inside the brick
+        {"tunnel a (0,-1,0) b (0,9,0) radius 1 ntheta 7 nrad 1", 1, 8},              // odd number of sides
+        {"tunnel dip 0 dd 0 origin 0,4,0 length -10 10 radius 2 nrad 2", 2, 8},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.cmd);
+        Session s;
+        ASSERT_TRUE(s.run("prop mat=3 dens=2500\npoly brick -10 10 0 8 -10 10 region 4 group rock mat 3\n" + c.cmd))
+            << s.error();
+        const Model& m = s.model;
+        EXPECT_GT(m.blocks.size(), 10);
+        EXPECT_NEAR(total_volume(m), 20 * 8 * 20, 1e-9 * 3200);
+        double core = 0;
+        for (int b : in_group(m, "tunnel")) core += m.blocks.volume[b];
+        const double circle = kPi * c.r * c.r * c.inside;
+        EXPECT_NEAR(core, circle, 1e-9 * circle);
+        EXPECT_EQ(in_group(m, "tunnel").size() + in_group(m, "rock").size(), static_cast<size_t>(m.blocks.size()));
+        for (int b = 0; b < m.blocks.size(); ++b) {
+            std::string why;
+            EXPECT_TRUE(odec::is_convex_polyhedron(odec::world_shape(m, b), 1e-9 * 20, &why)) << "block " << b + 1 << ": " << why;
+            EXPECT_EQ(m.blocks.region[b], 4);
+            EXPECT_EQ(m.blocks.material[b], 3);
+            EXPECT_NEAR(m.blocks.mass[b], 2500 * m.blocks.volume[b], 1e-9 * m.blocks.mass[b]);
+        }
+        EXPECT_EQ(m.n_joint_sets, 1);
+    }
+}
+
+// Excavating the pieces inside the wall opens exactly the hole.
+TEST(TunnelCut, ExcavatingTheCoreOpensTheHole) {
+    Session s;
+    ASSERT_TRUE(s.run("poly brick -10 10 0 8 -10 10\ntunnel a (0,-1,0) b (0,9,0) radius 2 nseg 2\n"
+                      "excavate range group tunnel"))
+        << s.error();
+    const Model& m = s.model;
+    const double wall = odec::equal_area_circumradius(2, 16);
+    for (int b = 0; b < m.blocks.size(); ++b) {
+        const bool gone = m.blocks.flags[b] & odec::kExcavated;
+        double far = 0;
+        for (const Vec3& v : odec::world_shape(m, b).vertices) far = std::max(far, std::hypot(v.x(), v.z()));
+        EXPECT_EQ(gone, far <= wall * (1 + 1e-12)) << "block " << b + 1;
+    }
+    const double left = 20 * 8 * 20 - kPi * 4 * 8;
+    EXPECT_NEAR(total_volume(m, false), left, 1e-9 * left);
+    EXPECT_EQ(in_group(m, "tunnel").size(), 2u * 16u);
+}
+
+// Blocks across an existing joint are cut alike on both sides, so their faces still match
+// across it; the new cuts are joined, the old joint is not; blocks beyond the rings are left
+// as they were.
+TEST(TunnelCut, OldJointsStayFreeNewCutsAreJoinedFacesMatch) {
+    Session s;
+    ASSERT_TRUE(s.run("poly brick -10 10 0 8 -10 10\njset dip 90 dd 0 origin 0,4,0\npoly brick 30 31 0 1 0 1\n"
+                      "tunnel a (0,-1,0) b (0,9,0) radius 1 outer 4 ntheta 8 nrad 2 jmat 2\n"
+                      "prop mat=1 dens=2000\nprop jmat=1 jkn=1e9 jks=1e9\nprop jmat=2 jkn=2e9 jks=2e9"))
+        << s.error();
+    Model& m = s.model;
+    // The far brick: untouched, still block 3.
+    ASSERT_EQ(m.block_index(3), 2);
+    EXPECT_NEAR(m.blocks.volume[2], 1, 1e-12);
+    EXPECT_EQ(m.blocks.shape[2].n_faces(), 6);
+    // Every face with a joint tag (the old joint at y = 4 and the new cuts) has exactly one
+    // partner, the same polygon.
+    const FaceCheck faces = check_faces(m);
+    EXPECT_EQ(faces.unmatched, 0);
+    EXPECT_GT(faces.shared, 0);
+    odec::refresh_world_vertices(m);
+    odec::detect_contacts(m);
+    int across_joint = 0, joined = 0;
+    for (int c = 0; c < m.contacts.size(); ++c) {
+        const int a = m.contacts.block_a[c], b = m.contacts.block_b[c];
+        if (a == 2 || b == 2) continue;
+        if ((m.blocks.centroid[a].y() < 4) != (m.blocks.centroid[b].y() < 4)) {
+            // Across the old joint, face to face or along an edge of it.
+            ++across_joint;
+            EXPECT_FALSE(m.contacts.joined[c]);
+            EXPECT_EQ(m.contacts.jmat[c], 1);
+        } else {
+            // Pieces of one block: across the new cuts only.
+            EXPECT_TRUE(m.contacts.joined[c]) << "contact " << c + 1;
+            EXPECT_EQ(m.contacts.jmat[c], 2);
+            ++joined;
+        }
+    }
+    EXPECT_GT(across_joint, 16);
+    EXPECT_GT(joined, 32);
+}
+
+// Bad input is refused with the word it concerns, and the model stays as it was; a tunnel
+// that reaches no block changes nothing and says so.
+TEST(TunnelCut, BadInputIsRefusedAndChangesNothing) {
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"tunnel a (0,-1,0) b (0,9,0)", "t.dat:1:1: error: 'tunnel' needs 'radius r'"},
+        {"tunnel a (0,-1,0) b (0,9,0) radius 0", "t.dat:1:36: error: 'radius' must be > 0 (got 0)"},
+        {"tunnel a (0,-1,0) b (0,9,0) radius 2 outer 2",
+         "t.dat:1:38: error: the outermost ring (radius 2 m) must be larger than the tunnel (radius 2 m)"},
+        {"tunnel a (0,-1,0) b (0,9,0) radius 2 outer 1", "error: the outermost ring (radius 1 m) must be larger"},
+        {"tunnel a (0,1,0) b (0,1,0) radius 1", "t.dat:1:18: error: the tunnel's axis from a to b has no length"},
+        {"tunnel radius 1", "t.dat:1:1: error: the tunnel needs its axis"},
+        {"tunnel a (0,0,0) b (0,1,0) length 0 1 radius 1", "t.dat:1:28: error: give the tunnel's axis either"},
+        {"tunnel a (0,0,0) radius 1", "error: the tunnel needs both ends of its axis"},
+        {"tunnel a (0,-1,0) b (0,9,0) radius 1 ntheta 2", "error: 'ntheta' must be 3 to 720 (got 2)"},
+        {"tunnel a (0,-1,0) b (0,9,0) radius 1 nrad 60 ratio 2", "error: with 60 rings and ratio 2 the thinnest ring"},
+        {"tunnel a (0,-1,0) b (0,9,0) radius 1 outer 2e9", "error: 2e+09 is too large"},
+        {"tunnel a (0,-1,0) b (0,9,0) radius 1 ntheta 720 nrad 1000 nseg 100", "error: this tunnel could cut"},
+        {"tunnel a (0,-1,0) b (0,9,0) radius nan", "'nan' is not a number"},
+    };
+    for (const auto& [cmd, expected] : cases) {
+        SCOPED_TRACE(cmd);
+        Session s;
+        ASSERT_TRUE(s.run("poly brick -10 10 0 8 -10 10\ngroup 'rock'")) << s.error();
+        const std::string before = state(s.model);
+        EXPECT_FALSE(s.run(cmd));
+        EXPECT_NE(s.error().find(expected), std::string::npos) << s.error();
+        EXPECT_EQ(state(s.model), before);
+    }
+    Session s;
+    ASSERT_TRUE(s.run("poly brick -10 10 0 8 -10 10")) << s.error();
+    const std::string before = state(s.model);
+    EXPECT_TRUE(s.run("tunnel a (50,-1,0) b (50,9,0) radius 1")) << s.error();
+    EXPECT_NE(s.error().find("t.dat:1:1: warning: the tunnel reaches no block, nothing changed"), std::string::npos)
+        << s.error();
+    EXPECT_EQ(state(s.model), before);
+    EXPECT_TRUE(s.run("tunnel a (0,-1,0) b (0,9,0) radius 1 range x 20 30")) << s.error();
+    EXPECT_NE(s.error().find("warning: the tunnel reaches no block of the range, nothing changed"), std::string::npos)
+        << s.error();
+    EXPECT_EQ(state(s.model), before);
+    // A session with a block limit refuses a cut that would pass it.
+    Session t;
+    t.interp.limits.max_blocks = 300;
+    ASSERT_TRUE(t.run("poly brick -10 10 0 8 -10 10")) << t.error();
+    EXPECT_FALSE(t.run("tunnel a (0,-1,0) b (0,9,0) radius 1 nseg 4"));
+    EXPECT_NE(t.error().find("this session allows at most 300 blocks: the tunnel would leave"), std::string::npos)
+        << t.error();
+    EXPECT_EQ(t.model.blocks.size(), 1);
 }
