@@ -115,10 +115,15 @@ const CommandSpec& tunnel_command() {
                 ++near;
             }
             const double per_block = 2.0 + static_cast<double>(s.n_segments) * s.n_sides * (s.n_rings + 2);
-            if (near * per_block > 4.0 * kMaxBlocksAfterTunnel) {
-                fail(a.loc, "this tunnel could cut " + std::to_string(near) + " blocks into up to " + num(per_block) +
-                                " pieces each; one 'tunnel' leaves at most " + std::to_string(kMaxBlocksAfterTunnel) +
-                                " blocks",
+            const long limit = ctx.interp.limits.max_blocks;
+            const double most = limit > 0 ? 20.0 * limit : 4.0 * kMaxBlocksAfterTunnel;
+            if (per_block > kMaxBlocksAfterTunnel || near * per_block > most) {
+                const std::string could = "could cut " + std::to_string(near) + " blocks into up to " +
+                                          num(per_block) + " pieces each";
+                fail(a.loc,
+                     limit > 0 ? "this session allows at most " + std::to_string(limit) + " blocks: the tunnel " + could
+                               : "this tunnel " + could + "; one 'tunnel' leaves at most " +
+                                     std::to_string(kMaxBlocksAfterTunnel) + " blocks",
                      {"use fewer sides ('ntheta'), rings ('nrad') or segments ('nseg'), or cut part of the model "
                       "with 'range'"},
                      "tunnel");
@@ -134,7 +139,6 @@ const CommandSpec& tunnel_command() {
                                 std::to_string(kMaxBlocksAfterTunnel),
                      {}, "tunnel");
             }
-            const long limit = ctx.interp.limits.max_blocks;
             if (limit > 0 && after > limit) {
                 fail(a.loc, "this session allows at most " + std::to_string(limit) + " blocks: the tunnel would leave " +
                                 std::to_string(after),

@@ -28,6 +28,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "engine/blocks.h"
@@ -139,7 +140,7 @@ std::string tunnel_problem(const TunnelSpec& s, bool box, std::string& keyword) 
     const double length = (s.b - s.a).norm();
     if (!(length > 1e-9 * scale) || !std::isfinite(length)) {
         keyword = "b";
-        return "the tunnel's axis from a to b has no length";
+        return "the tunnel's axis has no length";
     }
     if (!(s.radius > 0) || !std::isfinite(s.radius)) {
         keyword = "radius";
@@ -377,6 +378,8 @@ TunnelCutPlan plan_tunnel_cut(const Model& m, const TunnelSpec& s, const std::ve
         }
         // Around the axis: the plane through rays 0 (and n/2) first, then each ray's plane
         // only in the half that holds that ray, where the plane is the ray's own half-plane.
+        // (With n odd the first plane also divides the sector opposite ray 0: one cut more,
+        // the pieces still convex and each within one sector.)
         for (int j = 0; j < n; ++j) {
             const double deg = 360.0 * j / n;
             if (j > 0 && deg == 180.0) continue; // the plane of ray 0 again

@@ -397,8 +397,8 @@ TEST(Tunnel, BadInputIsRefusedAndChangesNothing) {
         {"poly tunnel a (0,0,0) b (0,1,0) radius 1 nrad 0", "error: 'nrad' must be 1 to 1000 (got 0)"},
         {"poly tunnel a (0,0,0) b (0,1,0) radius 1 nseg 0", "error: 'nseg' must be 1 to 10000 (got 0)"},
         {"poly tunnel a (0,0,0) b (0,1,0) radius 1 ratio 0", "error: 'ratio' must be > 0 (got 0)"},
-        {"poly tunnel a (1,1,1) b (1,1,1) radius 1", "t.dat:1:23: error: the tunnel's axis from a to b has no length"},
-        {"poly tunnel length 2 2 radius 1", "t.dat:1:13: error: the tunnel's axis from a to b has no length"},
+        {"poly tunnel a (1,1,1) b (1,1,1) radius 1", "t.dat:1:23: error: the tunnel's axis has no length"},
+        {"poly tunnel length 2 2 radius 1", "t.dat:1:13: error: the tunnel's axis has no length"},
         {"poly tunnel a (0,0,0) b (0,1,0)", "t.dat:1:6: error: 'tunnel' needs 'radius r'"},
         {"poly tunnel radius 1", "t.dat:1:6: error: the tunnel needs its axis: 'a (x,y,z) b (x,y,z)'"},
         {"poly tunnel dip 30 radius 1", "t.dat:1:13: error: the tunnel needs its axis"},
@@ -412,7 +412,7 @@ TEST(Tunnel, BadInputIsRefusedAndChangesNothing) {
         {"poly tunnel a (0,0,0) b (0,1,0) radius 1 nrad 1000 ratio 0.5", "error: with 1000 rings and ratio 0.5"},
         {"poly tunnel a (0,0,0) b (0,1,0) radius 2e9", "error: size 2e+09 is too large: poly takes sizes within 1e+09 m"},
         {"poly tunnel a (0,0,0) b (0,1,0) radius 1 box 1e300", "error: size 1e+300 is too large"},
-        {"poly tunnel a (0,0,0) b (0,1e-300,0) radius 1", "error: the tunnel's axis from a to b has no length"},
+        {"poly tunnel a (0,0,0) b (0,1e-300,0) radius 1", "error: the tunnel's axis has no length"},
         {"poly tunnel a (1e8,0,0) b (1e8,1,0) radius 1e-3 box 1e-2", "error: the smallest block edge"},
         {"poly tunnel a (0,0,0) b (0,1,0) radius 1 box 10 ntheta 720 nrad 1000 nseg 10",
          "error: this tunnel would make 7200010 blocks; one 'poly tunnel' makes at most 100000"},
@@ -555,7 +555,7 @@ TEST(TunnelCut, BadInputIsRefusedAndChangesNothing) {
         {"tunnel a (0,-1,0) b (0,9,0) radius 2 outer 2",
          "t.dat:1:38: error: the outermost ring (radius 2 m) must be larger than the tunnel (radius 2 m)"},
         {"tunnel a (0,-1,0) b (0,9,0) radius 2 outer 1", "error: the outermost ring (radius 1 m) must be larger"},
-        {"tunnel a (0,1,0) b (0,1,0) radius 1", "t.dat:1:18: error: the tunnel's axis from a to b has no length"},
+        {"tunnel a (0,1,0) b (0,1,0) radius 1", "t.dat:1:18: error: the tunnel's axis has no length"},
         {"tunnel radius 1", "t.dat:1:1: error: the tunnel needs its axis"},
         {"tunnel a (0,0,0) b (0,1,0) length 0 1 radius 1", "t.dat:1:28: error: give the tunnel's axis either"},
         {"tunnel a (0,0,0) radius 1", "error: the tunnel needs both ends of its axis"},
@@ -591,6 +591,12 @@ TEST(TunnelCut, BadInputIsRefusedAndChangesNothing) {
     ASSERT_TRUE(t.run("poly brick -10 10 0 8 -10 10")) << t.error();
     EXPECT_FALSE(t.run("tunnel a (0,-1,0) b (0,9,0) radius 1 nseg 4"));
     EXPECT_NE(t.error().find("this session allows at most 300 blocks: the tunnel would leave"), std::string::npos)
+        << t.error();
+    // and refuses work that could pass it many times over before doing it.
+    EXPECT_FALSE(t.run("tunnel a (0,-1,0) b (0,9,0) radius 1 nseg 100"));
+    EXPECT_NE(t.error().find("this session allows at most 300 blocks: the tunnel could cut 1 blocks into up to 8002 "
+                             "pieces each"),
+              std::string::npos)
         << t.error();
     EXPECT_EQ(t.model.blocks.size(), 1);
 }
