@@ -31,6 +31,7 @@ const CommandSpec& set_command();
 const CommandSpec& step_command();
 const CommandSpec& title_command();
 const CommandSpec& jset_command();
+const CommandSpec& tunnel_command();
 const CommandSpec& delete_command();
 const CommandSpec& excavate_command();
 const CommandSpec& fill_command();

@@ -11,7 +11,7 @@ const CommandTable& command_table() {
             &new_command(), &title_command(), &call_command(), &return_command(), &quit_command(),
             &help_command_spec(),
             // geometry
-            &poly_command(), &jset_command(), &delete_command(), &excavate_command(), &fill_command(),
+            &poly_command(), &jset_command(), &tunnel_command(), &delete_command(), &excavate_command(), &fill_command(),
             &group_command(), &hide_command(), &seek_command(), &join_command(), &range_command(),
             &generate_command(),
             // properties and conditions

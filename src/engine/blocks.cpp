@@ -92,6 +92,55 @@ std::string block_numbers_problem(const MassProperties& mp, double density) {
     return "";
 }
 
+std::vector<int> replace_by_pieces(Model& m, int b, const std::vector<Polyhedron>& pieces, const Vec3& origin) {
+    BlockSet& s = m.blocks;
+    std::vector<MassProperties> mp;
+    double total = 0;
+    for (const Polyhedron& p : pieces) {
+        mp.push_back(mass_properties(p));
+        total += mp.back().volume;
+    }
+    const Vec3 v0 = s.vel[b];
+    const Vec3 w0 = s.ang_vel[b];
+    const Vec3 load = s.applied_force[b];
+    std::vector<int> out{b};
+    {
+        // The first piece takes b's place, its body frame along the world axes.
+        Polyhedron local = pieces[0];
+        local.translate(-mp[0].centroid);
+        s.shape[b] = std::move(local);
+        s.centroid[b] = origin + mp[0].centroid;
+        s.orientation[b] = Quat::Identity();
+        s.volume[b] = mp[0].volume;
+        s.inertia_unit[b] = mp[0].inertia;
+        const int mat = s.material[b];
+        const double rho = (mat > 0 && mat < static_cast<int>(m.materials.size())) ? m.materials[mat].density : 0.0;
+        s.mass[b] = rho * mp[0].volume;
+        s.inertia_body[b] = rho * mp[0].inertia;
+        s.vel[b] = v0 + w0.cross(mp[0].centroid);
+        s.applied_force[b] = load * (mp[0].volume / total);
+    }
+    for (size_t k = 1; k < pieces.size(); ++k) {
+        const int a = add_block(m, pieces[k], s.region[b], s.group[b], s.material[b]);
+        // No element references are held across add_block, which grows every array.
+        s.centroid[a] += origin; // the piece was given relative to origin
+        s.vel[a] = v0 + w0.cross(mp[k].centroid);
+        s.ang_vel[a] = w0;
+        s.accel[a] = s.accel[b];
+        s.ang_accel[a] = s.ang_accel[b];
+        s.applied_force[a] = load * (mp[k].volume / total);
+        s.disp[a] = s.disp[b];
+        s.rotation[a] = s.rotation[b];
+        s.flags[a] = s.flags[b];
+        s.vel_bc[a] = s.vel_bc[b];
+        s.vel_bc_value[a] = s.vel_bc_value[b];
+        s.vel_bc_table[a] = s.vel_bc_table[b];
+        s.half_kick[a] = s.half_kick[b];
+        out.push_back(a);
+    }
+    return out;
+}
+
 void remove_blocks(Model& m, std::vector<int> idx) {
     std::sort(idx.begin(), idx.end());
     idx.erase(std::unique(idx.begin(), idx.end()), idx.end());

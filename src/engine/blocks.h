@@ -17,6 +17,14 @@ int add_block(Model& m, const Polyhedron& world_shape, int region, int group, in
 // what doubles can square and cube), or a mass or inertia that overflows with the density.
 std::string block_numbers_problem(const MassProperties& mp, double density);
 
+// Replace block b by pieces cut from it, given in world axes relative to the point `origin`
+// (usually b's centroid, so that far from the world's origin the cut keeps its digits). The
+// first piece keeps b's index and id, the others become new blocks at the end. Each piece is
+// stored with its body frame along the world axes and keeps b's attributes, conditions and
+// accumulated records; it moves with b's rigid-body motion (its velocity is b's at its own
+// centroid) and takes a share of b's applied load by volume. Returns the pieces' indices.
+std::vector<int> replace_by_pieces(Model& m, int b, const std::vector<Polyhedron>& pieces, const Vec3& origin);
+
 // Remove the blocks with these indices for good (their ids are not reused).
 void remove_blocks(Model& m, std::vector<int> block_indices);
 

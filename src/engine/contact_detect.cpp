@@ -583,6 +583,51 @@ struct Detector {
         return BlockView{m.blocks.world_vertices.data() + m.blocks.vertex_offset[b], &m.blocks.shape[b]};
     }
 
+    // For blocks that meet only along an edge or at a corner: the joint tag of the faces of
+    // both blocks through the corners they share, when every such face lies on a joined
+    // joint plane; 0 otherwise. Where pieces of one block cut apart by joined planes meet
+    // only along a cut line or at a point, they touch on joined joints alone, and are glued
+    // like the faces they share with their other neighbours. The shared corners are the
+    // vertices of either block that lie on the other, to a hair: pieces cut from one block
+    // share them exactly.
+    int edge_tag(const BlockView& va, const BlockView& vb) const {
+        if (va.topo->face_joint.empty() || vb.topo->face_joint.empty()) return 0;
+        const double on = 1e-6 * tol;
+        auto outside = [](const BlockView& t, const Vec3& x) {
+            double most = -std::numeric_limits<double>::infinity();
+            for (int f = 0; f < t.topo->n_faces(); ++f) {
+                most = std::max(most, world_face_normal(t, f).dot(x - t.v[t.topo->face_vertex(f, 0)]));
+            }
+            return most;
+        };
+        std::vector<Vec3> shared;
+        for (int i = 0; i < va.topo->n_vertices(); ++i) {
+            if (std::abs(outside(vb, va.v[i])) <= on) shared.push_back(va.v[i]);
+        }
+        for (int i = 0; i < vb.topo->n_vertices(); ++i) {
+            if (std::abs(outside(va, vb.v[i])) <= on) shared.push_back(vb.v[i]);
+        }
+        if (shared.empty()) return 0;
+        int tag = 0;
+        for (const BlockView* v : {&va, &vb}) {
+            const Polyhedron& p = *v->topo;
+            int found = 0;
+            for (int f = 0; f < p.n_faces(); ++f) {
+                const Vec3 nf = world_face_normal(*v, f);
+                const Vec3& o = v->v[p.face_vertex(f, 0)];
+                bool through = true;
+                for (const Vec3& x : shared) through = through && std::abs(nf.dot(x - o)) <= on;
+                if (!through) continue;
+                const int t = p.face_joint.empty() ? 0 : p.face_joint[f];
+                if (t <= 0 || t > static_cast<int>(m.joint_planes.size()) || !m.joint_planes[t - 1].joined) return 0;
+                if (tag == 0) tag = t;
+                ++found;
+            }
+            if (found == 0) return 0;
+        }
+        return tag;
+    }
+
     // Build contact (a, b) into `next`, carrying history from old contact oc (-1: new).
     // Returns false when the blocks are farther apart than ctol.
     bool build(int a, int b, int oc, bool require_close) {
@@ -624,6 +669,9 @@ struct Detector {
             };
             int tag = tag_of(a, face_area_a);
             if (tag == 0) tag = tag_of(b, face_area_b);
+            // No tagged face carries the contact's area: the blocks may meet only along an
+            // edge or at a corner (on a face that carries area, edge_tag finds that face).
+            if (tag == 0) tag = edge_tag(va, vb);
             if (tag > 0 && tag <= static_cast<int>(m.joint_planes.size())) {
                 const JointPlane& jp = m.joint_planes[tag - 1];
                 if (jp.jmat > 0) jmat = jp.jmat;

@@ -46,7 +46,8 @@ struct SplitMix64 {
     double uniform() { return static_cast<double>(next() >> 11) * (1.0 / 9007199254740992.0); }
 };
 
-// Sine of an angle in degrees, exact at multiples of 90.
+} // namespace
+
 double sin_deg(double a) {
     double r = std::fmod(a, 360.0);
     if (r < 0) r += 360.0;
@@ -58,27 +59,10 @@ double sin_deg(double a) {
 
 double cos_deg(double a) { return sin_deg(a + 90.0); }
 
-double density(const Model& m, int material) {
-    return (material > 0 && material < static_cast<int>(m.materials.size())) ? m.materials[material].density : 0.0;
+Vec3 dip_vector(double dip, double dd) {
+    const double cd = cos_deg(dip);
+    return Vec3(cd * sin_deg(dd), cd * cos_deg(dd), -sin_deg(dip));
 }
-
-// Store a piece (world axes, relative to the point `origin`) as block b's shape, with the
-// body frame along the world axes.
-void set_shape(Model& m, int b, const Polyhedron& piece, const MassProperties& mp, const Vec3& origin) {
-    BlockSet& s = m.blocks;
-    Polyhedron local = piece;
-    local.translate(-mp.centroid);
-    s.shape[b] = std::move(local);
-    s.centroid[b] = origin + mp.centroid;
-    s.orientation[b] = Quat::Identity();
-    s.volume[b] = mp.volume;
-    s.inertia_unit[b] = mp.inertia;
-    const double rho = density(m, s.material[b]);
-    s.mass[b] = rho * mp.volume;
-    s.inertia_body[b] = rho * mp.inertia;
-}
-
-} // namespace
 
 Vec3 plane_normal(double dip, double dd) {
     const double sd = sin_deg(dip);
@@ -116,32 +100,8 @@ CutReport cut_joint_set(Model& m, const JointSetSpec& spec, const Range& r, doub
             if (why != SplitOutcome::Split) continue;
             if (spec.persistence < 1.0 && !(rng.uniform() < spec.persistence)) continue;
 
-            const MassProperties mlo = mass_properties(lo);
-            const MassProperties mhi = mass_properties(hi);
-            BlockSet& s = m.blocks;
-            const Vec3 v0 = s.vel[b];
-            const Vec3 w0 = s.ang_vel[b];
-            const double total = mlo.volume + mhi.volume;
-            const Vec3 load = s.applied_force[b];
-            set_shape(m, b, lo, mlo, c0);
-            s.vel[b] = v0 + w0.cross(mlo.centroid);
-            s.applied_force[b] = load * (mlo.volume / total);
-
-            const int a = add_block(m, hi, s.region[b], s.group[b], s.material[b]);
-            // No element references are held across add_block, which grows every array.
-            s.centroid[a] += c0; // the piece was given relative to c0
-            s.vel[a] = v0 + w0.cross(mhi.centroid);
-            s.ang_vel[a] = w0;
-            s.accel[a] = s.accel[b];
-            s.ang_accel[a] = s.ang_accel[b];
-            s.applied_force[a] = load * (mhi.volume / total);
-            s.disp[a] = s.disp[b];
-            s.rotation[a] = s.rotation[b];
-            s.flags[a] = s.flags[b];
-            s.vel_bc[a] = s.vel_bc[b];
-            s.vel_bc_value[a] = s.vel_bc_value[b];
-            s.vel_bc_table[a] = s.vel_bc_table[b];
-            s.half_kick[a] = s.half_kick[b];
+            const std::vector<int> pieces = replace_by_pieces(m, b, {lo, hi}, c0);
+            const int a = pieces[1];
             targets.push_back(a);
             ++rep.blocks_cut;
         }

@@ -25,6 +25,15 @@ struct CutReport {
     int slivers_skipped = 0;  // cuts not made because a piece would be thinner than sliver_tol
 };
 
+// Sine and cosine of an angle in degrees, exact at multiples of 90 degrees.
+double sin_deg(double degrees);
+double cos_deg(double degrees);
+
+// Unit vector pointing down the dip of a plane of this dip and dip direction (degrees), or
+// along a line of this plunge (dip) and trend (dd): (sin dd cos dip, cos dd cos dip, -sin dip).
+// Exact at multiples of 90 degrees, so that dip 0 dd 0 gives exactly (0, 1, 0).
+Vec3 dip_vector(double dip, double dd);
+
 // Upward unit normal of a plane of this dip and dip direction (degrees); exact at multiples
 // of 90 degrees, so that dip 90 dd 90 gives exactly (1, 0, 0).
 Vec3 plane_normal(double dip, double dd);

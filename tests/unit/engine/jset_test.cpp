@@ -4,6 +4,7 @@
 #include <set>
 
 #include "engine/blocks.h"
+#include "engine/contact.h"
 #include "engine/jset.h"
 
 using namespace odec;
@@ -260,4 +261,41 @@ TEST(JointSet, FarFromTheOriginKeepsItsDigits) {
     Vec3 first = Vec3::Zero();
     for (int b = 0; b < m.blocks.size(); ++b) first += m.blocks.volume[b] * (m.blocks.centroid[b] - o);
     EXPECT_NEAR((first / 147.0 - Vec3(0.5, 1.5, 0.5)).norm(), 0.0, 1e-9);
+}
+
+// Blocks that meet only along an edge are glued when every face through that edge lies on a
+// joined joint, as where two joined joint sets cross; not when one of the sets is free.
+TEST(JointSet, EdgeContactsAcrossJoinedCutsAreJoined) {
+    for (const bool second_joined : {true, false}) {
+        SCOPED_TRACE(second_joined);
+        Model m;
+        add_block(m, make_brick(0, 2, 0, 1, 0, 2), 0, -1, 1);
+        JointSetSpec vertical;
+        vertical.dip = 90;
+        vertical.dd = 90;
+        vertical.origin = Vec3(1, 0, 0);
+        vertical.join = true;
+        JointSetSpec horizontal;
+        horizontal.origin = Vec3(0, 0, 1);
+        horizontal.join = second_joined;
+        cut_joint_set(m, vertical, Range{}, 1e-6);
+        cut_joint_set(m, horizontal, Range{}, 1e-6);
+        ASSERT_EQ(m.blocks.size(), 4);
+        refresh_world_vertices(m);
+        detect_contacts(m);
+        int diagonal = 0, joined = 0;
+        for (int c = 0; c < m.contacts.size(); ++c) {
+            const Vec3 d = m.blocks.centroid[m.contacts.block_a[c]] - m.blocks.centroid[m.contacts.block_b[c]];
+            const bool edge = std::abs(d.x()) > 0.5 && std::abs(d.z()) > 0.5;
+            diagonal += edge;
+            if (edge) {
+                EXPECT_EQ(m.contacts.joined[c] != 0, second_joined);
+            }
+            joined += m.contacts.joined[c] != 0;
+        }
+        EXPECT_EQ(diagonal, 2);
+        // Two face contacts across the vertical plane; two more across the horizontal one and
+        // the two along the edge where the planes cross, when that one is joined too.
+        EXPECT_EQ(joined, second_joined ? 6 : 2);
+    }
 }

@@ -141,7 +141,7 @@ TEST(Errors, CallRecursion) {
 
 TEST(Errors, RequiredChoiceAndMisplacedProperty) {
     EXPECT_EQ(error_of("poly region 1"),
-              "t.dat:1:14: error: 'poly' needs one of: brick, prism, face, tetra\n"
+              "t.dat:1:14: error: 'poly' needs one of: brick, prism, face, tetra, tunnel\n"
               "    poly region 1\n"
               "                 ^\n"
               "  see 'help poly'\n");
