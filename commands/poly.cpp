@@ -86,7 +86,10 @@ void make_tunnel(CommandContext& ctx, const Args& a) {
     std::vector<int> group(s.n_rings + 1);
     group[0] = m.group_index(core_group, true);
     for (int k = 1; k <= s.n_rings; ++k) group[k] = m.group_index(core_group + "_ring" + std::to_string(k), true);
-    for (const TunnelBlock& blk : blocks) add_block(m, blk.shape, region + blk.layer, group[blk.layer], material);
+    for (const TunnelBlock& blk : blocks) {
+        const int b = add_block(m, blk.shape, region + blk.layer, group[blk.layer], material);
+        if (a.has("cons")) m.blocks.cons[b] = static_cast<std::uint8_t>(a.integer("cons"));
+    }
     if (!ctx.interp.quiet) {
         const std::string last = std::to_string(s.n_rings);
         const bool many = s.n_rings > 1;

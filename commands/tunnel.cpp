@@ -107,7 +107,7 @@ const CommandSpec& tunnel_command() {
             const double reach = equal_area_circumradius(s.outer_radius, s.n_sides);
             long near = 0;
             for (int b : select_blocks(m, a.range)) {
-                if (m.blocks.flags[b] & (kHidden | kExcavated)) continue;
+                if (m.blocks.flags[b] & (kHidden | kExcavated | kDeformable)) continue; // zones are made after cutting
                 double radius = 0;
                 for (const Vec3& v : m.blocks.shape[b].vertices) radius = std::max(radius, v.norm());
                 if (distance_to_segment(m.blocks.centroid[b], s.a, s.b) > reach + radius) continue;

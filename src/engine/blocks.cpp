@@ -136,6 +136,7 @@ std::vector<int> replace_by_pieces(Model& m, int b, const std::vector<Polyhedron
         s.vel_bc_value[a] = s.vel_bc_value[b];
         s.vel_bc_table[a] = s.vel_bc_table[b];
         s.half_kick[a] = s.half_kick[b];
+        s.cons[a] = s.cons[b];
         out.push_back(a);
     }
     return out;

@@ -79,7 +79,8 @@ CutReport cut_joint_set(Model& m, const JointSetSpec& spec, const Range& r, doub
 
     std::vector<int> targets;
     for (int b : select_blocks(m, r)) {
-        if (!(m.blocks.flags[b] & (kHidden | kExcavated))) targets.push_back(b);
+        // Deformable blocks are not cut: their zones would not follow (cut first, then zone).
+        if (!(m.blocks.flags[b] & (kHidden | kExcavated | kDeformable))) targets.push_back(b);
     }
     for (int k = 0; k < number; ++k) {
         const double d = d0 + (k - 0.5 * (number - 1)) * spec.spacing;
