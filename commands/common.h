@@ -65,7 +65,8 @@ inline void check_file_allowed(const CommandContext& ctx, const SourceLoc& loc, 
 inline long long limit_steps_to_budget(CommandContext& ctx, const SourceLoc& loc, long& max_steps,
                                        const std::string& help_topic) {
     const long long budget = ctx.interp.limits.block_steps;
-    const long long blocks = std::max<long long>(1, ctx.model.blocks.size());
+    // Each zone costs about as much per step as a block.
+    const long long blocks = std::max<long long>(1, ctx.model.blocks.size() + ctx.model.zones.size());
     if (budget < 0) return blocks;
     const long long steps = budget / blocks;
     if (steps < 1) fail(loc, "this session may take no more steps (its budget of block-steps is spent)", {}, help_topic);

@@ -110,7 +110,8 @@ public:
         // `hist write`, `set logfile`, `call`, `restore` and `table read` name stays inside
         // the working directory.
         bool confine_files = false;
-        // Block-steps (blocks times steps) that `step` and `solve` may still take in all; < 0: no limit.
+        // Block-steps (blocks and zones times steps) that `step` and `solve` may still take in all;
+        // < 0: no limit.
         long long block_steps = -1;
         // Blocks a `jset` may leave at most, counting every plane that crosses a block as a cut;
         // 0: no limit.
