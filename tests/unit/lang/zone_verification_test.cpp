@@ -81,3 +81,17 @@ TEST(Verification, ZoneUnconfinedMohrCoulomb) {
     report("7 unconfined Mohr-Coulomb: strength 2c sqrt(N)", axial, ucs, "Pa");
     EXPECT_NEAR(axial, ucs, 0.005 * ucs);
 }
+
+TEST(Verification, PrandtlFootingCollapseLoad) {
+    Session s;
+    run_script(s, "footing-prandtl.dat");
+    // The plateau: the mean bearing pressure once the footing has settled 2 mm (about twice
+    // the settlement at first yield), load over the half-footing's 1 m x 0.1 m.
+    const double q = plateau(hist(s, 1), hist(s, 2), 2e-3) / 0.1;
+    const double prandtl = (2 + M_PI) * 1e5;
+    report("Prandtl footing: bearing pressure (2+pi) c", q, prandtl, "Pa");
+    EXPECT_NEAR(q, prandtl, 0.05 * prandtl);
+    // It is a collapse: the load no longer grows with settlement.
+    const auto& load = hist(s, 1);
+    EXPECT_LT(load.back(), 1.02 * load[load.size() * 3 / 4]);
+}
