@@ -340,6 +340,10 @@ void handle_plot(CommandContext& ctx, const Args& a) {
     const bool zone_principal = principal && !all_zones.empty();
     std::vector<int> zones;
     if (zone || zone_principal) {
+        if (zone && all_zones.empty() && m.zones.size() > 0) {
+            fail(zone->loc, "there are no zones to plot: their blocks are hidden or excavated, or the zones null",
+                 {"'seek' shows hidden blocks again"}, "plot");
+        }
         if (zone && all_zones.empty()) {
             fail(zone->loc, "there are no zones to plot: 'zone' draws the zones of deformable blocks",
                  {"divide blocks into zones with 'gen edge e'"}, "plot");

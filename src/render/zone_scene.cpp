@@ -107,7 +107,8 @@ double median(std::vector<double> v) {
 double zone_spacing(const Model& m, const std::vector<int>& zones) {
     std::vector<double> v;
     v.reserve(zones.size());
-    for (int z : zones) v.push_back(std::abs(m.zones.volume[z]));
+    for (int z : zones)
+        if (std::isfinite(m.zones.volume[z])) v.push_back(std::abs(m.zones.volume[z]));
     return 1.2 * std::cbrt(median(std::move(v)));
 }
 
@@ -294,6 +295,7 @@ int append_zone_polygons(PolygonLayer& layer, ZoneLines* lines, const Model& m, 
             Vec3 centre = Vec3::Zero();
             for (int p : poly) centre += layer.points[p];
             centre /= static_cast<double>(poly.size());
+            if (!centre.allFinite()) continue; // a gridpoint gone astray: no order to sort by
             by_angle.clear();
             for (int p : poly) {
                 const Vec3 r = layer.points[p] - centre;

@@ -417,6 +417,11 @@ TEST(PlotErrors, ZonesOnAModelWithoutThem) {
               "         ^~~~\n"
               "  divide blocks into zones with 'gen edge e'\n"
               "  see 'help plot'\n");
+    ZoneSession hidden;
+    EXPECT_FALSE(hidden.run("hide\nplot zone"));
+    EXPECT_NE(hidden.error().find("t.dat:2:6: error: there are no zones to plot: their blocks are hidden"),
+              std::string::npos)
+        << hidden.error();
     ZoneSession z;
     EXPECT_FALSE(z.run("plot zone range z 5 6"));
     EXPECT_NE(z.error().find("error: the range selects no zones to plot"), std::string::npos) << z.error();

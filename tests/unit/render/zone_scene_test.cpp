@@ -422,6 +422,26 @@ TEST(ZoneScene, ThinningKeepsAllOfFewPointsAndSpreadsMany) {
     for (int q : quadrants) EXPECT_GT(q, static_cast<int>(kept.size()) / 6);
 }
 
+TEST(ZoneScene, AGridpointGoneAstrayDrawsTheRest) {
+    Model m = zoned_cube(3);
+    stress_along_x(m);
+    m.gridpoints.pos[5] = Vec3(NAN, 0, INFINITY);
+    m.gridpoints.disp[7] = Vec3(NAN, NAN, NAN);
+    m.zones.stress[2][0] = NAN;
+    m.zones.volume[4] = NAN;
+    for (const bool with_cut : {false, true}) {
+        PlotOptions opt;
+        opt.magnify = 10;
+        if (with_cut) opt.cut = CutPlane{Vec3(0.5, 0.5, 0.5), Vec3(0, 0, 1)};
+        Scene s = begin_scene(m, opt);
+        EXPECT_GT(add_zones(s, m, ZoneQuantity::SXX, opt), 0);
+        add_blocks(s, m, BlockColour::Disp, opt);
+        add_principal(s, principal_from_zones(m, opt, 50), opt);
+        add_vectors(s, m, VectorKind::Disp, opt);
+        EXPECT_TRUE(std::isfinite(s.polygons[0].scale.lo) && std::isfinite(s.polygons[0].scale.hi));
+    }
+}
+
 namespace {
 
 test::Picture draw_zones(const Scene& s, const std::string& name) {
