@@ -336,24 +336,31 @@ void handle_plot(CommandContext& ctx, const Args& a) {
     blocks.erase(std::remove_if(blocks.begin(), blocks.end(), [&](int b) { return !block_shown(m, b); }),
                  blocks.end());
     // Zones: those of the shown blocks, and of them those the range keeps by their centroid.
+    // 'principal' draws zones when the range keeps some, else the contacts it keeps.
     const std::vector<int> all_zones = render::zones_to_draw(m, render::PlotOptions());
-    const bool zone_principal = principal && !all_zones.empty();
     std::vector<int> zones;
+    for (int z : all_zones) {
+        if (!a.has_range || a.range.contains_point(m, zone_centroid(m, z), m.zones.block[z])) zones.push_back(z);
+    }
+    const bool zone_principal = principal && !zones.empty();
+    if (zone && all_zones.empty() && m.zones.size() > 0) {
+        fail(zone->loc, "there are no zones to plot: their blocks are hidden or excavated, or the zones null",
+             {"'seek' shows hidden blocks again"}, "plot");
+    }
+    if (zone && all_zones.empty()) {
+        fail(zone->loc, "there are no zones to plot: 'zone' draws the zones of deformable blocks",
+             {"divide blocks into zones with 'gen edge e'"}, "plot");
+    }
+    const bool range_misses_zones = !all_zones.empty() && zones.empty();
+    if (range_misses_zones && zone) fail(a.range_loc, "the range selects no zones to plot", {"widen the range"}, "plot");
+    if (range_misses_zones && principal && !contact && contacts_in_range(m, a).empty()) {
+        fail(a.range_loc, "the range selects no zones or contacts for 'principal'", {"widen the range"}, "plot");
+    }
     if (zone || zone_principal) {
-        if (zone && all_zones.empty() && m.zones.size() > 0) {
-            fail(zone->loc, "there are no zones to plot: their blocks are hidden or excavated, or the zones null",
-                 {"'seek' shows hidden blocks again"}, "plot");
-        }
-        if (zone && all_zones.empty()) {
-            fail(zone->loc, "there are no zones to plot: 'zone' draws the zones of deformable blocks",
-                 {"divide blocks into zones with 'gen edge e'"}, "plot");
-        }
-        for (int z : all_zones) {
-            if (!a.has_range || a.range.contains_point(m, zone_centroid(m, z), m.zones.block[z])) zones.push_back(z);
-        }
-        if (zones.empty()) fail(a.range_loc, "the range selects no zones to plot", {"widen the range"}, "plot");
         if (a.has_range) opt.zones = zones;
         opt.zone_item = zone != nullptr;
+    } else {
+        zones.clear();
     }
     const bool needs_blocks = block || vector || contact || (principal && !zone_principal) || !any_3d;
     if (blocks.empty() && (needs_blocks || zones.empty())) {

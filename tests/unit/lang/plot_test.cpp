@@ -422,6 +422,13 @@ TEST(PlotErrors, ZonesOnAModelWithoutThem) {
     EXPECT_NE(hidden.error().find("t.dat:2:6: error: there are no zones to plot: their blocks are hidden"),
               std::string::npos)
         << hidden.error();
+    // 'principal' with a range that keeps no zones falls back on contacts, and there are none.
+    Session p;
+    EXPECT_FALSE(p.run("poly brick 0 1 0 1 0 1\npoly brick 2 3 0 1 0 1\ngen edge 0.3 range x 0 1\n"
+                       "plot principal range x 2 3"));
+    EXPECT_NE(p.error().find("t.dat:4:16: error: the range selects no zones or contacts for 'principal'"),
+              std::string::npos)
+        << p.error();
     ZoneSession z;
     EXPECT_FALSE(z.run("plot zone range z 5 6"));
     EXPECT_NE(z.error().find("error: the range selects no zones to plot"), std::string::npos) << z.error();
