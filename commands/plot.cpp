@@ -2,11 +2,16 @@
 //
 // Items are keywords that may all appear in one command, each with an optional quantity
 // after it, so pictures layer the way people say them: `plot block disp vector vel`.
-// Whatever order they are typed in, they are drawn blocks first, then contacts, principal
-// stresses and vectors, because each later layer needs to see through the earlier ones
-// (the builder makes blocks translucent under arrows; this file does the same under
-// contacts, which lie on faces the blocks share). `history` draws a chart, which is a
-// picture of its own and takes no 3D items.
+// Whatever order they are typed in, they are drawn blocks first, then zones, contacts,
+// principal stresses and vectors, because each later layer needs to see through the earlier
+// ones (the builder makes blocks translucent under arrows; this file does the same under
+// contacts, which lie on faces the blocks share, and zones under principal stresses).
+// `history` draws a chart, which is a picture of its own and takes no 3D items.
+//
+// Zones are selected apart from blocks: a range keeps the zones whose centroid it contains
+// (as `insitu` does), so `plot zone szz range z 0 5` shows a slab of a block whose centroid
+// lies outside the slab. `principal` draws the zones' principal stresses when the model has
+// zones, the contacts' otherwise.
 #include "commands.h"
 #include "common.h"
 #include "plot_settings.h"
@@ -37,6 +42,8 @@ using render::VectorKind;
 const std::vector<std::string> kBlockQuantities = {"disp", "xdis", "ydis",  "zdis",     "vel",    "xvel",
                                                    "yvel", "zvel", "group", "material", "region", "fixed"};
 const std::vector<std::string> kContactQuantities = {"nstress", "sstress", "ndis", "sdis", "state"};
+const std::vector<std::string> kZoneQuantities = {"sxx", "syy",  "szz",  "sxy",   "sxz", "syz",
+                                                  "smin", "smid", "smax", "state", "disp"};
 const std::vector<std::string> kViews = {"iso", "x", "-x", "y", "-y", "z", "-z", "eye"};
 const std::vector<std::string> kBackgrounds = {"white", "black", "grey"};
 const std::vector<std::string> kMaps = {"auto", "rainbow", "coolwarm", "viridis", "grey"};
@@ -55,6 +62,16 @@ ContactQuantity contact_quantity(const std::string& q) {
         {"nstress", ContactQuantity::NormalStress}, {"sstress", ContactQuantity::ShearStress},
         {"ndis", ContactQuantity::NormalDisp},      {"sdis", ContactQuantity::ShearDisp},
         {"state", ContactQuantity::State}};
+    return table.at(q);
+}
+
+render::ZoneQuantity zone_quantity(const std::string& q) {
+    using render::ZoneQuantity;
+    static const std::map<std::string, ZoneQuantity> table = {
+        {"sxx", ZoneQuantity::SXX},   {"syy", ZoneQuantity::SYY},     {"szz", ZoneQuantity::SZZ},
+        {"sxy", ZoneQuantity::SXY},   {"sxz", ZoneQuantity::SXZ},     {"syz", ZoneQuantity::SYZ},
+        {"smin", ZoneQuantity::SMin}, {"smid", ZoneQuantity::SMid},   {"smax", ZoneQuantity::SMax},
+        {"state", ZoneQuantity::State}, {"disp", ZoneQuantity::Disp}};
     return table.at(q);
 }
 
@@ -133,6 +150,14 @@ Vec3 blocks_centre(const Model& m, const std::vector<int>& blocks) {
 }
 
 bool block_shown(const Model& m, int b) { return (m.blocks.flags[b] & (kHidden | kExcavated)) == 0; }
+
+// Centre of the bounding box of these zones: where a cut goes in a picture of zones alone.
+Vec3 zones_centre(const Model& m, const std::vector<int>& zones) {
+    Eigen::AlignedBox3d box;
+    for (int z : zones)
+        for (int g : m.zones.gp[z]) box.extend(m.gridpoints.pos[g]);
+    return box.isEmpty() ? Vec3::Zero() : Vec3(box.center());
+}
 
 // Where the picture goes: the file given (".png" added when it has no extension), or the
 // next free plot-NNNN.png in the working directory. Checked before anything is drawn.
@@ -248,14 +273,15 @@ void handle_plot(CommandContext& ctx, const Args& a) {
     const KeywordUse* vector = a.find("vector");
     const KeywordUse* principal = a.find("principal");
     const KeywordUse* contact = a.find("contact");
+    const KeywordUse* zone = a.find("zone");
     const KeywordUse* history = a.find("history");
-    const bool any_3d = block || vector || principal || contact;
+    const bool any_3d = block || vector || principal || contact || zone;
     if (a.has("vs") && !history) fail(a.find("vs")->loc, "'vs' goes with 'history'", {}, "plot");
     if (history) {
         for (const KeywordUse& u : a.uses) {
             const std::string& k = u.spec->name;
-            if (k == "block" || k == "vector" || k == "principal" || k == "contact" || k == "cut" || k == "range" ||
-                k == "view" || k == "map" || k == "scale" || k == "ids") {
+            if (k == "block" || k == "vector" || k == "principal" || k == "contact" || k == "zone" || k == "cut" ||
+                k == "range" || k == "view" || k == "map" || k == "scale" || k == "ids" || k == "magnify") {
                 fail(u.loc, "'" + k + "' cannot go with 'history'",
                      {"a history chart is a picture of its own: plot it with a separate 'plot' command"}, "plot");
             }
@@ -284,6 +310,7 @@ void handle_plot(CommandContext& ctx, const Args& a) {
         }
         opt.limits = std::make_pair(lo, hi);
     }
+    if (a.has("magnify")) opt.magnify = a.real("magnify");
 
     render::Scene scene;
     if (history) {
@@ -308,7 +335,35 @@ void handle_plot(CommandContext& ctx, const Args& a) {
     }
     blocks.erase(std::remove_if(blocks.begin(), blocks.end(), [&](int b) { return !block_shown(m, b); }),
                  blocks.end());
-    if (blocks.empty()) {
+    // Zones: those of the shown blocks, and of them those the range keeps by their centroid.
+    // 'principal' draws zones when the range keeps some, else the contacts it keeps.
+    const std::vector<int> all_zones = render::zones_to_draw(m, render::PlotOptions());
+    std::vector<int> zones;
+    for (int z : all_zones) {
+        if (!a.has_range || a.range.contains_point(m, zone_centroid(m, z), m.zones.block[z])) zones.push_back(z);
+    }
+    const bool zone_principal = principal && !zones.empty();
+    if (zone && all_zones.empty() && m.zones.size() > 0) {
+        fail(zone->loc, "there are no zones to plot: their blocks are hidden or excavated, or the zones null",
+             {"'seek' shows hidden blocks again"}, "plot");
+    }
+    if (zone && all_zones.empty()) {
+        fail(zone->loc, "there are no zones to plot: 'zone' draws the zones of deformable blocks",
+             {"divide blocks into zones with 'gen edge e'"}, "plot");
+    }
+    const bool range_misses_zones = !all_zones.empty() && zones.empty();
+    if (range_misses_zones && zone) fail(a.range_loc, "the range selects no zones to plot", {"widen the range"}, "plot");
+    if (range_misses_zones && principal && !contact && contacts_in_range(m, a).empty()) {
+        fail(a.range_loc, "the range selects no zones or contacts for 'principal'", {"widen the range"}, "plot");
+    }
+    if (zone || zone_principal) {
+        if (a.has_range) opt.zones = zones;
+        opt.zone_item = zone != nullptr;
+    } else {
+        zones.clear();
+    }
+    const bool needs_blocks = block || vector || contact || (principal && !zone_principal) || !any_3d;
+    if (blocks.empty() && (needs_blocks || zones.empty())) {
         const SourceLoc& where = a.has_range ? a.range_loc : a.loc;
         if (a.has_range && m.blocks.size() > 0) fail(where, "the range selects no blocks to plot", {}, "plot");
         fail(where, "there are no blocks to plot", {"make blocks first, e.g. 'poly brick 0 1 0 1 0 1'"}, "plot");
@@ -321,12 +376,14 @@ void handle_plot(CommandContext& ctx, const Args& a) {
         render::CutPlane cut;
         // The plane's upward normal (language.md): what lies above is cut away.
         cut.normal = Vec3(std::sin(dip) * std::sin(dd), std::sin(dip) * std::cos(dd), std::cos(dip));
-        cut.origin = u->values.size() > 3 ? u->values[3].vec : blocks_centre(m, blocks);
+        cut.origin = u->values.size() > 3 ? u->values[3].vec
+                     : blocks.empty()     ? zones_centre(m, zones)
+                                          : blocks_centre(m, blocks);
         opt.cut = cut;
     }
 
     ContactView contacts;
-    if (contact || principal) {
+    if (contact || (principal && !zone_principal)) {
         const std::vector<int> chosen = contacts_in_range(m, a);
         if (chosen.empty()) {
             fail((contact ? contact : principal)->loc,
@@ -343,20 +400,34 @@ void handle_plot(CommandContext& ctx, const Args& a) {
     scene = render::begin_scene(m, opt);
     if (block || !any_3d) {
         render::add_blocks(scene, m, block_colour(block ? quantity_of(*block, "disp") : "disp"), opt);
-    } else {
+    } else if (!zone) {
         render::add_block_outline(scene, m, opt);
     }
+    if (zone) render::add_zones(scene, m, zone_quantity(quantity_of(*zone, "smin")), opt);
     std::string error;
     if (contact) {
         if (!render::add_contacts(scene, contacts, contact_quantity(quantity_of(*contact, "nstress")), opt, error)) {
             fail(contact->loc, error, {}, "plot");
         }
     }
-    if (principal) render::add_principal(scene, render::principal_from_contacts(contacts), opt);
+    if (principal) {
+        render::add_principal(scene, zone_principal ? render::principal_from_zones(m, opt)
+                                                    : render::principal_from_contacts(contacts),
+                              opt);
+    }
     if ((contact || principal) && block) {
         // Contacts lie on faces the blocks share: see them through the blocks.
         for (auto& layer : scene.polygons) {
             if (layer.name == "blocks") layer.opacity = std::min(layer.opacity, 0.3);
+        }
+    }
+    if (zone_principal && zone) {
+        // Bars inside the zones: see them through the surface (on a section they lie on it),
+        // and leave out the zone edges, which would hide the thinner bars.
+        for (auto& layer : scene.polygons) {
+            if (layer.name != "zones") continue;
+            layer.edges = false;
+            if (!opt.cut) layer.opacity = std::min(layer.opacity, 0.3);
         }
     }
     if (vector) render::add_vectors(scene, m, quantity_of(*vector, "disp") == "vel" ? VectorKind::Vel : VectorKind::Disp, opt);
@@ -372,13 +443,19 @@ const CommandSpec& plot_command() {
     static const CommandSpec spec = [] {
         CommandSpec c("plot", 2, "draw a picture of the model into a PNG file, off-screen");
         c.keyword("block", 2, "blocks coloured by a quantity").one_of("quantity", kBlockQuantities).optional("disp");
-        c.keyword("vector", 2, "arrows of block displacement or velocity at the centroids")
+        c.keyword("vector", 2, "arrows of displacement or velocity at block centroids and surface gridpoints")
             .one_of("quantity", {"disp", "vel"})
             .optional("disp");
-        c.keyword("principal", 2, "principal-stress bars on the contacts (normal and shear stress)");
+        c.keyword("principal", 2, "principal-stress bars at the zones, or on the contacts when there are no zones");
         c.keyword("contact", 2, "contact patches coloured by a quantity")
             .one_of("quantity", kContactQuantities)
             .optional("nstress");
+        c.keyword("zone", 2, "zones of deformable blocks coloured by a quantity (stresses in Pa, tension positive)")
+            .one_of("quantity", kZoneQuantities)
+            .optional("smin");
+        c.keyword("magnify", 3, "draw displacements m times as large (deformed shape = original + m * disp)")
+            .real("m", 0, 1e9)
+            .defaults("1");
         c.keyword("history", 2, "a line chart of histories n ... against the step (a picture of its own)")
             .integer("n", 1)
             .repeat();
@@ -407,19 +484,42 @@ const CommandSpec& plot_command() {
         c.keyword("background", 2, "background colour").one_of("colour", kBackgrounds).defaults("white");
         c.keyword("ids", 3, "label each block drawn with its id (as 'range id' takes it)");
         c.keyword("set", 3, "keep this command's size, view, background and map for later plots; draw nothing");
-        c.range("which blocks (and the contacts between them) to draw: see 'help range'");
+        c.range("which blocks (and the contacts between them, and the zones whose centroid it contains) to draw: see 'help range'");
         c.describe(
-            "Items are 'block', 'vector', 'principal' and 'contact', each with an optional quantity after it; "
-            "several may be given and are layered in one picture (blocks, then contacts, principal stresses "
-            "and vectors; blocks turn translucent under contacts and arrows). 'plot' alone is 'plot block disp'. "
-            "Without 'block', the other items are drawn over the block edges. 'history n ... [vs m]' draws a "
-            "line chart instead, with 'file', 'size' and 'background' as its only options. "
+            "Items are 'block', 'zone', 'vector', 'principal' and 'contact', each with an optional quantity "
+            "after it; several may be given and are layered in one picture (blocks, then zones, contacts, "
+            "principal stresses and vectors; blocks turn translucent under contacts and arrows). 'plot' alone "
+            "is 'plot block disp'. Without 'block' or 'zone', the other items are drawn over the block edges. "
+            "'history n ... [vs m]' draws a line chart instead, with 'file', 'size' and 'background' as its only "
+            "options. "
             "Block quantities: disp, xdis, ydis, zdis (m), vel, xvel, yvel, zvel (m/s), group, material, region, "
-            "fixed (free, fixed, or moving with a velocity given by 'bound': how the model is supported). "
+            "fixed (free, fixed, or moving with a velocity given by 'bound': how the model is supported). A "
+            "deformable block is drawn as the surface of its zones at its gridpoints, so its picture shows its "
+            "deformed shape, and its displacements and velocities are those of its gridpoints, interpolated "
+            "across the faces. "
+            "Zone quantities (deformable blocks, 'gen edge'): sxx, syy, szz, sxy, sxz, syz (stress components), "
+            "smin, smid, smax (principal stresses; smin is the most compressive), all in Pa with tension "
+            "positive and one value per zone, each zone flat in its colour, over the range of the values drawn "
+            "(with 'cut', of the section; 'map coolwarm' centres the range on 0, 'scale lo hi' fixes it); state (elastic, shear now, tension "
+            "now, shear and tension now, yielded in the past); disp (displacement magnitude of the gridpoints, "
+            "m, interpolated). 'zone' draws the surface of the zones (those whose centroid the range contains, "
+            "when a range is given), or with 'cut' what lies below the plane and the section through each zone "
+            "it crosses, with the block edges drawn over them; the deformable blocks are then left to it by "
+            "'block'. "
             "Contact quantities: nstress (normal stress, compression positive), sstress (shear stress), ndis "
             "(normal closure, closing positive as in print and hist), sdis (shear displacement), state (elastic, slipping, open, "
-            "failed). 'principal' draws, on each sub-contact, the normal stress along the normal and the shear "
-            "stress along its direction as bars coloured by the signed value (compression negative). "
+            "failed). 'principal' in a model with zones draws at zone centroids three bars along the principal "
+            "directions, as long as the stresses are large, black in compression and magenta in tension (colours "
+            "no map uses, so they read over contours); many zones "
+            "are thinned to about a thousand spread evenly, and with 'cut' the zones the plane crosses are "
+            "taken, their bars on the plane. Without zones it draws, on each sub-contact, the normal stress "
+            "along the normal and the shear stress along its direction as bars coloured by the signed value "
+            "(compression negative). 'vector' draws arrows at the centroids of rigid blocks and at the surface "
+            "gridpoints of deformable ones (on the section with 'cut'), thinned the same way. "
+            "'magnify m' draws every point at its original place plus m times its displacement: gridpoints so, "
+            "and rigid blocks moved by m times their displacement (not turned); 'magnify 0' shows the shape "
+            "before the displacements (since the last 'reset disp'), and the title says the factor. Contacts are "
+            "drawn where they are. "
             "'cut plane dip d dd a [origin x,y,z]' cuts the model by a plane given as in 'jset' and removes what "
             "lies above it (on the side of its upward normal); unless a view is given, the eye looks straight "
             "at the cut face from that side, so 'cut plane dip 90 dd 180' removes the south half and shows the "
@@ -433,6 +533,9 @@ const CommandSpec& plot_command() {
         c.example("plot contact sstress range z 0 5");
         c.example("plot block group cut plane dip 90 dd 180 origin 0,2,0");
         c.example("plot block fixed ids");
+        c.example("plot zone szz cut plane dip 90 dd 180");
+        c.example("plot zone state principal cut plane dip 90 dd 90 origin 0.5,0,0");
+        c.example("plot block disp magnify 200 vector disp");
         c.example("plot hist 2 vs 1 file 'fall.png'");
         c.example("plot set size 1280 960 view eye 20,-30,15 background black map viridis");
         c.handle(handle_plot);

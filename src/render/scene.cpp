@@ -41,6 +41,11 @@ Rgb category_colour(int k) {
     return palette[((k % n) + n) % n];
 }
 
+Rgb category_colour(const ColourScale& scale, int k) {
+    if (k >= 0 && k < static_cast<int>(scale.colours.size())) return scale.colours[k];
+    return category_colour(k);
+}
+
 Rgb colour_at(ColourMap map, double t) {
     if (map == ColourMap::Categorical) return category_colour(static_cast<int>(std::lround(t)));
     const auto& cp = control_points(map);
@@ -55,7 +60,7 @@ Rgb colour_at(ColourMap map, double t) {
 }
 
 Rgb scale_colour(const ColourScale& scale, double v) {
-    if (scale.map == ColourMap::Categorical) return category_colour(static_cast<int>(std::lround(v)));
+    if (scale.map == ColourMap::Categorical) return category_colour(scale, static_cast<int>(std::lround(v)));
     const double span = scale.hi - scale.lo;
     return colour_at(scale.map, span > 0 ? (v - scale.lo) / span : 0.0);
 }

@@ -6,9 +6,9 @@
 // where it is coloured by a quantity, the scalar per cell or point and the
 // colour map that turns it into colour (one legend per coloured layer).
 //
-// Zones of deformable blocks will come as one more PolygonLayer (their faces,
-// coloured by stress) and one more GlyphLayer (principal stresses), so a zone
-// picture needs no new kind of layer.
+// Zones of deformable blocks are one more PolygonLayer (the faces of their surface
+// and of a section, coloured by a zone or gridpoint quantity) and one more GlyphLayer
+// (principal stresses): a zone picture needs no new kind of layer.
 #pragma once
 
 #include <array>
@@ -31,6 +31,7 @@ struct ColourScale {
     double lo = 0, hi = 1;             // data range shown (lo == hi: a single colour)
     ColourMap map = ColourMap::Rainbow;
     std::vector<std::string> categories; // for Categorical: one name per integer value 0..n-1
+    std::vector<Rgb> colours;          // for Categorical: colour of each category; empty: the palette
     bool legend = true;
 };
 
@@ -56,6 +57,9 @@ struct PolygonLayer {
     // Lit like solids (faces told apart by shading), or drawn in their true colour from
     // either side: patches lying in a plane (contacts) must read the same from both.
     bool lit = true;
+    // The polygons are the faces of a mesh (zones): their edges are left out when the layer is
+    // translucent, where the edges of the faces behind would show through as a thicket.
+    bool mesh = false;
 };
 
 // Arrows or bars at points: velocity and displacement vectors, principal stresses.
@@ -122,6 +126,8 @@ struct Scene {
 Rgb colour_at(ColourMap map, double t);
 // Colour of category k (0-based) of the Categorical map; repeats after a dozen.
 Rgb category_colour(int k);
+// Colour of category k of a scale: its own colour when it gives one, else the palette's.
+Rgb category_colour(const ColourScale& scale, int k);
 // The colour of value v under a scale (lo..hi; Categorical: v is the category number).
 Rgb scale_colour(const ColourScale& scale, double v);
 

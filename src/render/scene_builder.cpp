@@ -14,10 +14,11 @@
 #include <set>
 
 #include "engine/blocks.h"
+#include "render/scene_internal.h"
 
 namespace odec::render {
 
-namespace {
+namespace detail {
 
 bool shown(const Model& m, int b) {
     return (m.blocks.flags[b] & (kHidden | kExcavated)) == 0;
@@ -36,6 +37,71 @@ std::vector<int> blocks_to_draw(const Model& m, const PlotOptions& opt) {
     }
     return out;
 }
+
+Vec3 unit_or(const Vec3& v, const Vec3& fallback) {
+    const double n = v.norm();
+    return n > 0 ? Vec3(v / n) : fallback;
+}
+
+void plane_axes(const Vec3& n, Vec3& u, Vec3& v) {
+    const Vec3 e = std::abs(n.x()) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+    u = n.cross(e).normalized();
+    v = n.cross(u);
+}
+
+std::optional<Plane> cut_plane(const PlotOptions& opt) {
+    if (!opt.cut) return std::nullopt;
+    Plane p;
+    p.n = unit_or(opt.cut->normal, Vec3(0, -1, 0));
+    p.d = p.n.dot(opt.cut->origin);
+    return p;
+}
+
+// Continuous scale over the values drawn. A quantity that takes both signs in them gets a
+// diverging map centred at 0; one that takes one sign (a magnitude, or compressive joint
+// stresses) a sequential map from 0 to its extreme.
+ColourScale continuous_scale(const QuantityInfo& info, const std::vector<double>& values, const PlotOptions& opt) {
+    ColourScale s;
+    s.title = info.title;
+    s.units = info.units;
+    double lo = 0, hi = 0;
+    bool first = true;
+    for (double v : values) {
+        if (!std::isfinite(v)) continue;
+        if (first) lo = hi = v;
+        lo = std::min(lo, v);
+        hi = std::max(hi, v);
+        first = false;
+    }
+    const bool two_signs = info.is_signed && lo < 0 && hi > 0;
+    s.map = opt.map ? *opt.map : (two_signs ? ColourMap::CoolWarm : ColourMap::Rainbow);
+    if (s.map == ColourMap::Categorical) s.map = ColourMap::Rainbow;
+    if (opt.limits) {
+        lo = opt.limits->first;
+        hi = opt.limits->second;
+    } else if (two_signs && s.map == ColourMap::CoolWarm) {
+        const double a = std::max(std::abs(lo), std::abs(hi));
+        lo = -a;
+        hi = a;
+    } else if (hi <= 0 && lo < 0) {
+        hi = 0;
+    } else {
+        lo = std::min(0.0, lo);
+    }
+    s.lo = lo;
+    s.hi = hi;
+    return s;
+}
+
+} // namespace detail
+
+namespace {
+
+using detail::blocks_to_draw;
+using detail::continuous_scale;
+using detail::plane_axes;
+using detail::shown;
+using detail::unit_or;
 
 // A convex polyhedron kept on the side n.x <= d: its faces (each clipped) and the cap.
 struct ClippedShape {
@@ -131,42 +197,6 @@ bool is_categorical(BlockColour by) {
            by == BlockColour::Fixed;
 }
 
-// Continuous scale over the values drawn. A quantity that takes both signs in them gets a
-// diverging map centred at 0; one that takes one sign (a magnitude, or compressive joint
-// stresses) a sequential map from 0 to its extreme.
-ColourScale continuous_scale(const QuantityInfo& info, const std::vector<double>& values, const PlotOptions& opt) {
-    ColourScale s;
-    s.title = info.title;
-    s.units = info.units;
-    double lo = 0, hi = 0;
-    bool first = true;
-    for (double v : values) {
-        if (!std::isfinite(v)) continue;
-        if (first) lo = hi = v;
-        lo = std::min(lo, v);
-        hi = std::max(hi, v);
-        first = false;
-    }
-    const bool two_signs = info.is_signed && lo < 0 && hi > 0;
-    s.map = opt.map ? *opt.map : (two_signs ? ColourMap::CoolWarm : ColourMap::Rainbow);
-    if (s.map == ColourMap::Categorical) s.map = ColourMap::Rainbow;
-    if (opt.limits) {
-        lo = opt.limits->first;
-        hi = opt.limits->second;
-    } else if (two_signs && s.map == ColourMap::CoolWarm) {
-        const double a = std::max(std::abs(lo), std::abs(hi));
-        lo = -a;
-        hi = a;
-    } else if (hi <= 0 && lo < 0) {
-        hi = 0;
-    } else {
-        lo = std::min(0.0, lo);
-    }
-    s.lo = lo;
-    s.hi = hi;
-    return s;
-}
-
 // Categorical values (group, material, region numbers) become 0..n-1 with a name each.
 ColourScale categorical_scale(const Model& m, BlockColour by, std::vector<double>& values) {
     ColourScale s;
@@ -201,16 +231,75 @@ void append_polygon(PolygonLayer& layer, const std::vector<Vec3>& poly, double s
     layer.cell_scalars.push_back(scalar);
 }
 
-Vec3 unit_or(const Vec3& v, const Vec3& fallback) {
-    const double n = v.norm();
-    return n > 0 ? Vec3(v / n) : fallback;
+} // namespace
+
+namespace {
+
+bool is_kinematic(BlockColour by) {
+    switch (by) {
+    case BlockColour::Disp: case BlockColour::XDis: case BlockColour::YDis: case BlockColour::ZDis:
+    case BlockColour::Vel: case BlockColour::XVel: case BlockColour::YVel: case BlockColour::ZVel: return true;
+    default: return false;
+    }
 }
 
-// Two unit vectors spanning the plane normal to n, chosen the same way every time.
-void plane_axes(const Vec3& n, Vec3& u, Vec3& v) {
-    const Vec3 e = std::abs(n.x()) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
-    u = n.cross(e).normalized();
-    v = n.cross(u);
+// A kinematic quantity at gridpoint g (is_kinematic(by)).
+double gridpoint_scalar(const Model& m, int g, BlockColour by) {
+    switch (by) {
+    case BlockColour::Disp: return m.gridpoints.disp[g].norm();
+    case BlockColour::XDis: return m.gridpoints.disp[g].x();
+    case BlockColour::YDis: return m.gridpoints.disp[g].y();
+    case BlockColour::ZDis: return m.gridpoints.disp[g].z();
+    case BlockColour::Vel: return gridpoint_velocity_at_t(m, g).norm();
+    case BlockColour::XVel: return gridpoint_velocity_at_t(m, g).x();
+    case BlockColour::YVel: return gridpoint_velocity_at_t(m, g).y();
+    case BlockColour::ZVel: return gridpoint_velocity_at_t(m, g).z();
+    default: return 0;
+    }
+}
+
+// A rigid block as drawn: moved by (magnify - 1) times its displacement.
+Polyhedron drawn_shape(const Model& m, int b, double magnify) {
+    Polyhedron p = world_shape(m, b);
+    if (is_deformable(m, b)) {
+        const auto& corners = m.blocks.corner_gp[b];
+        for (size_t v = 0; v < corners.size() && v < p.vertices.size(); ++v)
+            if (corners[v] >= 0 && corners[v] < m.gridpoints.size())
+                p.vertices[v] = detail::drawn_gridpoint(m, corners[v], magnify);
+        return p;
+    }
+    if (magnify != 1.0) {
+        const Vec3 shift = (magnify - 1.0) * m.blocks.disp[b];
+        for (Vec3& v : p.vertices) v += shift;
+    }
+    return p;
+}
+
+// Where a block's label and arrow go: its centroid as drawn.
+Vec3 drawn_centre(const Model& m, int b, double magnify) {
+    if (is_deformable(m, b)) {
+        const Polyhedron p = drawn_shape(m, b, magnify);
+        Vec3 c = Vec3::Zero();
+        for (const Vec3& v : p.vertices) c += v;
+        return p.vertices.empty() ? m.blocks.centroid[b] : Vec3(c / static_cast<double>(p.vertices.size()));
+    }
+    return m.blocks.centroid[b] + (magnify - 1.0) * m.blocks.disp[b];
+}
+
+// Active zones of these blocks (a deformable block's picture).
+std::vector<int> zones_of_blocks(const Model& m, const std::vector<int>& blocks) {
+    if (blocks.empty()) return {};
+    PlotOptions o;
+    o.blocks = blocks;
+    return zones_to_draw(m, o);
+}
+
+// The displacement note of a picture drawn with `magnify`.
+std::string magnify_note(double magnify) {
+    if (magnify == 0) return "    shape before the displacements";
+    char note[96];
+    std::snprintf(note, sizeof note, "    displacements magnified x%g", magnify);
+    return note;
 }
 
 } // namespace
@@ -290,11 +379,18 @@ Scene begin_scene(const Model& m, const PlotOptions& opt) {
         s.camera.up = std::abs(n.z()) > 0.9 ? Vec3(0, 1, 0) : Vec3(0, 0, 1);
         s.camera.parallel = true;
     }
+    if (opt.magnify != 1.0) s.title += magnify_note(opt.magnify);
     return s;
 }
 
 void add_blocks(Scene& scene, const Model& m, BlockColour by, const PlotOptions& opt) {
-    const std::vector<int> blocks = blocks_to_draw(m, opt);
+    const std::vector<int> all_blocks = blocks_to_draw(m, opt);
+    // Rigid blocks face by face; deformable ones from their zones (unless a zone item draws them).
+    std::vector<int> blocks, deformable;
+    for (int b : all_blocks) {
+        if (!is_deformable(m, b)) blocks.push_back(b);
+        else if (!opt.zone_item) deformable.push_back(b);
+    }
     PolygonLayer layer;
     layer.name = "blocks";
     layer.edges = opt.edges;
@@ -310,19 +406,18 @@ void add_blocks(Scene& scene, const Model& m, BlockColour by, const PlotOptions&
         cut_n = unit_or(opt.cut->normal, Vec3(0, -1, 0));
         cut_d = cut_n.dot(opt.cut->origin);
     }
+    std::vector<int> coloured = blocks;
+    coloured.insert(coloured.end(), deformable.begin(), deformable.end());
     std::vector<double> block_values;
-    block_values.reserve(blocks.size());
-    for (int b : blocks) block_values.push_back(block_scalar(m, b, by));
+    block_values.reserve(coloured.size());
+    for (int b : coloured) block_values.push_back(block_scalar(m, b, by));
 
     ColourScale scale;
-    if (is_categorical(by))
-        scale = categorical_scale(m, by, block_values);
-    else if (by != BlockColour::Flat)
-        scale = continuous_scale(block_colour_info(by), block_values, opt);
+    if (is_categorical(by)) scale = categorical_scale(m, by, block_values);
 
     for (size_t i = 0; i < blocks.size(); ++i) {
         const int b = blocks[i];
-        const Polyhedron shape = world_shape(m, b);
+        const Polyhedron shape = drawn_shape(m, b, opt.magnify);
         const double value = block_values[i];
         if (!opt.cut) {
             const int base = static_cast<int>(layer.points.size());
@@ -348,18 +443,70 @@ void add_blocks(Scene& scene, const Model& m, BlockColour by, const PlotOptions&
             for (int j = 0; j < k; ++j) trace.segments.push_back({base + j, base + (j + 1) % k});
         }
     }
+
+    // Deformable blocks: one layer of their own, coloured per gridpoint for displacements and
+    // velocities, else by their block's value.
+    PolygonLayer zoned;
+    zoned.name = "blocks";
+    zoned.closed = true;
+    zoned.offsets.push_back(0);
+    detail::ZoneLines zone_lines;
+    zone_lines.edges.colour = {0.1, 0.1, 0.1};
+    zone_lines.edges.width = 1.5;
+    zone_lines.trace = trace;
+    int n_zoned = 0;
+    if (!deformable.empty()) {
+        const std::vector<int> zones = zones_of_blocks(m, deformable);
+        std::vector<double> by_zone, by_gp;
+        detail::ZonePaint paint;
+        if (is_kinematic(by)) {
+            by_gp.resize(static_cast<size_t>(m.gridpoints.size()));
+            for (int g = 0; g < m.gridpoints.size(); ++g) by_gp[g] = gridpoint_scalar(m, g, by);
+            paint.gp_value = &by_gp;
+        } else {
+            by_zone.assign(static_cast<size_t>(m.zones.size()), 0.0);
+            std::vector<double> of_block(static_cast<size_t>(m.blocks.size()), 0.0);
+            for (size_t i = 0; i < deformable.size(); ++i) of_block[deformable[i]] = block_values[blocks.size() + i];
+            for (int z : zones) by_zone[z] = of_block[m.zones.block[z]];
+            paint.zone_value = &by_zone;
+        }
+        n_zoned = detail::append_zone_polygons(zoned, &zone_lines, m, zones, detail::drawn_gridpoints(m, opt.magnify),
+                                               detail::cut_plane(opt), paint);
+        trace = std::move(zone_lines.trace);
+        // Zone edges make a fine mesh dark: only the block edges are drawn over many zones.
+        zoned.edges = opt.edges && n_zoned <= 5000;
+        zoned.edge_colour = {0.35, 0.35, 0.35};
+        zoned.mesh = true;
+    }
+
+    if (by != BlockColour::Flat && !is_categorical(by)) {
+        std::vector<double> values = layer.cell_scalars;
+        values.insert(values.end(), zoned.cell_scalars.begin(), zoned.cell_scalars.end());
+        values.insert(values.end(), zoned.point_scalars.begin(), zoned.point_scalars.end());
+        scale = continuous_scale(block_colour_info(by), values, opt);
+    }
     if (by == BlockColour::Flat) {
         layer.cell_scalars.clear();
+        zoned.cell_scalars.clear();
+        zoned.point_scalars.clear();
     } else {
         layer.scale = scale;
+        zoned.scale = scale;
     }
-    if (layer.offsets.size() < 2) return;
-    scene.polygons.push_back(std::move(layer));
+    const bool have_rigid = layer.offsets.size() >= 2;
+    if (!have_rigid && n_zoned == 0) return;
+    if (have_rigid) scene.polygons.push_back(std::move(layer));
+    if (n_zoned > 0) {
+        zoned.scale.legend = !have_rigid; // one legend for the two layers of blocks
+        scene.polygons.push_back(std::move(zoned));
+        if (!zone_lines.edges.segments.empty()) scene.lines.push_back(std::move(zone_lines.edges));
+    }
     if (!trace.segments.empty()) scene.lines.push_back(std::move(trace));
     if (opt.ids) {
-        for (int b : blocks) {
-            if (opt.cut && cut_n.dot(m.blocks.centroid[b]) > cut_d) continue;
-            scene.labels.push_back({m.blocks.centroid[b], std::to_string(m.blocks.id[b])});
+        for (int b : coloured) {
+            const Vec3 at = drawn_centre(m, b, opt.magnify);
+            if (opt.cut && cut_n.dot(at) > cut_d) continue;
+            scene.labels.push_back({at, std::to_string(m.blocks.id[b])});
         }
     }
 }
@@ -368,8 +515,13 @@ void add_block_outline(Scene& scene, const Model& m, const PlotOptions& opt) {
     LineLayer lines;
     lines.colour = {0.55, 0.55, 0.55};
     lines.width = 1.0;
+    std::vector<int> deformable;
     for (int b : blocks_to_draw(m, opt)) {
-        const Polyhedron shape = world_shape(m, b);
+        if (is_deformable(m, b)) {
+            deformable.push_back(b);
+            continue;
+        }
+        const Polyhedron shape = drawn_shape(m, b, opt.magnify);
         const int base = static_cast<int>(lines.points.size());
         lines.points.insert(lines.points.end(), shape.vertices.begin(), shape.vertices.end());
         std::set<std::pair<int, int>> edges; // each edge is shared by two faces: draw it once
@@ -381,6 +533,19 @@ void add_block_outline(Scene& scene, const Model& m, const PlotOptions& opt) {
                 if (edges.insert({a, c}).second) lines.segments.push_back({base + a, base + c});
             }
         }
+    }
+    if (!deformable.empty()) {
+        // The block edges of the zoned surface, which follow the gridpoints as they move.
+        PolygonLayer scratch;
+        std::vector<double> none(static_cast<size_t>(m.zones.size()), 0.0);
+        detail::ZonePaint paint;
+        paint.zone_value = &none;
+        detail::ZoneLines zone_lines;
+        detail::append_zone_polygons(scratch, &zone_lines, m, zones_of_blocks(m, deformable),
+                                     detail::drawn_gridpoints(m, opt.magnify), std::nullopt, paint);
+        const int base = static_cast<int>(lines.points.size());
+        lines.points.insert(lines.points.end(), zone_lines.edges.points.begin(), zone_lines.edges.points.end());
+        for (const auto& s : zone_lines.edges.segments) lines.segments.push_back({base + s[0], base + s[1]});
     }
     if (!lines.segments.empty()) scene.lines.push_back(std::move(lines));
 }
@@ -396,22 +561,40 @@ void add_vectors(Scene& scene, const Model& m, VectorKind kind, const PlotOption
         cut_d = cut_n.dot(opt.cut->origin);
     }
     for (int b : blocks_to_draw(m, opt)) {
-        if (opt.cut && cut_n.dot(m.blocks.centroid[b]) > cut_d) continue;
+        if (is_deformable(m, b)) continue;
+        const Vec3 at = drawn_centre(m, b, opt.magnify);
+        if (opt.cut && cut_n.dot(at) > cut_d) continue;
         const Vec3 v = kind == VectorKind::Disp ? m.blocks.disp[b] : velocity_at_t(m, b);
-        g.origins.push_back(m.blocks.centroid[b]);
+        g.origins.push_back(at);
         g.directions.push_back(v);
         g.scalars.push_back(v.norm());
         sizes.push_back(block_size(m, b));
     }
+    // Deformable blocks: arrows at their surface gridpoints, or on the section, thinned out.
+    const std::vector<int> zones = opt.zone_item ? zones_to_draw(m, opt) : zones_of_blocks(m, blocks_to_draw(m, opt));
+    if (!zones.empty()) {
+        std::vector<Vec3> gp_vector(static_cast<size_t>(m.gridpoints.size()));
+        for (int k = 0; k < m.gridpoints.size(); ++k)
+            gp_vector[k] = kind == VectorKind::Disp ? m.gridpoints.disp[k] : gridpoint_velocity_at_t(m, k);
+        const detail::VectorSamples samples = detail::zone_vector_samples(
+            m, zones, detail::drawn_gridpoints(m, opt.magnify), gp_vector, detail::cut_plane(opt), 1500);
+        for (size_t i = 0; i < samples.points.size(); ++i) {
+            g.origins.push_back(samples.points[i]);
+            g.directions.push_back(samples.vectors[i]);
+            g.scalars.push_back(samples.vectors[i].norm());
+            sizes.push_back(samples.spacing);
+        }
+    }
     if (g.origins.empty()) return;
-    // The longest arrow about one typical block long: long enough to read, short enough
-    // not to cross the picture.
+    // The longest arrow about one typical block (or the distance between arrows) long: long
+    // enough to read, short enough not to cross the picture.
     std::nth_element(sizes.begin(), sizes.begin() + sizes.size() / 2, sizes.end());
     g.max_length = sizes[sizes.size() / 2];
     bool coloured_already = false;
     for (auto& layer : scene.polygons) {
         if (!layer.cell_scalars.empty() || !layer.point_scalars.empty()) coloured_already = true;
         if (layer.name == "blocks") layer.opacity = std::min(layer.opacity, 0.35);
+        if (layer.name == "zones") layer.opacity = std::min(layer.opacity, 0.45);
     }
     const QuantityInfo info = kind == VectorKind::Disp ? QuantityInfo{"displacement magnitude", "m", false}
                                                        : QuantityInfo{"velocity magnitude", "m/s", false};
@@ -422,10 +605,7 @@ void add_vectors(Scene& scene, const Model& m, VectorKind kind, const PlotOption
     }
     // The arrow scale: what the longest arrow stands for.
     double longest = 0;
-    for (double v : g.scalars.empty() ? std::vector<double>{} : g.scalars) longest = std::max(longest, v);
-    if (g.scalars.empty()) {
-        for (const Vec3& d : g.directions) longest = std::max(longest, d.norm());
-    }
+    for (const Vec3& d : g.directions) longest = std::max(longest, d.norm());
     char note[160];
     std::snprintf(note, sizeof note, "    arrows: %s, the longest %.3g %s", kind == VectorKind::Disp ? "displacement" : "velocity",
                   longest, kind == VectorKind::Disp ? "m" : "m/s");
@@ -540,7 +720,30 @@ void add_principal(Scene& scene, const PrincipalField& field, const PlotOptions&
     }
     if (g.origins.empty()) return;
     g.max_length = field.typical_size;
-    g.scale = continuous_scale({"principal stress at contacts, tension +", "Pa", true}, g.scalars, opt);
+    if (!field.by_sign) {
+        g.scale = continuous_scale({"principal stress at contacts, tension +", "Pa", true}, g.scalars, opt);
+        scene.glyphs.push_back(std::move(g));
+        return;
+    }
+    double longest = 0;
+    for (double& v : g.scalars) {
+        longest = std::max(longest, std::abs(v));
+        v = v < 0 ? 0 : 1;
+    }
+    g.scale.map = ColourMap::Categorical;
+    g.scale.title = "principal stress";
+    g.scale.categories = {"compression", "tension"};
+    // Black and magenta: neither is in the colour maps, so the bars read over any contours.
+    g.scale.colours = {{0.05, 0.05, 0.05}, {0.90, 0.05, 0.85}};
+    g.scale.lo = 0;
+    g.scale.hi = 1;
+    char note[160];
+    if (static_cast<int>(field.points.size()) < field.n_sampled_from)
+        std::snprintf(note, sizeof note, "    bars: principal stresses of %d of %d zones, the longest %.3g Pa",
+                      static_cast<int>(field.points.size()), field.n_sampled_from, longest);
+    else
+        std::snprintf(note, sizeof note, "    bars: principal stresses, the longest %.3g Pa", longest);
+    scene.title += note;
     scene.glyphs.push_back(std::move(g));
 }
 
@@ -570,6 +773,15 @@ std::string history_axis_title(HistoryKind k) {
     case HistoryKind::SStress: return "joint shear stress (Pa)";
     case HistoryKind::NDis: return "joint normal closure (m)";
     case HistoryKind::SDis: return "joint shear displacement (m)";
+    case HistoryKind::SXX: return "zone stress xx, tension + (Pa)";
+    case HistoryKind::SYY: return "zone stress yy, tension + (Pa)";
+    case HistoryKind::SZZ: return "zone stress zz, tension + (Pa)";
+    case HistoryKind::SXY: return "zone stress xy (Pa)";
+    case HistoryKind::SXZ: return "zone stress xz (Pa)";
+    case HistoryKind::SYZ: return "zone stress yz (Pa)";
+    case HistoryKind::XReaction: return "x reaction (N)";
+    case HistoryKind::YReaction: return "y reaction (N)";
+    case HistoryKind::ZReaction: return "z reaction (N)";
     }
     return "value";
 }

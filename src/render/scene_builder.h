@@ -2,7 +2,7 @@
 //
 // A picture is built in three moves: begin_scene() sets the frame (size, view, background,
 // title with the model title, step and time); each plot item adds its layers (add_blocks,
-// add_vectors, add_contacts, add_principal, add_block_outline, add_history_chart); the
+// add_zones, add_vectors, add_contacts, add_principal, add_block_outline, add_history_chart); the
 // backend draws the result (vtk_backend.h: render_png). Items layer in the order they are
 // added, and every coloured layer brings its own legend. One PlotOptions serves all items of
 // one picture; `set plot` keeps one between plots.
@@ -13,9 +13,12 @@
 //   add_vectors(s, m, VectorKind::Disp, opt);
 //   render_png(s, "plot-0001.png", error);
 //
-// Zones of deformable blocks will come as add_zones (a PolygonLayer of zone faces, coloured
-// by stress, clipped by the same cut) and principal stresses of zones as a PrincipalField
-// for add_principal: the options and the scene need no new shape for them.
+// Deformable blocks are drawn from their zones (zone_scene.cpp): the faces of the zones on
+// the surface of the blocks drawn, at the gridpoints' positions, and where a cut crosses them
+// the polygon in which the plane meets each tetrahedron. `plot block` draws them so (coloured
+// by gridpoint values for displacements and velocities), `plot zone` colours the same faces by
+// a zone quantity, and their principal stresses are a PrincipalField for add_principal.
+// `magnify m` draws every point at its original place plus m times its displacement.
 #pragma once
 
 #include <optional>
@@ -35,6 +38,10 @@ enum class BlockColour { Flat, Disp, XDis, YDis, ZDis, Vel, XVel, YVel, ZVel, Gr
 enum class VectorKind { Disp, Vel };
 // `plot contact nstress|sstress|ndis|sdis|state`.
 enum class ContactQuantity { NormalStress, ShearStress, NormalDisp, ShearDisp, State };
+// `plot zone sxx|syy|szz|sxy|sxz|syz|smin|smid|smax|state|disp`: stress components and
+// principal stresses (Pa, tension positive; smin the most compressive), the plastic state, and
+// the gridpoints' displacement magnitude.
+enum class ZoneQuantity { SXX, SYY, SZZ, SXY, SXZ, SYZ, SMin, SMid, SMax, State, Disp };
 
 // A section (`cut plane origin x,y,z normal nx,ny,nz`): what lies on the side the normal
 // points to is cut away, so the eye, looking against the normal, sees the cut faces.
@@ -54,6 +61,13 @@ struct PlotOptions {
     std::optional<std::pair<double, double>> limits; // fixed colour scale lo, hi (`set plot scale`)
     bool edges = true;                          // draw block edges
     bool ids = false;                           // label each block drawn with its id
+    // Zones from `range ...` (indices); none: every zone of the blocks drawn.
+    std::optional<std::vector<int>> zones;
+    // The picture has a zone item: add_blocks leaves the deformable blocks to it.
+    bool zone_item = false;
+    // Points drawn at their original place plus `magnify` times their displacement (1: where
+    // they are). Rigid blocks are moved by their displacement so, not turned.
+    double magnify = 1.0;
 };
 
 // Camera for a view name: "iso", "x", "-x", "y", "-y", "z", "-z" (the eye on that axis,
@@ -69,8 +83,19 @@ std::string scene_title(const Model& m);
 Scene begin_scene(const Model& m, const PlotOptions& opt);
 
 // Blocks (not hidden, not excavated; within opt.blocks), coloured by `by`, clipped by
-// opt.cut with their cut faces outlined.
+// opt.cut with their cut faces outlined. Deformable blocks are drawn from their zones, their
+// displacements and velocities from the gridpoints (then the layer has point scalars).
 void add_blocks(Scene& scene, const Model& m, BlockColour by, const PlotOptions& opt);
+
+// The zones drawn: active zones (not null, not excavated) of shown blocks within opt.blocks,
+// or the indices of opt.zones that are such zones; sorted.
+std::vector<int> zones_to_draw(const Model& m, const PlotOptions& opt);
+
+// Zones coloured by `q` (one value per zone; `disp` per gridpoint, interpolated): the faces on
+// the surface of the zones drawn, or with opt.cut those below the plane and the section
+// polygons, as one closed layer named "zones", with block outlines over it. Returns the number
+// of zone polygons added (0: nothing drawn).
+int add_zones(Scene& scene, const Model& m, ZoneQuantity q, const PlotOptions& opt);
 
 // Block edges as thin lines: context for vectors and contacts without hiding them.
 void add_block_outline(Scene& scene, const Model& m, const PlotOptions& opt);
@@ -86,18 +111,27 @@ void add_vectors(Scene& scene, const Model& m, VectorKind kind, const PlotOption
 bool add_contacts(Scene& scene, const ContactView& contacts, ContactQuantity q, const PlotOptions& opt,
                   std::string& error);
 
-// Principal stresses at points: zones (later) or contacts. value[k] is signed, compression
+// Principal stresses at points: zones or contacts. value[k] is signed, compression
 // negative, and goes with the unit direction direction[k].
 struct PrincipalField {
     std::vector<Vec3> points;                       // (n)
     std::vector<std::array<double, 3>> value;       // (n) Pa
     std::vector<std::array<Vec3, 3>> direction;     // (n) unit
     double typical_size = 0;                        // m, length of the largest bar (0: renderer's choice)
+    // Colour by sign alone (compression, tension), not by the signed value: for zones, where
+    // the two must be told apart at a glance however small the bar.
+    bool by_sign = false;
+    int n_sampled_from = 0;                         // zones: how many there were to choose from
 };
 // On contacts a principal field has the normal stress along the normal and the shear stress
 // along the shear direction (the third is zero).
 PrincipalField principal_from_contacts(const ContactView& contacts);
-// Double-headed bars, length proportional to |value|, coloured by the signed value.
+// On zones (zones_to_draw): the three principal stresses at the zone centroids. A picture of
+// many zones would be a thicket, so at most about `max_points` zones are taken, one in each
+// cell of a regular grid over them; with opt.cut only the zones the plane crosses, with
+// their bars on the plane.
+PrincipalField principal_from_zones(const Model& m, const PlotOptions& opt, int max_points = 1200);
+// Double-headed bars, length proportional to |value|, coloured by the signed value (or by sign).
 void add_principal(Scene& scene, const PrincipalField& field, const PlotOptions& opt);
 
 // Shorthand for the commonest picture: blocks coloured by `by`, default options, the given
@@ -119,5 +153,8 @@ struct QuantityInfo {
 };
 QuantityInfo block_colour_info(BlockColour by);
 QuantityInfo contact_quantity_info(ContactQuantity q);
+QuantityInfo zone_quantity_info(ZoneQuantity q);
+// Names of the zone states, in the order of their category numbers.
+const std::vector<std::string>& zone_state_names();
 
 } // namespace odec::render

@@ -219,7 +219,7 @@ vtkSmartPointer<vtkLookupTable> make_lookup_table(const ColourScale& scale) {
         const int n = std::max<int>(1, static_cast<int>(scale.categories.size()));
         lut->SetNumberOfTableValues(n);
         for (int k = 0; k < n; ++k) {
-            const Rgb c = category_colour(k);
+            const Rgb c = category_colour(scale, k);
             lut->SetTableValue(k, c[0], c[1], c[2], 1.0);
             const std::string name = k < static_cast<int>(scale.categories.size()) ? scale.categories[k]
                                                                                   : std::to_string(k);
@@ -368,7 +368,7 @@ vtkSmartPointer<vtkActor> polygon_actor(const PolygonLayer& layer, double model_
     if (!layer.lit) p->LightingOff();
     // A closed solid's faces that turn away are hidden by its front faces.
     if (solid) p->BackfaceCullingOn();
-    if (layer.edges) {
+    if (layer.edges && !(layer.mesh && layer.opacity < 1.0)) {
         p->EdgeVisibilityOn();
         p->SetEdgeColor(layer.edge_colour[0], layer.edge_colour[1], layer.edge_colour[2]);
         p->SetLineWidth(static_cast<float>(layer.edge_width));
@@ -555,7 +555,7 @@ void add_category_legend(Backend& b, const ColourScale& scale, const Rgb& fg, in
     int y = y_top - static_cast<int>(font * (1.3 * n_title_lines + 0.6));
     const int side = static_cast<int>(font * 1.15);
     for (size_t k = 0; k < scale.categories.size(); ++k) {
-        const Rgb c = category_colour(static_cast<int>(k));
+        const Rgb c = category_colour(scale, static_cast<int>(k));
         vtkNew<vtkPoints> pts;
         pts->InsertNextPoint(x, y - side, 0);
         pts->InsertNextPoint(x + side, y - side, 0);

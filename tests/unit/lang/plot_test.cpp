@@ -300,8 +300,8 @@ TEST(PlotErrors, FileNotWritableAndUnknownItem) {
               std::string::npos)
         << s.error();
     Session t;
-    EXPECT_FALSE(t.run("plot zone sxx"));
-    EXPECT_NE(t.error().find("error: unknown keyword 'zone' for 'plot'"), std::string::npos) << t.error();
+    EXPECT_FALSE(t.run("plot stress sxx"));
+    EXPECT_NE(t.error().find("error: unknown keyword 'stress' for 'plot'"), std::string::npos) << t.error();
     EXPECT_NE(t.error().find("see 'help plot'"), std::string::npos) << t.error();
     Session u;
     EXPECT_FALSE(u.run("poly brick 0 1 0 1 0 1\nplot contact"));
@@ -309,6 +309,139 @@ TEST(PlotErrors, FileNotWritableAndUnknownItem) {
     Session v;
     EXPECT_FALSE(v.run("poly brick 0 1 0 1 0 1\nplot view eye"));
     EXPECT_NE(v.error().find("error: 'view eye' needs the eye point x,y,z"), std::string::npos) << v.error();
+}
+
+// A deformable cube zoned by 'gen edge', the west half of its top pressed down (the brief's
+// model, coarser): stresses that vary, and a top that sinks where it is pressed.
+const char* kZoneModel =
+    "title 'Zone plot test'\n"
+    "poly brick 0 1 0 1 0 1\n"
+    "prop mat=1 dens=2500 ymod=10e9 prat=0.25\n"
+    "gen edge 0.2\n"
+    "bound zvel 0 range z -0.001 0.001\n"
+    "bound xvel 0 range x -0.001 0.001\n"
+    "bound yvel 0 range y -0.001 0.001\n"
+    "bound stress 0 0 -1e6 0 0 0 range z 0.999 1.001 x 0 0.5\n"
+    "step 300\n";
+
+struct ZoneSession : Session {
+    ZoneSession() { EXPECT_TRUE(run(kZoneModel)) << error(); }
+};
+
+bool bluish(const odec::render::Rgb& c) { return c[2] > 0.4 && c[0] < 0.35 * c[2] && c[1] < 0.35 * c[2]; }
+
+// Pixels that differ between two pictures of the same size.
+int n_different(const Picture& a, const Picture& b) {
+    int n = 0;
+    for (int y = 0; y < a.height; ++y)
+        for (int x = 0; x < a.width; ++x) {
+            const auto p = a.at(x, y), q = b.at(x, y);
+            n += std::abs(p[0] - q[0]) + std::abs(p[1] - q[1]) + std::abs(p[2] - q[2]) > 0.1;
+        }
+    return n;
+}
+
+TEST(PlotZones, EveryZoneQuantityAndItemDraws) {
+    ZoneSession s;
+    ASSERT_GT(s.model.zones.size(), 300);
+    const std::string dir = temp_dir();
+    for (const char* q : {"sxx", "syy", "szz", "sxy", "sxz", "syz", "smin", "smid", "smax", "state", "disp"}) {
+        const std::string path = dir + "/" + q + ".png";
+        ASSERT_TRUE(s.run(std::string("plot zone ") + q + " file '" + path + "' size 320 240")) << q << s.error();
+        expect_drawn(picture(path), 320, 240);
+    }
+    for (const char* items : {"zone szz cut plane dip 90 dd 180", "zone smin principal cut plane dip 90 dd 90",
+                              "principal", "zone state principal", "block disp magnify 1000 vector disp",
+                              "block group", "vector vel cut plane dip 0 dd 0 origin 0.5,0.5,0.5",
+                              "zone disp range x 0 0.5 magnify 500", "zone sxz block vector"}) {
+        const std::string path = dir + "/items.png";
+        ASSERT_TRUE(s.run(std::string("plot ") + items + " file '" + path + "' size 320 240")) << items << s.error();
+        expect_drawn(picture(path), 320, 240);
+    }
+}
+
+TEST(PlotZones, PressedHalfIsTheCompressedEndOfTheScale) {
+    ZoneSession s;
+    const std::string dir = temp_dir();
+    // Seen from the south with x across: the pressed west half (left) is the most compressive,
+    // the blue end of the map; the east half (right) the least, the red end.
+    ASSERT_TRUE(s.run("plot zone szz view -y file '" + dir + "/szz.png' size 640 480")) << s.error();
+    const Picture pic = picture(dir + "/szz.png");
+    int blue_left = 0, blue_right = 0, red_left = 0, red_right = 0;
+    for (int y = 0; y < pic.height; ++y)
+        for (int x = 0; x < pic.width * 7 / 10; ++x) {
+            const auto c = pic.at(x, y);
+            (x < pic.width * 35 / 100 ? blue_left : blue_right) += bluish(c);
+            (x < pic.width * 35 / 100 ? red_left : red_right) += is_red(c);
+        }
+    EXPECT_GT(blue_left, 2000);
+    EXPECT_GT(blue_left, 5 * blue_right);
+    EXPECT_GT(red_right, 2000);
+    EXPECT_GT(red_right, 5 * red_left);
+    // A section shows the same: the plane through the middle, seen from the south.
+    ASSERT_TRUE(s.run("plot zone szz cut plane dip 90 dd 180 file '" + dir + "/cut.png' size 640 480")) << s.error();
+    EXPECT_GT(picture(dir + "/cut.png").count_if(bluish), 2000);
+}
+
+TEST(PlotZones, MagnifyChangesTheDrawnShape) {
+    ZoneSession s;
+    const std::string dir = temp_dir();
+    ASSERT_TRUE(s.run("plot zone disp view -y magnify 0 file '" + dir + "/m0.png' size 480 360\n"
+                      "plot zone disp view -y file '" + dir + "/m1.png' size 480 360\n"
+                      "plot zone disp view -y magnify 3000 file '" + dir + "/m3000.png' size 480 360"))
+        << s.error();
+    const Picture m0 = picture(dir + "/m0.png"), m1 = picture(dir + "/m1.png"), m3000 = picture(dir + "/m3000.png");
+    // The displacements are a fraction of a millimetre: at true scale the shape is the
+    // original one but for the title; magnified, the pressed half of the top sinks visibly.
+    EXPECT_GT(n_different(m0, m3000), 2000);
+    EXPECT_GT(n_different(m1, m3000), 2000);
+    // The top edge of the drawing, west (left) and east: level before, lower in the west after.
+    auto top_row = [](const Picture& p, int x) {
+        for (int y = p.height - 1; y >= 0; --y) {
+            const auto c = p.at(x, y);
+            if (c[0] + c[1] + c[2] < 2.7 && y < p.height * 85 / 100) return y;
+        }
+        return -1;
+    };
+    const int west = m0.width / 6, east = m0.width * 9 / 20;
+    EXPECT_NEAR(top_row(m0, west), top_row(m0, east), 2);
+    EXPECT_LT(top_row(m3000, west), top_row(m3000, east) - 5);
+}
+
+TEST(PlotErrors, ZonesOnAModelWithoutThem) {
+    Session s;
+    EXPECT_FALSE(s.run("poly brick 0 1 0 1 0 1\nplot zone szz"));
+    EXPECT_EQ(s.error(),
+              "t.dat:2:6: error: there are no zones to plot: 'zone' draws the zones of deformable blocks\n"
+              "    plot zone szz\n"
+              "         ^~~~\n"
+              "  divide blocks into zones with 'gen edge e'\n"
+              "  see 'help plot'\n");
+    ZoneSession hidden;
+    EXPECT_FALSE(hidden.run("hide\nplot zone"));
+    EXPECT_NE(hidden.error().find("t.dat:2:6: error: there are no zones to plot: their blocks are hidden"),
+              std::string::npos)
+        << hidden.error();
+    // 'principal' with a range that keeps no zones falls back on contacts, and there are none.
+    Session p;
+    EXPECT_FALSE(p.run("poly brick 0 1 0 1 0 1\npoly brick 2 3 0 1 0 1\ngen edge 0.3 range x 0 1\n"
+                       "plot principal range x 2 3"));
+    EXPECT_NE(p.error().find("t.dat:4:16: error: the range selects no zones or contacts for 'principal'"),
+              std::string::npos)
+        << p.error();
+    ZoneSession z;
+    EXPECT_FALSE(z.run("plot zone range z 5 6"));
+    EXPECT_NE(z.error().find("error: the range selects no zones to plot"), std::string::npos) << z.error();
+    ZoneSession h;
+    EXPECT_FALSE(h.run("hist time\nstep 10\nplot hist 1 magnify 10"));
+    EXPECT_NE(h.error().find("error: 'magnify' cannot go with 'history'"), std::string::npos) << h.error();
+    ZoneSession m;
+    EXPECT_FALSE(m.run("plot zone magnify -1"));
+    EXPECT_NE(m.error().find("t.dat:1:19: error: "), std::string::npos) << m.error();
+    EXPECT_NE(m.error().find("magnify"), std::string::npos) << m.error();
+    ZoneSession q;
+    EXPECT_FALSE(q.run("plot zone sigma"));
+    EXPECT_NE(q.error().find("t.dat:1:11: error: "), std::string::npos) << q.error();
 }
 
 // The bridge gives the contact engine's state in the view's terms.
