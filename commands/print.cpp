@@ -91,9 +91,9 @@ void print_zones(CommandContext& ctx, const Args& a) {
         o << "\n";
     }
     o << sel.size() << " of " << z.size()
-      << " zones (x, y, z: centroid; stresses in Pa, tension positive; smin the most compressive principal "
-         "stress; state: elastic, mc (Mohr-Coulomb, elastic now), shear-n/tens-n yielding now, shear-p/tens-p "
-         "yielded before, null)\n";
+      << " zones (x, y, z: centroid; stresses in Pa, tension positive; smin the most compressive;\n"
+         "state: elastic, mc (Mohr-Coulomb, elastic now), shear-n/tens-n yielding in shear/tension now,\n"
+         "shear-p/tens-p yielded before, null)\n";
 }
 
 void print_gridpoints(CommandContext& ctx, const Args& a) {
@@ -122,7 +122,8 @@ void print_gridpoints(CommandContext& ctx, const Args& a) {
 void print_properties(CommandContext& ctx) {
     const Model& m = ctx.model;
     std::ostream& o = ctx.out;
-    o << "block materials (density kg/m^3; moduli, cohesion and tension Pa; angles degrees: zones of deformable blocks)\n";
+    o << "block materials (density kg/m^3; moduli, cohesion, tension Pa; angles degrees; all but density:\n"
+         "zones of deformable blocks)\n";
     o << col("mat", 5) << col("density", 10) << col("bulk", 10) << col("shear", 10) << col("cohesion", 10)
       << col("friction", 10) << col("tension", 10) << col("dilation", 10) << "\n";
     int n = 0;
@@ -310,8 +311,9 @@ void print_info(CommandContext& ctx) {
         int deformable = 0;
         for (int b = 0; b < m.blocks.size(); ++b) deformable += (m.blocks.flags[b] & kDeformable) != 0;
         o << "zones:      " << m.zones.size() << " in " << deformable << " deformable blocks (" << models[1]
-          << " elastic, " << models[2] << " Mohr-Coulomb, " << models[0] << " null), " << m.gridpoints.size()
-          << " gridpoints, " << (m.settings.large_strain ? "large" : "small") << " strain\n";
+          << " elastic, " << models[2] << " Mohr-Coulomb, " << models[0] << " null)\n";
+        o << "gridpoints: " << m.gridpoints.size() << "; " << (m.settings.large_strain ? "large" : "small")
+          << " strain\n";
     }
     o << "joint sets: " << m.n_joint_sets << " (" << m.joint_planes.size() << " planes, " << m.slivers_skipped
       << " cuts skipped as slivers)\n";

@@ -57,8 +57,8 @@ double history_value(const Model& m, const History& h) {
     }
     default: break;
     }
-    if (h.gridpoint >= 0) {
-        if (h.gridpoint >= m.gridpoints.size()) return 0.0;
+    if (h.gridpoint != -1) {
+        if (h.gridpoint < 0 || h.gridpoint >= m.gridpoints.size()) return 0.0;
         const Vec3& d = m.gridpoints.disp[h.gridpoint];
         switch (h.kind) {
         case HistoryKind::XDis: return d.x();

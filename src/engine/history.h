@@ -32,8 +32,9 @@ struct History {
                                                      // block's body frame, from its centroid
     int contact_id = 0;                              // contact sampled (contact quantities)
     int gridpoint = -1;                              // gridpoint sampled (displacement and velocity
-                                                     // in a deformable block), else -1
-    int zone = -1;                                   // zone sampled (stress), else -1
+                                                     // in a deformable block), else -1; -2: it was
+                                                     // removed with its block (the history reads 0)
+    int zone = -1;                                   // zone sampled (stress), else -1; -2: removed
     std::vector<int> gridpoints;                     // reactions: the gridpoints summed
     std::vector<int> blocks;                         // reactions: the rigid block ids summed
     std::string label;                               // column title

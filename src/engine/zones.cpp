@@ -147,8 +147,10 @@ void remove_zones(Model& m, const std::vector<int>& blocks) {
     // Keep the zones of the other blocks.
     int w = 0;
     std::vector<char> used(g.size(), 0);
+    std::vector<int> new_zone(z.size(), -1);
     for (int i = 0; i < z.size(); ++i) {
         if (gone[z.block[i]]) continue;
+        new_zone[i] = w;
         z.gp[w] = z.gp[i];
         z.block[w] = z.block[i];
         z.model[w] = z.model[i];
@@ -198,6 +200,24 @@ void remove_zones(Model& m, const std::vector<int>& blocks) {
     std::fill(g.traction.begin(), g.traction.end(), Vec3::Zero());
     for (const BoundaryFace& bf : faces) {
         for (int c : bf.gp) g.traction[c] += bf.force / 3.0;
+    }
+    // Histories follow their gridpoint or zone to its new place; one whose zone or gridpoint
+    // went with the blocks (-2) records 0 from now on.
+    for (History& h : m.histories.items) {
+        if (h.gridpoint >= 0) {
+            h.gridpoint = h.gridpoint < static_cast<int>(new_index.size()) && new_index[h.gridpoint] >= 0
+                              ? new_index[h.gridpoint]
+                              : -2;
+        }
+        if (h.zone >= 0) {
+            h.zone = h.zone < static_cast<int>(new_zone.size()) && new_zone[h.zone] >= 0 ? new_zone[h.zone]
+                                                                                          : -2;
+        }
+        std::vector<int> kept;
+        for (int c : h.gridpoints) {
+            if (c < static_cast<int>(new_index.size()) && new_index[c] >= 0) kept.push_back(new_index[c]);
+        }
+        h.gridpoints = std::move(kept);
     }
     // A gridpoint's block is one whose zones still use it.
     for (int i = 0; i < z.size(); ++i) {

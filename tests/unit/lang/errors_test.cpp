@@ -257,7 +257,7 @@ TEST(Errors, PolyNamesTheFaceThatMakesTheSolidNotConvex) {
 }
 
 TEST(Errors, CommandsThatNeedSomethingToDoSaySo) {
-    EXPECT_NE(error_of("change range z 0 1").find("t.dat:1:1: error: 'change' needs 'mat=n', 'jmat=n' or 'jcons=j'"),
+    EXPECT_NE(error_of("change range z 0 1").find("t.dat:1:1: error: 'change' needs 'mat=n', 'cons=c', 'jmat=n' or 'jcons=j'"),
               std::string::npos);
     EXPECT_NE(error_of("ini range z 0 1").find("t.dat:1:1: error: 'initial' needs one of: xvel, yvel, zvel"),
               std::string::npos);

@@ -190,6 +190,13 @@ TEST(Zones, GravityLoadsTheBaseWithTheWeightAndStressGrowsWithDepth) {
     EXPECT_NE(out.find("smin (most compressive)"), std::string::npos) << out;
     EXPECT_NE(out.find("zones:      " + std::to_string(m.zones.size()) + " in 1 deformable blocks"), std::string::npos)
         << out;
+    // Every line fits a terminal of 100 columns.
+    size_t start = 0;
+    while (start < out.size()) {
+        const size_t end = std::min(out.find('\n', start), out.size());
+        EXPECT_LE(end - start, 100u) << out.substr(start, end - start);
+        start = end + 1;
+    }
 }
 
 TEST(Zones, FixAndFreeActOnGridpointsByPosition) {
