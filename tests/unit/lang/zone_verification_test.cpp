@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "engine/model.h"
+#include "engine/zones.h"
 #include "test_util.h"
 
 using odec::test::Session;
@@ -94,4 +96,74 @@ TEST(Verification, PrandtlFootingCollapseLoad) {
     // It is a collapse: the load no longer grows with settlement.
     const auto& load = hist(s, 1);
     EXPECT_LT(load.back(), 1.02 * load[load.size() * 3 / 4]);
+}
+
+namespace {
+
+// Kirsch's solution, compression positive, p1 along z (theta from it), p2 along x.
+struct Kirsch {
+    double p1 = 30e6, p2 = 15e6, a = 1;
+    double sr(double r, double t) const {
+        const double q = a * a / (r * r);
+        return (p1 + p2) / 2 * (1 - q) + (p1 - p2) / 2 * (1 - 4 * q + 3 * q * q) * std::cos(2 * t);
+    }
+    double st(double r, double t) const {
+        const double q = a * a / (r * r);
+        return (p1 + p2) / 2 * (1 + q) - (p1 - p2) / 2 * (1 + 3 * q * q) * std::cos(2 * t);
+    }
+};
+
+} // namespace
+
+TEST(Verification, KirschHole) {
+    Session s;
+    run_script(s, "kirsch.dat");
+    const Kirsch k;
+    const double g = 2.8e9, nu = 0.2103;
+    const double ur0 = (k.p1 + k.p2) / (4 * g) + (k.p1 - k.p2) / (4 * g) * (4 * (1 - nu) - 1);
+    const double ur90 = (k.p1 + k.p2) / (4 * g) - (k.p1 - k.p2) / (4 * g) * (4 * (1 - nu) - 1);
+    const double crown = -hist(s, 1).back(), side = -hist(s, 2).back();
+    report("6 Kirsch: wall displacement at the crown", crown, ur0, "m");
+    report("6 Kirsch: wall displacement at the side", side, ur90, "m");
+    EXPECT_NEAR(crown, ur0, 0.05 * ur0);
+    EXPECT_NEAR(side, ur90, 0.05 * ur90);
+    // Stresses: the mean over the zones of a window (r and theta around a point) against the
+    // mean of the analytic values at their centroids, for windows from 1.2 a outwards.
+    const odec::Model& m = s.model;
+    struct Window {
+        const char* name;
+        double r0, r1, t0, t1;  // theta in degrees from the vertical
+    };
+    const Window windows[] = {{"r 1.2-1.4 a, side wall", 1.2, 1.4, 80, 90}, {"r 1.2-1.4 a, crown", 1.2, 1.4, 0, 10},
+                              {"r 1.9-2.1 a, side wall", 1.9, 2.1, 80, 90}, {"r 1.9-2.1 a, crown", 1.9, 2.1, 0, 10},
+                              {"r 1.9-2.1 a, 45 deg", 1.9, 2.1, 40, 50}};
+    for (const Window& w : windows) {
+        double cr = 0, ct = 0, ar = 0, at = 0;
+        int n = 0;
+        for (int z = 0; z < m.zones.size(); ++z) {
+            if (m.blocks.flags[m.zones.block[z]] & odec::kExcavated) continue;
+            const odec::Vec3 c = odec::zone_centroid(m, z);
+            const double r = std::hypot(c.x(), c.z()), t = std::atan2(c.x(), c.z());
+            if (r < w.r0 || r > w.r1 || t < w.t0 * M_PI / 180 || t > w.t1 * M_PI / 180) continue;
+            const auto& st = m.zones.stress[z];
+            const odec::Vec3 nr(std::sin(t), 0, std::cos(t)), nt(std::cos(t), 0, -std::sin(t));
+            auto normal = [&](const odec::Vec3& v) {
+                return v.x() * v.x() * st[0] + v.z() * v.z() * st[2] + 2 * v.x() * v.z() * st[4];
+            };
+            cr -= normal(nr);
+            ct -= normal(nt);
+            ar += k.sr(r, t);
+            at += k.st(r, t);
+            ++n;
+        }
+        ASSERT_GT(n, 3) << w.name;
+        char what[96];
+        std::snprintf(what, sizeof what, "6 Kirsch: hoop stress, %s", w.name);
+        report(what, ct / n, at / n, "Pa");
+        EXPECT_NEAR(ct / n, at / n, 0.03 * at / n) << w.name;
+        std::snprintf(what, sizeof what, "6 Kirsch: radial stress, %s", w.name);
+        report(what, cr / n, ar / n, "Pa");
+        // The radial stress is small near the wall: 3 % of the hoop stress there.
+        EXPECT_NEAR(cr / n, ar / n, 0.03 * at / n) << w.name;
+    }
 }
