@@ -1,5 +1,6 @@
 #include "commands.h"
 #include "common.h"
+#include "engine/zones.h"
 
 namespace odec {
 
@@ -18,8 +19,19 @@ const CommandSpec& ini_command() {
                 fail(a.loc, "'initial' needs one of: xvel, yvel, zvel", {}, "initial");
             }
             BlockSet& s = ctx.model.blocks;
-            for (int b : blocks_to_change(ctx, a)) {
-                if (s.flags[b] & kFixed) continue;
+            // In deformable blocks, the gridpoints the range selects by their position.
+            GridpointSet& g = ctx.model.gridpoints;
+            const std::vector<int> gps = select_gridpoints(ctx.model, a.range);
+            for (int i : gps) {
+                for (int k = 0; k < 3; ++k) {
+                    const char* w = k == 0 ? "xvel" : k == 1 ? "yvel" : "zvel";
+                    if (a.has(w) && !(g.vel_bc[i] & (1 << k))) g.vel[i][k] = a.real(w);
+                }
+                g.half_kick[i] = 1;
+            }
+            const std::vector<int> blocks = gps.empty() ? blocks_to_change(ctx, a) : select_blocks(ctx.model, a.range);
+            for (int b : blocks) {
+                if (s.flags[b] & (kFixed | kDeformable)) continue;
                 if (a.has("xvel")) s.vel[b].x() = a.real("xvel");
                 if (a.has("yvel")) s.vel[b].y() = a.real("yvel");
                 if (a.has("zvel")) s.vel[b].z() = a.real("zvel");

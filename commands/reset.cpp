@@ -1,16 +1,17 @@
 #include "commands.h"
 #include "common.h"
+#include "engine/zones.h"
 
 namespace odec {
 
 const CommandSpec& reset_command() {
     static const CommandSpec spec = [] {
         CommandSpec c("reset", 3, "set accumulated quantities back to zero");
-        c.keyword("displacement", 3, "block displacements and rotations");
+        c.keyword("displacement", 3, "block and gridpoint displacements, block rotations");
         c.keyword("jdisp", 2, "joint shear displacements (the stresses are kept)");
         c.keyword("time", 2, "model time");
         c.keyword("history", 3, "the samples of every history (the histories themselves stay)");
-        c.keyword("velocity", 3, "block velocities and spins");
+        c.keyword("velocity", 3, "block and gridpoint velocities, block spins");
         c.example("reset disp jdisp time hist");
         c.handle([](CommandContext& ctx, const Args& a) {
             Model& m = ctx.model;
@@ -21,6 +22,7 @@ const CommandSpec& reset_command() {
                     s.disp[b].setZero();
                     s.rotation[b].setZero();
                 }
+                for (Vec3& d : m.gridpoints.disp) d.setZero();
             }
             if (a.has("velocity")) {
                 for (int b = 0; b < s.size(); ++b) {
@@ -29,6 +31,11 @@ const CommandSpec& reset_command() {
                     s.accel[b].setZero();
                     s.ang_accel[b].setZero();
                     s.half_kick[b] = 1;
+                }
+                GridpointSet& g = m.gridpoints;
+                for (int i = 0; i < g.size(); ++i) {
+                    g.vel[i].setZero();
+                    g.half_kick[i] = 1;
                 }
             }
             if (a.has("jdisp")) {
