@@ -50,6 +50,26 @@ save 'brick'" >/dev/null
     )
 fi
 
+# A deformable block, so that mutations reach the zone, gridpoint and loaded-face sections
+# (made apart from the seeds above, which an older campaign directory already holds).
+if [ ! -f "$fuzz/seeds/restore/zoned.sav" ]; then
+    (
+        cd "$fuzz/seeds/restore"
+        "$fuzz/odec" --quiet -c "poly brick 0 1 0 1 0 1
+prop mat=1 dens=2500 ymod=10e9 prat=0.25 coh=3e5 fric=30 ten=1e5
+change cons=2
+gen edge 0.5
+grav 0 0 -10
+bound zvel 0 range z -0.001 0.001
+bound stress 0 0 -1e6 0 0 0 range z 0.999 1.001
+hist zdis 0.5 0.5 1
+hist szz 0.5 0.5 0.5
+hist zreaction range z -0.001 0.001
+step 10
+save 'zoned'" >/dev/null 2>&1 || true
+    )
+fi
+
 status=0
 for t in "${targets[@]}"; do
     mkdir -p "$fuzz/corpus/$t" "$fuzz/crashes/$t"

@@ -31,6 +31,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cerrno>
 #include <cmath>
@@ -119,11 +120,17 @@ auto fields(IO& io, M& x) -> If<M, Table> {
 
 template <class IO, class M>
 auto fields(IO& io, M& x) -> If<M, History> {
-    io.enumeration(x.kind, static_cast<int>(HistoryKind::SDis) + 1); // the last kind
+    // The last kind each format knows: format 3 added zone stresses and reactions.
+    const HistoryKind last = io.format >= 3 ? HistoryKind::ZReaction : HistoryKind::SDis;
+    io.enumeration(x.kind, static_cast<int>(last) + 1);
     io(x.point); io(x.block_id); io(x.contact_id); io(x.label); io(x.values);
     // Format 2: the material point a block history follows. Format 1 sampled the
     // centroid; its files take the point's offset at the block's current pose.
     if (io.format >= 2) io(x.body_offset);
+    // Format 3: what a history samples in deformable blocks (older files have none).
+    if (io.format >= 3) {
+        io(x.gridpoint); io(x.zone); io(x.gridpoints); io(x.blocks);
+    }
 }
 
 template <class IO, class M>
@@ -149,12 +156,16 @@ auto fields(IO& io, M& x) -> If<M, Damping> {
 
 template <class IO, class M>
 auto fields(IO& io, M& x) -> If<M, Profile> {
-    int n_stages = static_cast<int>(Stage::Count);
+    // Format 3 added the zone stage; older files time the other five, in the same order.
+    const int expected = static_cast<int>(Stage::Count) - (io.format >= 3 ? 0 : 1);
+    int n_stages = expected;
     io(n_stages);
-    io.check(n_stages == static_cast<int>(Stage::Count), "the profile has " + std::to_string(n_stages) +
-                                                             " stages, this odec has " +
-                                                             std::to_string(static_cast<int>(Stage::Count)));
-    for (auto& s : x.seconds) io(s);
+    io.check(n_stages == expected, "the profile has " + std::to_string(n_stages) + " stages, save format " +
+                                       std::to_string(io.format) + " has " + std::to_string(expected));
+    for (int k = 0; k < static_cast<int>(Stage::Count); ++k) {
+        if (io.format < 3 && k == static_cast<int>(Stage::Zones)) continue;
+        io(x.seconds[k]);
+    }
     io(x.steps);
 }
 
@@ -165,8 +176,39 @@ auto fields(IO& io, M& x) -> If<M, BlockSet> {
     io(x.disp); io(x.rotation); io(x.volume); io(x.mass); io(x.inertia_body); io(x.inertia_unit);
     io(x.material); io(x.region); io(x.group); io(x.flags); io(x.vel_bc); io(x.vel_bc_value);
     io(x.vel_bc_table); io(x.half_kick);
+    // Format 3: deformable blocks (older files hold rigid blocks only; restore_model gives
+    // them the defaults of a new block).
+    if (io.format >= 3) {
+        io(x.cons); io(x.corner_gp); io(x.body);
+    }
     // Derived from the above, but written as they are so nothing is recomputed differently.
     io(x.vertex_offset); io(x.world_vertices);
+}
+
+// Zones and gridpoints: every array, the derived and scratch ones too. Some are read before
+// the next step rewrites them (the forces of the last step, by a history's velocity at t and
+// by the unbalanced force; the shape-function gradients, kept from zoning in small strain);
+// writing all of them makes a restored model the same bits as the saved one.
+template <class IO, class M>
+auto fields(IO& io, M& x) -> If<M, ZoneSet> {
+    io(x.gp); io(x.block); io(x.model); io(x.state); io(x.stress); io(x.volume); io(x.grad);
+}
+
+template <class IO, class M>
+auto fields(IO& io, M& x) -> If<M, GridpointSet> {
+    io(x.pos); io(x.ref); io(x.vel); io(x.disp); io(x.force); io(x.applied); io(x.traction);
+    io(x.mass); io(x.stiffness); io(x.force_scale); io(x.nmd_volume); io(x.nmd_rate); io(x.block);
+    io(x.vel_bc); io(x.vel_bc_value); io(x.vel_bc_table); io(x.half_kick);
+}
+
+template <class IO, class M>
+auto fields(IO& io, M& x) -> If<M, BoundaryFace> {
+    io(x.gp); io(x.force);
+}
+
+template <class IO, class M>
+auto fields(IO& io, M& x) -> If<M, StressBoundary> {
+    io(x.faces);
 }
 
 template <class IO, class M>
@@ -199,6 +241,11 @@ void model_sections(IO& io, M& m) {
     io.section("GRPS", [&] { io(m.group_names); });
     io.section("JPLN", [&] { io(m.joint_planes); });
     io.section("BLKS", [&] { io(m.blocks); });
+    if (io.format >= 3) {
+        io.section("ZONE", [&] { io(m.zones); });
+        io.section("GRID", [&] { io(m.gridpoints); });
+        io.section("SBND", [&] { io(m.stress_boundary); });
+    }
     io.section("CONT", [&] { io(m.contacts); });
     io.section("HIST", [&] { io(m.histories); });
     io.section("TABL", [&] { io(m.tables); });
@@ -240,6 +287,9 @@ public:
     void operator()(const Mat3& a) { for (int i = 0; i < 9; ++i) raw(a.data()[i]); }
     template <class A, class B>
     void operator()(const std::pair<A, B>& p) { (*this)(p.first); (*this)(p.second); }
+    // Fixed-size arrays have no length on file: their size is part of the layout.
+    template <class T, size_t N>
+    void operator()(const std::array<T, N>& a) { for (const T& x : a) (*this)(x); }
     template <class T>
     void operator()(const std::vector<T>& v) {
         raw(static_cast<std::uint64_t>(v.size()));
@@ -373,6 +423,8 @@ public:
     void operator()(Mat3& a) { for (int i = 0; i < 9; ++i) a.data()[i] = raw<double>(); }
     template <class A, class B>
     void operator()(std::pair<A, B>& p) { (*this)(p.first); (*this)(p.second); }
+    template <class T, size_t N>
+    void operator()(std::array<T, N>& a) { for (T& x : a) (*this)(x); }
     template <class T>
     void operator()(std::vector<T>& v) {
         // Every element takes at least a byte, so a length beyond the bytes left is damage,
@@ -451,6 +503,101 @@ private:
     }
 };
 
+// The zones, gridpoints and loaded faces of deformable blocks: lengths agree, every index
+// points at something that exists, and the blocks and zones agree on which blocks are
+// deformable. Block arrays are known to agree in length.
+std::string check_zones_consistent(const Model& m) {
+    const BlockSet& s = m.blocks;
+    const ZoneSet& z = m.zones;
+    const GridpointSet& g = m.gridpoints;
+    const size_t n = s.id.size();
+    const size_t nz = z.gp.size();
+    // The gradients are empty until the cycle first needs them.
+    if (z.block.size() != nz || z.model.size() != nz || z.state.size() != nz || z.stress.size() != nz ||
+        z.volume.size() != nz || (!z.grad.empty() && z.grad.size() != nz)) {
+        return "the zone arrays differ in length";
+    }
+    const size_t ng = g.pos.size();
+    if (g.ref.size() != ng || g.vel.size() != ng || g.disp.size() != ng || g.force.size() != ng ||
+        g.applied.size() != ng || g.traction.size() != ng || g.mass.size() != ng || g.stiffness.size() != ng ||
+        g.force_scale.size() != ng || g.nmd_volume.size() != ng || g.nmd_rate.size() != ng ||
+        g.block.size() != ng || g.vel_bc.size() != ng || g.vel_bc_value.size() != ng ||
+        g.vel_bc_table.size() != ng || g.half_kick.size() != ng) {
+        return "the gridpoint arrays differ in length";
+    }
+    if (nz > static_cast<size_t>(std::numeric_limits<int>::max()) ||
+        ng > static_cast<size_t>(std::numeric_limits<int>::max())) {
+        return "there are more zones or gridpoints than odec can count";
+    }
+    auto gridpoint_ok = [&](int i) { return i >= 0 && static_cast<size_t>(i) < ng; };
+    auto block_deformable = [&](int b) {
+        return b >= 0 && static_cast<size_t>(b) < n && (s.flags[b] & kDeformable) != 0;
+    };
+    for (size_t b = 0; b < n; ++b) {
+        const std::string w = "block " + std::to_string(s.id[b]);
+        const auto& corners = s.corner_gp[b];
+        if (s.flags[b] & kDeformable) {
+            if (static_cast<int>(corners.size()) != s.shape[b].n_vertices()) {
+                return w + " is deformable but has " + std::to_string(corners.size()) + " corner gridpoints for " +
+                       std::to_string(s.shape[b].n_vertices()) + " vertices";
+            }
+            for (int c : corners) {
+                if (!gridpoint_ok(c)) return w + " has a corner at gridpoint " + std::to_string(c) + ", which does not exist";
+            }
+            if (s.body[b] < 1) return w + " is deformable but belongs to no continuum";
+        } else if (!corners.empty() || s.body[b] != 0) {
+            return w + " is rigid but has corner gridpoints or a continuum";
+        }
+    }
+    std::vector<char> zoned(n, 0);
+    for (size_t i = 0; i < nz; ++i) {
+        const std::string w = "zone " + std::to_string(i + 1);
+        if (!block_deformable(z.block[i])) return w + " belongs to block index " + std::to_string(z.block[i]) + ", which is not a deformable block";
+        zoned[z.block[i]] = 1;
+        const auto& q = z.gp[i];
+        for (int k = 0; k < 4; ++k) {
+            if (!gridpoint_ok(q[k])) return w + " has a corner at gridpoint " + std::to_string(q[k]) + ", which does not exist";
+            for (int j = 0; j < k; ++j) {
+                if (q[j] == q[k]) return w + " has gridpoint " + std::to_string(q[k]) + " at two corners";
+            }
+        }
+    }
+    // Each corner of a deformable block is a corner of one of its own zones: removing other
+    // blocks' zones (delete, gen again) keeps exactly the gridpoints that kept zones use.
+    std::vector<std::pair<int, int>> used; // (gridpoint, block) of every zone corner
+    used.reserve(4 * nz);
+    for (size_t i = 0; i < nz; ++i) {
+        for (int c : z.gp[i]) used.emplace_back(c, z.block[i]);
+    }
+    std::sort(used.begin(), used.end());
+    for (size_t b = 0; b < n; ++b) {
+        if (!(s.flags[b] & kDeformable)) continue;
+        const std::string w = "block " + std::to_string(s.id[b]);
+        if (!zoned[b]) return w + " is deformable but has no zones";
+        for (int c : s.corner_gp[b]) {
+            if (!std::binary_search(used.begin(), used.end(), std::make_pair(c, static_cast<int>(b)))) {
+                return w + " has a corner at gridpoint " + std::to_string(c) + ", which none of its zones has";
+            }
+        }
+    }
+    for (size_t i = 0; i < ng; ++i) {
+        if (!block_deformable(g.block[i])) {
+            return "gridpoint " + std::to_string(i + 1) + " belongs to block index " + std::to_string(g.block[i]) +
+                   ", which is not a deformable block";
+        }
+    }
+    for (const BoundaryFace& f : m.stress_boundary.faces) {
+        // Corners in increasing order, as the faces are kept (which also makes them distinct).
+        if (!gridpoint_ok(f.gp[0]) || !gridpoint_ok(f.gp[1]) || !gridpoint_ok(f.gp[2])) {
+            return "a face loaded by 'bound stress' has a corner at a gridpoint that does not exist";
+        }
+        if (!(f.gp[0] < f.gp[1] && f.gp[1] < f.gp[2])) {
+            return "a face loaded by 'bound stress' does not have three distinct corners in order";
+        }
+    }
+    return "";
+}
+
 // Sizes and indices that the cycle trusts without checking, so that a file which passed its
 // checksum but was written wrongly cannot make the cycle read out of bounds.
 std::string check_consistent(const Model& m) {
@@ -464,7 +611,7 @@ std::string check_consistent(const Model& m) {
     same(s.rotation.size()); same(s.volume.size()); same(s.mass.size()); same(s.inertia_body.size());
     same(s.inertia_unit.size()); same(s.material.size()); same(s.region.size()); same(s.group.size());
     same(s.flags.size()); same(s.vel_bc.size()); same(s.vel_bc_value.size()); same(s.vel_bc_table.size());
-    same(s.half_kick.size());
+    same(s.half_kick.size()); same(s.cons.size()); same(s.corner_gp.size()); same(s.body.size());
     if (!sizes_ok) return "the block arrays differ in length";
     if (!s.vertex_offset.empty()) {
         if (s.vertex_offset.size() != n + 1 || s.vertex_offset[0] != 0) return "the world vertex offsets are wrong";
@@ -530,9 +677,21 @@ std::string check_consistent(const Model& m) {
         (c.geo_centroid.size() != n || c.geo_orientation.size() != n || c.radius.size() != n)) {
         return "the detection caches differ in length";
     }
+    const std::string zones = check_zones_consistent(m);
+    if (!zones.empty()) return zones;
     const HistorySet& h = m.histories;
     for (const History& item : h.items) {
         if (item.values.size() > h.sample_steps.size()) return "a history has more values than samples";
+        // A history's gridpoint or zone at or beyond the count is one that was removed since
+        // (the history then samples 0); a negative index other than -1 is damage.
+        if (item.gridpoint < -1) return "a history refers to gridpoint " + std::to_string(item.gridpoint);
+        if (item.zone < -1) return "a history refers to zone " + std::to_string(item.zone);
+        for (int g : item.gridpoints) {
+            if (g < 0) return "a reaction history refers to gridpoint " + std::to_string(g);
+        }
+        for (int id : item.blocks) {
+            if (id < 1) return "a reaction history refers to block id " + std::to_string(id);
+        }
     }
     return "";
 }
@@ -669,7 +828,10 @@ std::string check_values(const Model& m) {
         c.mat(s.inertia_unit[b], w + "the unit inertia");
         if (s.material[b] < 1 || s.material[b] > 1000000) c.fail(w + "the material number is out of range");
         if (s.region[b] < 0) c.fail(w + "the region number is negative");
-        if (s.flags[b] > (kFixed | kHidden | kExcavated) || s.vel_bc[b] > 7 || s.half_kick[b] > 1) c.fail(w + "a flag is out of range");
+        if (s.flags[b] > (kFixed | kHidden | kExcavated | kDeformable) || s.vel_bc[b] > 7 || s.half_kick[b] > 1) {
+            c.fail(w + "a flag is out of range");
+        }
+        if (s.cons[b] > kZoneMohrCoulomb) c.fail(w + "its zone model is " + std::to_string(s.cons[b]) + " (0 to 2 allowed)");
         c.vec(s.vel_bc_value[b], w + "the boundary velocity");
         if (s.vel_bc_table[b] < 0 || s.vel_bc_table[b] > 1000000) {
             c.fail(w + "the boundary velocity table is out of range");
@@ -677,6 +839,44 @@ std::string check_values(const Model& m) {
     }
     if (!c.ok()) return c.problem;
     c.all_vec(s.world_vertices, "world vertex");
+    // Zones, as 'change cons', 'insitu' and the cycle leave them.
+    const ZoneSet& z = m.zones;
+    for (int i = 0; i < z.size() && c.ok(); ++i) {
+        const std::string w = "zone " + std::to_string(i + 1) + ": ";
+        if (z.model[i] > kZoneMohrCoulomb) c.fail(w + "its model is " + std::to_string(z.model[i]) + " (0 to 2 allowed)");
+        if (z.state[i] > (kShearNow | kTensionNow | kShearPast | kTensionPast)) c.fail(w + "its state is out of range");
+        for (double x : z.stress[i]) {
+            if (!c.finite(x, w + "the stress")) break;
+        }
+        c.finite(z.volume[i], w + "the volume");
+    }
+    for (size_t i = 0; i < z.grad.size() && c.ok(); ++i) {
+        for (double x : z.grad[i]) {
+            if (!c.finite(x, "zone " + std::to_string(i + 1) + ": a shape-function gradient")) break;
+        }
+    }
+    const GridpointSet& g = m.gridpoints;
+    for (int i = 0; i < g.size() && c.ok(); ++i) {
+        const std::string w = "gridpoint " + std::to_string(i + 1) + ": ";
+        c.vec(g.pos[i], w + "the position");
+        c.vec(g.ref[i], w + "the reference position");
+        c.vec(g.vel[i], w + "the velocity");
+        c.vec(g.disp[i], w + "the displacement");
+        c.vec(g.force[i], w + "the force");
+        c.vec(g.applied[i], w + "the applied force");
+        c.vec(g.traction[i], w + "the traction");
+        c.at_least(g.mass[i], 0, w + "the mass");
+        c.at_least(g.stiffness[i], 0, w + "the stiffness");
+        c.at_least(g.force_scale[i], 0, w + "the force scale");
+        c.at_least(g.nmd_volume[i], 0, w + "the volume around it");
+        c.finite(g.nmd_rate[i], w + "the volumetric rate around it");
+        if (g.vel_bc[i] > 7 || g.half_kick[i] > 1) c.fail(w + "a flag is out of range");
+        c.vec(g.vel_bc_value[i], w + "the boundary velocity");
+        if (g.vel_bc_table[i] < 0 || g.vel_bc_table[i] > 1000000) c.fail(w + "the boundary velocity table is out of range");
+    }
+    for (const BoundaryFace& f : m.stress_boundary.faces) {
+        if (!c.vec(f.force, "the force on a face loaded by 'bound stress'")) break;
+    }
     // Contacts.
     const ContactSet& cs = m.contacts;
     for (int k = 0; k < cs.size() && c.ok(); ++k) {
@@ -870,6 +1070,13 @@ bool restore_model(const std::string& path, Model& out, std::string& error) {
                 const int b = fresh.block_index(h.block_id);
                 if (b >= 0) h.body_offset = fresh.blocks.orientation[b].conjugate() * (h.point - fresh.blocks.centroid[b]);
             }
+        }
+        if (file_format < 3) {
+            // Every block of an older file is rigid, with the zone model a new block gets.
+            const size_t n = fresh.blocks.id.size();
+            fresh.blocks.cons.assign(n, kZoneElastic);
+            fresh.blocks.corner_gp.assign(n, {});
+            fresh.blocks.body.assign(n, 0);
         }
         if (r.left() != 0) {
             return refuse("the file is damaged: " + std::to_string(r.left()) + " bytes follow the last section");

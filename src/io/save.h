@@ -15,7 +15,9 @@ namespace odec {
 
 // Version of the file layout. A file with a larger number is refused; a reader of a newer
 // layout may read older ones.
-constexpr std::uint32_t kSaveFormatVersion = 2; // 2: histories follow a material point
+// 2: histories follow a material point; 3: deformable blocks (zones, gridpoints, `bound stress`
+// faces, zone and reaction histories) and the zone stage of the profile.
+constexpr std::uint32_t kSaveFormatVersion = 3;
 
 // Write the model to `path`. The bytes go to a temporary file in the same directory, which
 // is flushed to disk and then renamed over `path`, so a failed or interrupted save leaves

@@ -40,6 +40,24 @@ const char* kColumn =
     "hist zdis 0.5 0.5 2.5\n"
     "hist unbal\n";
 
+// A deformable cube of Mohr-Coulomb zones on a held base, under its weight and a vertical
+// stress on its top near its strength, so that zones yield; histories of a gridpoint's
+// displacement, a zone's stress and the reaction of the base.
+const char* kZonedCube =
+    "poly brick 0 1 0 1 0 1\n"
+    "prop mat=1 dens=2500 ymod=10e9 prat=0.25 coh=3e5 fric=30 ten=1e5\n"
+    "change cons=2\n"
+    "gen edge 0.25\n"
+    "grav 0 0 -10\n"
+    "bound zvel 0 range z -0.001 0.001\n"
+    "fix range x -0.001 0.001 z -0.001 0.001\n"
+    "bound stress 0 0 -1.2e6 0 0 0 range z 0.999 1.001\n"
+    "hist ncyc 5\n"
+    "hist zdis 0.5 0.5 1\n"
+    "hist xvel 1 1 1\n"
+    "hist szz 0.5 0.5 0.5\n"
+    "hist zreaction range z -0.001 0.001\n";
+
 std::string read_bytes(const std::string& path) {
     std::ifstream f(path, std::ios::binary);
     return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
@@ -141,6 +159,202 @@ TEST_F(Save, RestoringAndGoingOnGivesTheSameBits) {
         // And everything else too: the two states save to the same bytes.
         EXPECT_EQ(state_bytes(x, at("x.check")), state_bytes(y, at("y.check")));
     }
+}
+
+TEST_F(Save, AZonedModelGoesOnBitForBit) {
+    for (const char* strain : {"", "set small\n"}) {
+    SCOPED_TRACE(strain);
+    Session a;
+    ASSERT_TRUE(a.run(std::string(kZonedCube) + strain + "step 150")) << a.error();
+    ASSERT_GT(a.model.zones.size(), 20);
+    ASSERT_GT(a.model.stress_boundary.faces.size(), 0u);
+    ASSERT_TRUE(a.run("save '" + at("zoned") + "'")) << a.error();
+    ASSERT_TRUE(a.run("step 150")) << a.error();
+
+    Session b;
+    ASSERT_TRUE(b.run("poly brick 5 6 5 6 5 6\nrest '" + at("zoned") + "'\nstep 150")) << b.error();
+
+    const odec::Model& x = a.model;
+    const odec::Model& y = b.model;
+    EXPECT_EQ(y.step, 300);
+    // The zones did yield (the Mohr-Coulomb state is carried too) and the top moved down.
+    int yielded = 0;
+    for (std::uint8_t st : x.zones.state) yielded += (st & odec::kShearPast) ? 1 : 0;
+    EXPECT_GT(yielded, 0);
+    ASSERT_EQ(x.histories.items.size(), 4u);
+    EXPECT_LT(x.histories.items[0].values.back(), 0);
+    EXPECT_LT(x.histories.items[3].values.back(), 0); // the load on the base, downwards
+    EXPECT_TRUE(same_bits(x.gridpoints.pos, y.gridpoints.pos));
+    EXPECT_TRUE(same_bits(x.gridpoints.vel, y.gridpoints.vel));
+    EXPECT_TRUE(same_bits(x.gridpoints.disp, y.gridpoints.disp));
+    EXPECT_TRUE(same_bits(x.gridpoints.force, y.gridpoints.force));
+    EXPECT_TRUE(same_bits(x.zones.stress, y.zones.stress));
+    EXPECT_EQ(x.zones.state, y.zones.state);
+    EXPECT_TRUE(same_bits(x.blocks.world_vertices, y.blocks.world_vertices));
+    for (size_t k = 0; k < x.histories.items.size(); ++k) {
+        SCOPED_TRACE(k);
+        EXPECT_EQ(x.histories.items[k].values.size(), 60u);
+        EXPECT_TRUE(same_bits(x.histories.items[k].values, y.histories.items[k].values));
+    }
+    EXPECT_EQ(std::memcmp(&x.time, &y.time, sizeof x.time), 0);
+    EXPECT_EQ(state_bytes(x, at("x.check")), state_bytes(y, at("y.check")));
+    }
+}
+
+TEST_F(Save, AZonedModelRestoresEveryField) {
+    Session a;
+    ASSERT_TRUE(a.run(std::string(kZonedCube) + "step 20")) << a.error();
+    std::string error;
+    odec::Model m;
+    ASSERT_TRUE(odec::save_model(a.model, at("z.sav"), error)) << error;
+    ASSERT_TRUE(odec::restore_model(at("z.sav"), m, error)) << error;
+    const odec::Model& x = a.model;
+    EXPECT_EQ(m.blocks.cons, x.blocks.cons);
+    EXPECT_EQ(m.blocks.cons[0], odec::kZoneMohrCoulomb);
+    EXPECT_EQ(m.blocks.corner_gp, x.blocks.corner_gp);
+    EXPECT_EQ(m.blocks.corner_gp[0].size(), 8u);
+    EXPECT_EQ(m.blocks.body, x.blocks.body);
+    EXPECT_TRUE(m.blocks.flags[0] & odec::kDeformable);
+    EXPECT_EQ(m.zones.gp, x.zones.gp);
+    EXPECT_EQ(m.zones.block, x.zones.block);
+    EXPECT_EQ(m.zones.model, x.zones.model);
+    EXPECT_TRUE(same_bits(m.zones.volume, x.zones.volume));
+    EXPECT_EQ(x.zones.grad.size(), x.zones.gp.size());
+    EXPECT_TRUE(same_bits(m.zones.grad, x.zones.grad));
+    EXPECT_TRUE(same_bits(m.gridpoints.ref, x.gridpoints.ref));
+    EXPECT_TRUE(same_bits(m.gridpoints.traction, x.gridpoints.traction));
+    EXPECT_TRUE(same_bits(m.gridpoints.mass, x.gridpoints.mass));
+    EXPECT_TRUE(same_bits(m.gridpoints.stiffness, x.gridpoints.stiffness));
+    EXPECT_TRUE(same_bits(m.gridpoints.nmd_rate, x.gridpoints.nmd_rate));
+    EXPECT_EQ(m.gridpoints.vel_bc, x.gridpoints.vel_bc);
+    EXPECT_EQ(m.gridpoints.block, x.gridpoints.block);
+    EXPECT_EQ(m.gridpoints.half_kick, x.gridpoints.half_kick);
+    ASSERT_EQ(m.stress_boundary.faces.size(), x.stress_boundary.faces.size());
+    for (size_t k = 0; k < m.stress_boundary.faces.size(); ++k) {
+        EXPECT_EQ(m.stress_boundary.faces[k].gp, x.stress_boundary.faces[k].gp);
+        EXPECT_EQ(m.stress_boundary.faces[k].force, x.stress_boundary.faces[k].force);
+    }
+    const auto& h = m.histories.items;
+    ASSERT_EQ(h.size(), 4u);
+    EXPECT_EQ(h[0].gridpoint, x.histories.items[0].gridpoint);
+    EXPECT_GE(h[0].gridpoint, 0);
+    EXPECT_EQ(h[2].kind, odec::HistoryKind::SZZ);
+    EXPECT_EQ(h[2].zone, x.histories.items[2].zone);
+    EXPECT_GE(h[2].zone, 0);
+    EXPECT_EQ(h[3].kind, odec::HistoryKind::ZReaction);
+    EXPECT_EQ(h[3].gridpoints, x.histories.items[3].gridpoints);
+    EXPECT_FALSE(h[3].gridpoints.empty());
+    // And the second save is the same bytes as the first.
+    ASSERT_TRUE(odec::save_model(m, at("z2.sav"), error)) << error;
+    EXPECT_EQ(read_bytes(at("z.sav")), read_bytes(at("z2.sav")));
+}
+
+TEST_F(Save, DamagedZonedFilesAreRefusedAndTheModelKept) {
+    Session a;
+    ASSERT_TRUE(a.run(std::string(kZonedCube) + "step 10\nsave '" + at("zoned") + "'")) << a.error();
+    const std::string full = read_bytes(at("zoned.sav"));
+    // Where the zone and gridpoint sections begin, to damage them in particular.
+    const size_t zone_at = full.find("ZONE"), grid_at = full.find("GRID"), sbnd_at = full.find("SBND");
+    ASSERT_NE(zone_at, std::string::npos);
+    ASSERT_NE(grid_at, std::string::npos);
+    ASSERT_NE(sbnd_at, std::string::npos);
+    for (size_t cut : {zone_at + 2, zone_at + 40, grid_at + 100, sbnd_at + 20, full.size() - 9}) {
+        SCOPED_TRACE(cut);
+        write_bytes(at("cut.sav"), full.substr(0, cut));
+        refused(at("cut.sav"), "is truncated");
+    }
+    for (size_t pos : {zone_at + 30, (zone_at + grid_at) / 2, grid_at + 50, sbnd_at + 16}) {
+        SCOPED_TRACE(pos);
+        std::string bad = full;
+        bad[pos] = static_cast<char>(bad[pos] ^ 0x04);
+        write_bytes(at("bad.sav"), bad);
+        refused(at("bad.sav"), "its checksum does not match");
+    }
+}
+
+TEST_F(Save, OlderFormatsStillRestore) {
+    // A format 2 file, written by the odec before deformable blocks (a falling brick with a
+    // displacement history): its blocks are rigid, with the defaults of a new block.
+    const std::string two = read_bytes(std::string(ODEC_SOURCE_DIR) + "/tests/fuzz/regressions/restore/brick.sav");
+    ASSERT_GT(two.size(), 100u);
+    std::uint32_t format = 0;
+    std::memcpy(&format, &two[12], 4);
+    ASSERT_EQ(format, 2u);
+    write_bytes(at("two.sav"), two);
+    Session b;
+    ASSERT_TRUE(b.run("restore '" + at("two.sav") + "'")) << b.error();
+    const odec::Model& m = b.model;
+    ASSERT_EQ(m.blocks.size(), 1);
+    EXPECT_EQ(m.step, 10);
+    EXPECT_EQ(m.zones.size(), 0);
+    EXPECT_EQ(m.gridpoints.size(), 0);
+    EXPECT_TRUE(m.stress_boundary.faces.empty());
+    EXPECT_EQ(m.blocks.cons, std::vector<std::uint8_t>{odec::kZoneElastic});
+    EXPECT_EQ(m.blocks.body, std::vector<int>{0});
+    EXPECT_TRUE(m.blocks.corner_gp[0].empty());
+    EXPECT_FALSE(m.blocks.flags[0] & odec::kDeformable);
+    ASSERT_EQ(m.histories.items.size(), 1u);
+    EXPECT_EQ(m.histories.items[0].gridpoint, -1);
+    EXPECT_EQ(m.histories.items[0].zone, -1);
+    EXPECT_EQ(m.profile.seconds[static_cast<int>(odec::Stage::Zones)], 0.0);
+    const double z_before = m.blocks.centroid[0].z();
+    ASSERT_TRUE(b.run("step 10")) << b.error();
+    EXPECT_LT(b.model.blocks.centroid[0].z(), z_before);
+    // It saves again as format 3 and restores.
+    ASSERT_TRUE(b.run("save '" + at("three") + "'\nrestore '" + at("three") + "'")) << b.error();
+    std::memcpy(&format, read_bytes(at("three.sav")).data() + 12, 4);
+    EXPECT_EQ(format, odec::kSaveFormatVersion);
+    EXPECT_EQ(b.model.step, 20);
+
+    // Format 1 is format 2 without the material point of each history (24 bytes after its
+    // values): made from the same file, with its lengths and checksum made right.
+    std::string one = two;
+    std::uint64_t n_version = 0;
+    std::memcpy(&n_version, &one[16], 8);
+    const size_t payload_length_at = 24 + n_version;
+    const size_t hist = one.find("HIST", payload_length_at + 8);
+    ASSERT_NE(hist, std::string::npos);
+    size_t p = hist + 4 + 8;                 // the section's body
+    p += 4;                                  // ncyc
+    std::uint64_t n_items = 0;
+    std::memcpy(&n_items, &one[p], 8);
+    ASSERT_EQ(n_items, 1u);
+    p += 8;
+    p += 4 + 24 + 4 + 4;                     // kind, point, block id, contact id
+    std::uint64_t n = 0;
+    std::memcpy(&n, &one[p], 8);
+    p += 8 + n;                              // label
+    std::memcpy(&n, &one[p], 8);
+    p += 8 + 8 * n;                          // values
+    one.erase(p, 24);                        // the material point
+    auto shrink = [&](size_t at) {
+        std::uint64_t len = 0;
+        std::memcpy(&len, &one[at], 8);
+        len -= 24;
+        std::memcpy(&one[at], &len, 8);
+    };
+    shrink(hist + 4);
+    shrink(payload_length_at);
+    format = 1;
+    std::memcpy(&one[12], &format, 4);
+    std::uint64_t h = 0xcbf29ce484222325ull;
+    for (size_t i = 0; i + 8 < one.size(); ++i) {
+        h ^= static_cast<unsigned char>(one[i]);
+        h *= 0x100000001b3ull;
+    }
+    std::memcpy(&one[one.size() - 8], &h, 8);
+    write_bytes(at("one.sav"), one);
+    Session c;
+    ASSERT_TRUE(c.run("restore '" + at("one.sav") + "'")) << c.error();
+    EXPECT_EQ(c.model.step, 10);
+    EXPECT_EQ(c.model.zones.size(), 0);
+    ASSERT_EQ(c.model.histories.items.size(), 1u);
+    // Format 1 histories followed the centroid: the material point is taken at the point.
+    const odec::History& h1 = c.model.histories.items[0];
+    const odec::Vec3 expected = c.model.blocks.orientation[0].conjugate() * (h1.point - c.model.blocks.centroid[0]);
+    EXPECT_EQ(h1.body_offset, expected);
+    ASSERT_TRUE(c.run("step 10")) << c.error();
+    EXPECT_EQ(c.model.step, 20);
 }
 
 TEST_F(Save, SaveRestoreSaveGivesTheSameFile) {
@@ -377,18 +591,22 @@ constexpr size_t count_fields() {
 TEST(SaveLayout, EveryFieldIsSaved) {
     using namespace odec;
     const char* fix = "a field was added: save and restore it in src/io/save.cpp, then update this count";
-    EXPECT_EQ(count_fields<Model>(), 20u) << fix;
-    EXPECT_EQ(count_fields<BlockSet>(), 28u) << fix;
+    EXPECT_EQ(count_fields<Model>(), 23u) << fix;
+    EXPECT_EQ(count_fields<BlockSet>(), 31u) << fix;
+    EXPECT_EQ(count_fields<ZoneSet>(), 7u) << fix;
+    EXPECT_EQ(count_fields<GridpointSet>(), 17u) << fix;
+    EXPECT_EQ(count_fields<StressBoundary>(), 1u) << fix;
+    EXPECT_EQ(count_fields<BoundaryFace>(), 2u) << fix;
     EXPECT_EQ(count_fields<ContactSet>(), 31u) << fix;
     EXPECT_EQ(count_fields<Polyhedron>(), 4u) << fix;
     EXPECT_EQ(count_fields<Material>(), 8u) << fix;
     EXPECT_EQ(count_fields<JointMaterial>(), 9u) << fix;
     EXPECT_EQ(count_fields<JointPlane>(), 3u) << fix;
-    EXPECT_EQ(count_fields<History>(), 7u) << fix;
+    EXPECT_EQ(count_fields<History>(), 11u) << fix;
     EXPECT_EQ(count_fields<HistorySet>(), 3u) << fix;
     EXPECT_EQ(count_fields<Table>(), 1u) << fix;
     EXPECT_EQ(count_fields<TableSet>(), 1u) << fix;
     EXPECT_EQ(count_fields<Damping>(), 5u) << fix;
     EXPECT_EQ(count_fields<Settings>(), 6u) << fix;
-    EXPECT_EQ(count_fields<Profile>(), 6u) << fix; // 5 stage times and the step count
+    EXPECT_EQ(count_fields<Profile>(), 7u) << fix; // 6 stage times and the step count
 }

@@ -43,6 +43,22 @@ const char* kColumn =
     "hist unbal\n"
     "step 30\n";
 
+// A deformable cube of Mohr-Coulomb zones on a held base, loaded on its top, with histories
+// of a gridpoint, a zone and a reaction.
+const char* kZonedCube =
+    "poly brick 0 1 0 1 0 1\n"
+    "prop mat=1 dens=2500 ymod=10e9 prat=0.25 coh=3e5 fric=30 ten=1e5\n"
+    "change cons=2\n"
+    "gen edge 0.3\n"
+    "grav 0 0 -10\n"
+    "bound zvel 0 range z -0.001 0.001\n"
+    "bound stress 0 0 -1e6 0 0 0 range z 0.999 1.001\n"
+    "hist ncyc 5\n"
+    "hist zdis 0.5 0.5 1\n"
+    "hist szz 0.5 0.5 0.5\n"
+    "hist zreaction range z -0.001 0.001\n"
+    "step 20\n";
+
 std::string read_bytes(const std::string& path) {
     std::ifstream f(path, std::ios::binary);
     return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
@@ -128,6 +144,49 @@ std::string model_problem(const odec::Model& m) {
         if (h.values.size() > m.histories.sample_steps.size()) return "history length";
         for (double v : h.values)
             if (!fin(v)) return "history value";
+    }
+    // Zones and gridpoints: every index in range, every number finite.
+    const ZoneSet& z = m.zones;
+    const GridpointSet& g = m.gridpoints;
+    const int ng = g.size();
+    if (z.block.size() != z.gp.size() || z.stress.size() != z.gp.size() || z.volume.size() != z.gp.size() ||
+        z.model.size() != z.gp.size() || (!z.grad.empty() && z.grad.size() != z.gp.size()))
+        return "zone arrays";
+    if (g.vel.size() != g.pos.size() || g.mass.size() != g.pos.size() || g.force.size() != g.pos.size() ||
+        g.block.size() != g.pos.size() || g.vel_bc.size() != g.pos.size() || g.ref.size() != g.pos.size())
+        return "gridpoint arrays";
+    for (int i = 0; i < z.size(); ++i) {
+        for (int c : z.gp[i])
+            if (c < 0 || c >= ng) return "zone corner";
+        if (z.block[i] < 0 || z.block[i] >= static_cast<int>(n) || z.model[i] > 2) return "zone block or model";
+        for (double x : z.stress[i])
+            if (!fin(x)) return "zone stress";
+    }
+    for (const auto& gr : z.grad)
+        for (double x : gr)
+            if (!fin(x)) return "zone gradient";
+    for (int i = 0; i < ng; ++i) {
+        if (!g.pos[i].allFinite() || !g.vel[i].allFinite() || !g.force[i].allFinite() || !fin(g.mass[i]) ||
+            g.mass[i] < 0)
+            return "gridpoint numbers";
+        if (g.block[i] < 0 || g.block[i] >= static_cast<int>(n)) return "gridpoint block";
+    }
+    for (size_t b = 0; b < n; ++b) {
+        if (s.corner_gp.size() != n) return "corner arrays";
+        if ((s.flags[b] & kDeformable) && static_cast<int>(s.corner_gp[b].size()) != s.shape[b].n_vertices())
+            return "corner count";
+        for (int c : s.corner_gp[b])
+            if (c < 0 || c >= ng) return "block corner";
+    }
+    for (const BoundaryFace& f : m.stress_boundary.faces) {
+        for (int c : f.gp)
+            if (c < 0 || c >= ng) return "face corner";
+        if (!f.force.allFinite()) return "face force";
+    }
+    for (const History& h : m.histories.items) {
+        if (h.gridpoint < -1 || h.zone < -1) return "history index";
+        for (int c : h.gridpoints)
+            if (c < 0) return "reaction gridpoint";
     }
     for (const auto& [number, t] : m.tables.tables) {
         for (size_t k = 0; k < t.points.size(); ++k) {
@@ -324,4 +383,132 @@ TEST_F(SaveValues, RandomEditsAreRefusedOrGiveAFiniteConsistentModel) {
     }
     std::printf("random payload edits: %d refused, %d accepted\n", refused_count, accepted);
     EXPECT_GT(refused_count, 100);
+}
+
+TEST_F(SaveValues, EditedZoneFieldsAreEachRefusedAndTheModelKept) {
+    Session a;
+    ASSERT_TRUE(a.run(kZonedCube)) << a.error();
+    const odec::Model& base = a.model;
+    const int ng = base.gridpoints.size();
+    const int nz = base.zones.size();
+    ASSERT_GT(nz, 10);
+    ASSERT_GT(base.stress_boundary.faces.size(), 1u);
+    ASSERT_EQ(base.histories.items.size(), 3u);
+    const double inf = std::numeric_limits<double>::infinity();
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const std::string n_gp = std::to_string(ng);
+    struct Edit {
+        std::string what;
+        std::function<void(odec::Model&)> apply;
+    };
+    const std::vector<Edit> edits = {
+        {"zone 4 has a corner at gridpoint " + n_gp + ", which does not exist",
+         [&](odec::Model& m) { m.zones.gp[3][2] = ng; }},
+        {"zone 2 has a corner at gridpoint -1, which does not exist", [](odec::Model& m) { m.zones.gp[1][0] = -1; }},
+        {"zone 1 has gridpoint", [](odec::Model& m) { m.zones.gp[0][3] = m.zones.gp[0][1]; }},
+        {"zone 3: its model is 3 (0 to 2 allowed)", [](odec::Model& m) { m.zones.model[2] = 3; }},
+        {"zone 5: its state is out of range", [](odec::Model& m) { m.zones.state[4] = 16; }},
+        {"zone 5: the stress is not a finite number", [&](odec::Model& m) { m.zones.stress[4][5] = nan; }},
+        {"zone 2: the volume is not a finite number", [&](odec::Model& m) { m.zones.volume[1] = inf; }},
+        {"which is not a deformable block", [](odec::Model& m) { m.zones.block[0] = 7; }},
+        {"the zone arrays differ in length", [](odec::Model& m) { m.zones.grad.pop_back(); }},
+        {"the zone arrays differ in length", [](odec::Model& m) { m.zones.state.push_back(0); }},
+        {"zone 3: a shape-function gradient is not a finite number", [&](odec::Model& m) { m.zones.grad[2][7] = inf; }},
+        {"the gridpoint arrays differ in length", [](odec::Model& m) { m.gridpoints.nmd_rate.pop_back(); }},
+        {"gridpoint 3: the position is not finite", [&](odec::Model& m) { m.gridpoints.pos[2].z() = nan; }},
+        {"gridpoint 2: the velocity is not finite", [&](odec::Model& m) { m.gridpoints.vel[1].x() = -inf; }},
+        {"gridpoint 1: the mass is -1, below 0", [](odec::Model& m) { m.gridpoints.mass[0] = -1; }},
+        {"gridpoint 4: a flag is out of range", [](odec::Model& m) { m.gridpoints.vel_bc[3] = 8; }},
+        {"gridpoint 1 belongs to block index 1, which is not a deformable block",
+         [](odec::Model& m) { m.gridpoints.block[0] = 1; }},
+        {"block 1 is deformable but has 7 corner gridpoints for 8 vertices",
+         [](odec::Model& m) { m.blocks.corner_gp[0].pop_back(); }},
+        {"block 1 has a corner at gridpoint " + n_gp + ", which does not exist",
+         [&](odec::Model& m) { m.blocks.corner_gp[0][5] = ng; }},
+        {"block 1 is deformable but belongs to no continuum", [](odec::Model& m) { m.blocks.body[0] = 0; }},
+        {"block 1: its zone model is 9 (0 to 2 allowed)", [](odec::Model& m) { m.blocks.cons[0] = 9; }},
+        {"block 1 is rigid but has corner gridpoints",
+         [](odec::Model& m) { m.blocks.flags[0] &= static_cast<std::uint8_t>(~odec::kDeformable); }},
+        {"the block arrays differ in length", [](odec::Model& m) { m.blocks.body.push_back(1); }},
+        {"a face loaded by 'bound stress' has a corner at a gridpoint that does not exist",
+         [&](odec::Model& m) { m.stress_boundary.faces[1].gp[2] = ng + 3; }},
+        {"a face loaded by 'bound stress' does not have three distinct corners",
+         [](odec::Model& m) { m.stress_boundary.faces[0].gp[1] = m.stress_boundary.faces[0].gp[0]; }},
+        {"the force on a face loaded by 'bound stress' is not finite",
+         [&](odec::Model& m) { m.stress_boundary.faces[0].force.z() = nan; }},
+        {"a history refers to gridpoint -7", [](odec::Model& m) { m.histories.items[0].gridpoint = -7; }},
+        {"a history refers to zone -2", [](odec::Model& m) { m.histories.items[1].zone = -2; }},
+        {"a reaction history refers to gridpoint -1", [](odec::Model& m) { m.histories.items[2].gridpoints[0] = -1; }},
+    };
+    for (const Edit& e : edits) {
+        SCOPED_TRACE(e.what);
+        odec::Model m = a.model;
+        e.apply(m);
+        std::string error;
+        ASSERT_TRUE(odec::save_model(m, at("edit.sav"), error)) << error;
+        refused(at("edit.sav"), e.what);
+    }
+    // The unedited file is taken.
+    std::string error;
+    odec::Model m;
+    ASSERT_TRUE(odec::save_model(a.model, at("edit.sav"), error)) << error;
+    EXPECT_TRUE(odec::restore_model(at("edit.sav"), m, error)) << error;
+}
+
+TEST_F(SaveValues, RandomEditsOfAZonedFileAreRefusedOrGiveAFiniteConsistentModel) {
+    Session a;
+    ASSERT_TRUE(a.run(kZonedCube)) << a.error();
+    ASSERT_TRUE(a.run("save '" + at("good.sav") + "'")) << a.error();
+    const std::string good = read_bytes(at("good.sav"));
+    // Edits in the zone, gridpoint and loaded-face sections, where the new fields are.
+    const size_t start = good.find("ZONE", payload_start(good)), end = good.find("CONT", start);
+    ASSERT_NE(start, std::string::npos);
+    ASSERT_NE(end, std::string::npos);
+    ASSERT_LT(start + 64, end);
+    std::mt19937_64 rng(20261124);
+    const double nasty[] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::quiet_NaN(),
+                            1e308, -1e308, 0.0, -1.0};
+    const std::int32_t nasty_ints[] = {-1, 0, 1, 3, 1000, -2147483647 - 1, 2147483647};
+    int refused_count = 0, accepted = 0;
+    for (int i = 0; i < 300; ++i) {
+        std::string file = good;
+        const size_t pos = start + rng() % (end - start - 8);
+        switch (rng() % 3) {
+        case 0: {
+            const double x = nasty[rng() % (sizeof nasty / sizeof nasty[0])];
+            std::memcpy(&file[pos], &x, 8);
+            break;
+        }
+        case 1: {
+            const std::int32_t x = nasty_ints[rng() % (sizeof nasty_ints / sizeof nasty_ints[0])];
+            std::memcpy(&file[pos], &x, 4);
+            break;
+        }
+        default: {
+            std::int32_t x;
+            std::memcpy(&x, &file[pos], 4);
+            x += (rng() % 2) ? 1 : -1;
+            std::memcpy(&file[pos], &x, 4);
+            break;
+        }
+        }
+        recompute_checksum(file);
+        write_bytes(at("edit.sav"), file);
+        odec::Model m;
+        std::string error;
+        if (!odec::restore_model(at("edit.sav"), m, error)) {
+            ++refused_count;
+            EXPECT_NE(error.find("cannot restore"), std::string::npos) << error;
+            continue;
+        }
+        ++accepted;
+        const std::string problem = model_problem(m);
+        EXPECT_EQ(problem, "") << "edit " << i << " at byte " << pos;
+        if (!problem.empty()) continue;
+        odec::CycleLimits lim;
+        lim.max_steps = 3;
+        odec::cycle(m, lim);
+    }
+    std::printf("random zone-section edits: %d refused, %d accepted\n", refused_count, accepted);
+    EXPECT_GT(refused_count, 25);
 }
