@@ -503,6 +503,16 @@ private:
     }
 };
 
+// True when the world vertex offsets and positions have the sizes the block shapes give.
+bool world_vertices_match(const BlockSet& s) {
+    const size_t n = s.id.size();
+    if (s.shape.size() != n || s.vertex_offset.size() != n + 1 || s.vertex_offset[0] != 0) return false;
+    for (size_t b = 0; b < n; ++b) {
+        if (static_cast<long long>(s.vertex_offset[b + 1]) - s.vertex_offset[b] != s.shape[b].n_vertices()) return false;
+    }
+    return s.vertex_offset[n] >= 0 && static_cast<size_t>(s.vertex_offset[n]) == s.world_vertices.size();
+}
+
 // The zones, gridpoints and loaded faces of deformable blocks: lengths agree, every index
 // points at something that exists, and the blocks and zones agree on which blocks are
 // deformable. Block arrays are known to agree in length.
@@ -616,7 +626,7 @@ std::string check_consistent(const Model& m) {
     if (!s.vertex_offset.empty()) {
         if (s.vertex_offset.size() != n + 1 || s.vertex_offset[0] != 0) return "the world vertex offsets are wrong";
         for (size_t b = 0; b < n; ++b) {
-            if (s.vertex_offset[b + 1] - s.vertex_offset[b] != s.shape[b].n_vertices()) {
+            if (static_cast<long long>(s.vertex_offset[b + 1]) - s.vertex_offset[b] != s.shape[b].n_vertices()) {
                 return "the world vertex offsets do not match the block shapes";
             }
         }
@@ -1070,6 +1080,13 @@ bool restore_model(const std::string& path, Model& out, std::string& error) {
                 const int b = fresh.block_index(h.block_id);
                 if (b >= 0) h.body_offset = fresh.blocks.orientation[b].conjugate() * (h.point - fresh.blocks.centroid[b]);
             }
+        }
+        // World vertices are derived from the blocks and rebuilt before anything reads them
+        // once blocks were added or removed (geometry_changed): until then they are stale, as
+        // in a model saved right after 'delete'. Stale ones are dropped, not believed.
+        if (fresh.geometry_changed && !world_vertices_match(fresh.blocks)) {
+            fresh.blocks.vertex_offset.clear();
+            fresh.blocks.world_vertices.clear();
         }
         if (file_format < 3) {
             // Every block of an older file is rigid, with the zone model a new block gets.
