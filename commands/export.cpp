@@ -12,16 +12,22 @@ namespace odec {
 const CommandSpec& export_command() {
     static const CommandSpec spec = [] {
         CommandSpec c("export", 3, "write the model as files for other programs");
-        c.keyword("vtk", 2, "VTK XML files for ParaView: blocks (.vtu), contacts and sub-contacts (.vtp), and a .pvd")
+        c.keyword("vtk", 2, "VTK XML files for ParaView: blocks and zones (.vtu), contacts and sub-contacts (.vtp), and a .pvd")
             .string("name")
             .in_choice(1);
         c.require_one_of(1);
         c.describe("'export vtk name' writes name-blocks-<step>.vtu (blocks with displacement, velocity, "
                    "material, group and region), name-contacts-<step>.vtp and name-subcontacts-<step>.vtp "
                    "(contact points with normal, area, normal and shear stress, normal and shear displacement, "
-                   "force and state) and name.pvd, the collection ParaView opens. Exporting again at a later "
-                   "step adds that step to the same name.pvd, so ParaView plays the steps in order. The name may "
-                   "carry a directory; an extension (.vtu, .vtp, .pvd, .vtk) is dropped.");
+                   "force and state) and name.pvd, the collection ParaView opens. When blocks are deformable, "
+                   "name-zones-<step>.vtu holds their zones as tetrahedra at the current gridpoint positions, "
+                   "with cell data 'stress' (Pa, tension positive; a symmetric tensor of 6 components in VTK's "
+                   "order xx, yy, zz, xy, yz, xz), 'smin', 'smid', 'smax' (principal stresses, Pa, smin the most "
+                   "compressive), 'state' (bits: 1 shear now, 2 tension now, 4 shear past, 8 tension past), "
+                   "'model' (0 null, 1 elastic, 2 Mohr-Coulomb), 'block_id' and 'zone' (its number), and point "
+                   "data 'gridpoint' (its number), 'displacement' (m) and 'velocity' (m/s). Exporting again at "
+                   "a later step adds that step to the same name.pvd, so ParaView plays the steps in order. The "
+                   "name may carry a directory; an extension (.vtu, .vtp, .pvd, .vtk) is dropped.");
         c.example("export vtk 'slope'");
         c.handle([](CommandContext& ctx, const Args& a) {
             const Model& m = ctx.model;

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "engine/blocks.h"
+#include "engine/zones.h"
 
 namespace odec {
 
@@ -65,6 +66,9 @@ void put_array(std::string& out, const VtkArray& a) {
     out += a.integer ? "Int32" : "Float64";
     out += "\" Name=\"" + xml_escape(a.name) + "\"";
     if (a.n_components != 1) out += " NumberOfComponents=\"" + std::to_string(a.n_components) + "\"";
+    for (size_t k = 0; k < a.component_names.size(); ++k) {
+        out += " ComponentName" + std::to_string(k) + "=\"" + xml_escape(a.component_names[k]) + "\"";
+    }
     out += " format=\"ascii\">\n";
     for (size_t i = 0; i < a.values.size(); ++i) {
         if (a.integer)
@@ -206,13 +210,26 @@ VtkPolyhedronMesh blocks_mesh(const Model& m) {
         if (bs.flags[b] & kExcavated) continue;
         const Polyhedron shape = world_shape(m, b);
         const int base = static_cast<int>(mesh.points.size());
-        const Vec3 v = velocity_at_t(m, b);
-        for (const Vec3& x : shape.vertices) {
-            mesh.points.push_back(x);
-            const Vec3 r = x - bs.centroid[b];
-            // A rigid block's motion at its vertex (small-rotation form for displacement).
-            point_disp.push_back(bs.disp[b] + bs.rotation[b].cross(r));
-            point_vel.push_back(velocity_at_point(m, b, r));
+        Vec3 v = velocity_at_t(m, b);
+        if (bs.flags[b] & kDeformable) {
+            // Its corners are gridpoints: their own motion, and the block's velocity their mean.
+            const auto& corners = bs.corner_gp[b];
+            v.setZero();
+            for (size_t k = 0; k < corners.size(); ++k) {
+                mesh.points.push_back(shape.vertices[k]);
+                point_disp.push_back(m.gridpoints.disp[corners[k]]);
+                point_vel.push_back(gridpoint_velocity_at_t(m, corners[k]));
+                v += point_vel.back();
+            }
+            if (!corners.empty()) v /= static_cast<double>(corners.size());
+        } else {
+            for (const Vec3& x : shape.vertices) {
+                mesh.points.push_back(x);
+                const Vec3 r = x - bs.centroid[b];
+                // A rigid block's motion at its vertex (small-rotation form for displacement).
+                point_disp.push_back(bs.disp[b] + bs.rotation[b].cross(r));
+                point_vel.push_back(velocity_at_point(m, b, r));
+            }
         }
         for (int f = 0; f < shape.n_faces(); ++f) {
             mesh.cell_faces.push_back(shape.face_size(f));
@@ -284,6 +301,91 @@ bool write_vtu(const VtkPolyhedronMesh& mesh, const Model& m, const std::string&
     put_int_array(out, "UInt8", "types", types);
     put_int_array(out, "Int64", "faces", faces);
     put_int_array(out, "Int64", "faceoffsets", face_offsets);
+    out += "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
+    return write_atomically(path, out, error);
+}
+
+VtkTetMesh zones_mesh(const Model& m) {
+    VtkTetMesh mesh;
+    const ZoneSet& z = m.zones;
+    const GridpointSet& g = m.gridpoints;
+    const BlockSet& bs = m.blocks;
+    // Points: the gridpoints of the zones written, numbered in gridpoint order.
+    std::vector<int> point_of(static_cast<size_t>(g.size()), -1);
+    for (int i = 0; i < z.size(); ++i) {
+        if (bs.flags[z.block[i]] & kExcavated) continue;
+        for (int c : z.gp[i]) point_of[c] = 0;
+    }
+    std::vector<double> number;
+    std::vector<Vec3> disp, vel;
+    for (int i = 0; i < g.size(); ++i) {
+        if (point_of[i] < 0) continue;
+        point_of[i] = static_cast<int>(mesh.points.size());
+        mesh.points.push_back(g.pos[i]);
+        number.push_back(i + 1);
+        disp.push_back(g.disp[i]);
+        vel.push_back(gridpoint_velocity_at_t(m, i));
+    }
+    VtkArray stress;
+    stress.name = "stress";
+    stress.n_components = 6;
+    stress.component_names = {"XX", "YY", "ZZ", "XY", "YZ", "XZ"};
+    std::vector<double> smin, smid, smax, state, model, block_id, zone;
+    for (int i = 0; i < z.size(); ++i) {
+        if (bs.flags[z.block[i]] & kExcavated) continue;
+        const auto& q = z.gp[i];
+        mesh.cells.push_back({point_of[q[0]], point_of[q[1]], point_of[q[2]], point_of[q[3]]});
+        // Zones keep xx yy zz xy xz yz; VTK reads a symmetric tensor as xx yy zz xy yz xz.
+        const Sym6& s = z.stress[i];
+        stress.values.insert(stress.values.end(), {s[0], s[1], s[2], s[3], s[5], s[4]});
+        Vec3 p;
+        principal_stresses(s, p);
+        smin.push_back(p[0]);
+        smid.push_back(p[1]);
+        smax.push_back(p[2]);
+        state.push_back(z.state[i]);
+        model.push_back(z.model[i]);
+        block_id.push_back(bs.id[z.block[i]]);
+        zone.push_back(i + 1);
+    }
+    mesh.cell_data.push_back(std::move(stress));
+    mesh.cell_data.push_back(scalar_array("smin", smin, false));
+    mesh.cell_data.push_back(scalar_array("smid", smid, false));
+    mesh.cell_data.push_back(scalar_array("smax", smax, false));
+    mesh.cell_data.push_back(scalar_array("state", state, true));
+    mesh.cell_data.push_back(scalar_array("model", model, true));
+    mesh.cell_data.push_back(scalar_array("block_id", block_id, true));
+    mesh.cell_data.push_back(scalar_array("zone", zone, true));
+    mesh.point_data.push_back(scalar_array("gridpoint", number, true));
+    mesh.point_data.push_back(vector_array("displacement", disp));
+    mesh.point_data.push_back(vector_array("velocity", vel));
+    return mesh;
+}
+
+bool write_tet_vtu(const VtkTetMesh& mesh, const Model& m, const std::string& path, std::string& error) {
+    const size_t n_cells = mesh.cells.size();
+    std::string out;
+    out.reserve(200 * mesh.points.size() + 400 * n_cells + 1024);
+    out += "<?xml version=\"1.0\"?>\n";
+    out += "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n";
+    out += "  <UnstructuredGrid>\n";
+    put_field_data(out, m);
+    out += "    <Piece NumberOfPoints=\"" + std::to_string(mesh.points.size()) + "\" NumberOfCells=\"" +
+           std::to_string(n_cells) + "\">\n";
+    put_data_section(out, "PointData", mesh.point_data);
+    put_data_section(out, "CellData", mesh.cell_data);
+    put_points(out, mesh.points);
+    std::vector<long> connectivity, offsets;
+    connectivity.reserve(4 * n_cells);
+    for (const auto& c : mesh.cells) {
+        connectivity.insert(connectivity.end(), c.begin(), c.end());
+        offsets.push_back(static_cast<long>(connectivity.size()));
+    }
+    const std::vector<int> types(n_cells, 10); // VTK_TETRA
+    out += "      <Cells>\n";
+    put_int_array(out, "Int64", "connectivity", connectivity);
+    put_int_array(out, "Int64", "offsets", offsets);
+    put_int_array(out, "UInt8", "types", types);
     out += "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
     return write_atomically(path, out, error);
 }
@@ -432,6 +534,14 @@ bool export_vtk(const Model& m, const ContactView* contacts, const std::string& 
     const std::string blocks_path = stem + "-blocks-" + step + ".vtu";
     if (!write_vtu(blocks_mesh(m), m, blocks_path, error)) return false;
     parts.push_back({blocks_path, 0});
+    {
+        const VtkTetMesh zones = zones_mesh(m);
+        if (!zones.cells.empty()) {
+            const std::string path = stem + "-zones-" + step + ".vtu";
+            if (!write_tet_vtu(zones, m, path, error)) return false;
+            parts.push_back({path, 3});
+        }
+    }
     if (contacts) {
         const std::string path = stem + "-contacts-" + step + ".vtp";
         if (!write_contacts_vtp(contacts->contacts, contacts->state_names, m, path, error, &contacts->sub_contacts)) {

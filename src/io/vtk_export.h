@@ -6,12 +6,14 @@
 //
 // One export at step n writes
 //   name-blocks-<n>.vtu         blocks as polyhedron cells, with cell and point data
+//   name-zones-<n>.vtu          zones of deformable blocks as tetrahedra (when there are any)
 //   name-contacts-<n>.vtp       contacts as points with their data (when contacts are given)
 //   name-subcontacts-<n>.vtp    sub-contacts, likewise (when there are any)
 //   name.pvd                    the collection: entries of earlier exports are kept and this
 //                               step's are added (or replaced), so ParaView plays the steps.
 #pragma once
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -20,14 +22,14 @@
 
 namespace odec {
 
-// A named array of doubles with n_components per tuple (3 for vectors, 9 for tensors:
-// zone stresses will come as "stress" with 9 components). Integer arrays are written
-// as Int32.
+// A named array of doubles with n_components per tuple (3 for vectors, 6 for symmetric
+// tensors in VTK's order xx yy zz xy yz xz). Integer arrays are written as Int32.
 struct VtkArray {
     std::string name;
     int n_components = 1;
     bool integer = false;
-    std::vector<double> values; // (n_tuples * n_components)
+    std::vector<double> values;                  // (n_tuples * n_components)
+    std::vector<std::string> component_names;    // empty, or one per component
 };
 
 // Cells that are convex polyhedra (blocks now, zones later as tetrahedra or polyhedra).
@@ -42,10 +44,32 @@ struct VtkPolyhedronMesh {
 
 // The blocks that are not excavated, with cell data block_id, material, group, region,
 // displacement, displacement_magnitude, velocity, rotation and point data displacement and
-// velocity (a rigid block's motion at each vertex).
+// velocity (a rigid block's motion at each vertex; a deformable block's corners move with
+// their gridpoints, and its velocity is the mean of theirs).
 VtkPolyhedronMesh blocks_mesh(const Model& m);
 
 bool write_vtu(const VtkPolyhedronMesh& mesh, const Model& m, const std::string& path, std::string& error);
+
+// Cells that are tetrahedra (VTK_TETRA), corners in VTK's order: the first three seen
+// counter-clockwise from the fourth, as zones keep theirs.
+struct VtkTetMesh {
+    std::vector<Vec3> points;               // (n_points) m
+    std::vector<std::array<int, 4>> cells;  // (n_cells) point indices
+    std::vector<VtkArray> point_data, cell_data;
+};
+
+// The zones of the deformable blocks that are not excavated, at the current gridpoint
+// positions, with cell data
+//   stress      6 components in VTK's order xx yy zz xy yz xz, Pa, tension positive
+//   smin, smid, smax   principal stresses, Pa (smin the most compressive)
+//   state       ZoneState bits (1 shear now, 2 tension now, 4 shear past, 8 tension past)
+//   model       zone model (0 null, 1 elastic, 2 Mohr-Coulomb)
+//   block_id, zone     the block's id and the zone's number (from 1, as histories name it)
+// and point data gridpoint (its number, from 1), displacement (m) and velocity (m/s, at
+// the time of the positions). Only the gridpoints of these zones are points.
+VtkTetMesh zones_mesh(const Model& m);
+
+bool write_tet_vtu(const VtkTetMesh& mesh, const Model& m, const std::string& path, std::string& error);
 // Contacts (or sub-contacts) with their data: as points (one vertex cell each, point data),
 // or, given the sub-contacts in `outline`, as patches (one polygon cell each, cell data): the
 // outline of each contact's sub-contacts, as 'plot contact' shows the contact.

@@ -15,6 +15,12 @@
 #include <vtkXMLPolyDataReader.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
+#include <vtkCell.h>
+#include <vtkMath.h>
+#include <vtkTetra.h>
+
+#include "engine/range.h"
+#include "engine/zones.h"
 #include "io/vtk_export.h"
 #include "render_test_util.h"
 
@@ -68,7 +74,166 @@ ContactView three_contacts() {
     return v;
 }
 
+// A rigid brick (id 1, x 2..3) and a unit cube (id 2) made deformable with six tetrahedra
+// about its diagonal from (0,0,0) to (1,1,1), each with positive volume.
+Model zoned_model() {
+    Model m;
+    add_block(m, make_brick(2, 3, 0, 1, 0, 1), 1, -1, 1);
+    add_block(m, make_brick(0, 1, 0, 1, 0, 1), 1, -1, 1);
+    m.materials.resize(2);
+    m.materials[1] = Material{true, 2500, 6.7e9, 4e9, 0, 0, 0, 0};
+    BlockMesh mesh;
+    for (int k = 0; k < 8; ++k) mesh.nodes.push_back(Vec3(k & 1, (k >> 1) & 1, (k >> 2) & 1));
+    std::vector<std::array<int, 4>> tets;
+    // The six paths from corner 0 to corner 7 along the edges of the cube.
+    for (const auto& path : std::vector<std::array<int, 2>>{{1, 3}, {1, 5}, {2, 3}, {2, 6}, {4, 5}, {4, 6}}) {
+        std::array<int, 4> t = {0, path[0], path[1], 7};
+        const Vec3 e1 = mesh.nodes[t[1]] - mesh.nodes[t[0]], e2 = mesh.nodes[t[2]] - mesh.nodes[t[0]],
+                   e3 = mesh.nodes[t[3]] - mesh.nodes[t[0]];
+        if (e1.dot(e2.cross(e3)) < 0) std::swap(t[1], t[2]);
+        tets.push_back(t);
+    }
+    mesh.tets.push_back(tets);
+    std::vector<int> corners;
+    const Polyhedron w = world_shape(m, 1);
+    for (const Vec3& v : w.vertices) {
+        int node = -1;
+        for (int k = 0; k < 8; ++k) {
+            if ((mesh.nodes[k] - v).norm() < 1e-12) node = k;
+        }
+        corners.push_back(node);
+    }
+    mesh.corner_node.push_back(corners);
+    zone_blocks(m, {1}, {0}, mesh);
+    return m;
+}
+
 } // namespace
+
+TEST(ExportVtk, ZonesReadBackAsTetrahedraWithStressAndDisplacement) {
+    Model m = zoned_model();
+    ASSERT_EQ(m.zones.size(), 6);
+    ASSERT_EQ(m.gridpoints.size(), 8);
+    // Stresses as 'insitu' sets them (xx yy zz xy xz yz, tension positive), one zone apart.
+    const Sym6 s = {-1e6, -2e6, -3e6, 1e5, 2e5, 3e5};
+    const Sym6 zero = {0, 0, 0, 0, 0, 0};
+    ASSERT_EQ(set_insitu_stress(m, Range{}, s, zero, zero, zero), 6);
+    m.zones.stress[4] = {5e5, -1e5, -7e5, -4e4, 6e4, -8e4};
+    m.zones.state[4] = kShearNow | kShearPast;
+    // The gridpoints moved and moving, each by its own amount.
+    for (int i = 0; i < m.gridpoints.size(); ++i) {
+        const Vec3 d(1e-4 * i, -2e-4 * i, -3e-4 * i * i);
+        m.gridpoints.pos[i] += d;
+        m.gridpoints.disp[i] = d;
+        m.gridpoints.vel[i] = Vec3(0.01 * i, 0, -0.02);
+    }
+    refresh_world_vertices(m);
+    m.step = 42;
+    m.time = 0.5;
+    const std::string stem = test::out_dir() + "/export-zones";
+    std::remove((stem + ".pvd").c_str());
+    std::vector<std::string> written;
+    std::string error;
+    ASSERT_TRUE(export_vtk(m, nullptr, stem, written, error)) << error;
+    ASSERT_EQ(written.size(), 3u);
+    EXPECT_EQ(written[0], stem + "-blocks-000042.vtu");
+    EXPECT_EQ(written[1], stem + "-zones-000042.vtu");
+    EXPECT_NE(slurp(stem + ".pvd").find("part=\"3\" file=\"export-zones-zones-000042.vtu\""), std::string::npos);
+
+    vtkNew<vtkXMLUnstructuredGridReader> reader;
+    reader->SetFileName(written[1].c_str());
+    reader->Update();
+    vtkUnstructuredGrid* grid = reader->GetOutput();
+    ASSERT_EQ(grid->GetNumberOfCells(), 6);
+    ASSERT_EQ(grid->GetNumberOfPoints(), 8);
+    vtkDataArray* stress = grid->GetCellData()->GetArray("stress");
+    vtkDataArray* smin = grid->GetCellData()->GetArray("smin");
+    vtkDataArray* smid = grid->GetCellData()->GetArray("smid");
+    vtkDataArray* smax = grid->GetCellData()->GetArray("smax");
+    vtkDataArray* state = grid->GetCellData()->GetArray("state");
+    vtkDataArray* block_id = grid->GetCellData()->GetArray("block_id");
+    vtkDataArray* zone = grid->GetCellData()->GetArray("zone");
+    vtkDataArray* number = grid->GetPointData()->GetArray("gridpoint");
+    vtkDataArray* disp = grid->GetPointData()->GetArray("displacement");
+    vtkDataArray* vel = grid->GetPointData()->GetArray("velocity");
+    ASSERT_TRUE(stress && smin && smid && smax && state && block_id && zone && number && disp && vel);
+    ASSERT_EQ(stress->GetNumberOfComponents(), 6);
+    ASSERT_TRUE(stress->GetComponentName(4));
+    EXPECT_STREQ(stress->GetComponentName(4), "YZ");
+    EXPECT_STREQ(stress->GetComponentName(5), "XZ");
+    for (int c = 0; c < 6; ++c) {
+        SCOPED_TRACE(c);
+        EXPECT_EQ(grid->GetCellType(c), VTK_TETRA);
+        EXPECT_EQ(zone->GetTuple1(c), c + 1);
+        EXPECT_EQ(block_id->GetTuple1(c), 2);
+        EXPECT_EQ(state->GetTuple1(c), m.zones.state[c]);
+        // The tensor VTK builds from the six components is the zone's stress.
+        double six[6], t[9];
+        stress->GetTuple(c, six);
+        vtkMath::TensorFromSymmetricTensor(six, t);
+        const Sym6& z = m.zones.stress[c];
+        const double expected[9] = {z[0], z[3], z[4], z[3], z[1], z[5], z[4], z[5], z[2]};
+        for (int k = 0; k < 9; ++k) EXPECT_EQ(t[k], expected[k]) << k;
+        Vec3 p;
+        principal_stresses(z, p);
+        EXPECT_EQ(smin->GetTuple1(c), p[0]);
+        EXPECT_EQ(smid->GetTuple1(c), p[1]);
+        EXPECT_EQ(smax->GetTuple1(c), p[2]);
+        EXPECT_LE(p[0], p[1]);
+        EXPECT_LE(p[1], p[2]);
+        // Corners at the gridpoints' current positions, in VTK's order (positive volume).
+        vtkCell* cell = grid->GetCell(c);
+        double x[4][3];
+        for (int k = 0; k < 4; ++k) {
+            const int gp = static_cast<int>(number->GetTuple1(cell->GetPointId(k))) - 1;
+            EXPECT_EQ(gp, m.zones.gp[c][k]);
+            grid->GetPoint(cell->GetPointId(k), x[k]);
+            EXPECT_EQ(Vec3(x[k][0], x[k][1], x[k][2]), m.gridpoints.pos[m.zones.gp[c][k]]);
+        }
+        EXPECT_GT(vtkTetra::ComputeVolume(x[0], x[1], x[2], x[3]), 0);
+    }
+    // The stress of the zone set apart, component by component, in VTK's order.
+    EXPECT_EQ(stress->GetComponent(4, 0), 5e5);
+    EXPECT_EQ(stress->GetComponent(4, 3), -4e4);  // xy
+    EXPECT_EQ(stress->GetComponent(4, 4), -8e4);  // yz
+    EXPECT_EQ(stress->GetComponent(4, 5), 6e4);   // xz
+    EXPECT_EQ(stress->GetComponent(0, 2), -3e6);
+    EXPECT_EQ(state->GetTuple1(4), kShearNow | kShearPast);
+    // Displacements and velocities of the gridpoints, exactly.
+    for (int i = 0; i < 8; ++i) {
+        const int gp = static_cast<int>(number->GetTuple1(i)) - 1;
+        ASSERT_GE(gp, 0);
+        ASSERT_LT(gp, 8);
+        const Vec3 v = gridpoint_velocity_at_t(m, gp);
+        for (int k = 0; k < 3; ++k) {
+            EXPECT_EQ(disp->GetComponent(i, k), m.gridpoints.disp[gp][k]);
+            EXPECT_EQ(vel->GetComponent(i, k), v[k]);
+        }
+    }
+    EXPECT_EQ(disp->GetComponent(7, 2), -3e-4 * 7 * 7);
+
+    // The blocks file: the rigid brick as before, the deformable one's corners at and with
+    // the motion of their gridpoints.
+    vtkNew<vtkXMLUnstructuredGridReader> blocks;
+    blocks->SetFileName(written[0].c_str());
+    blocks->Update();
+    vtkUnstructuredGrid* bg = blocks->GetOutput();
+    ASSERT_EQ(bg->GetNumberOfCells(), 2);
+    vtkDataArray* pdisp = bg->GetPointData()->GetArray("displacement");
+    ASSERT_TRUE(pdisp);
+    for (int v = 0; v < 8; ++v) {
+        const int gp = m.blocks.corner_gp[1][v];
+        for (int k = 0; k < 3; ++k) {
+            EXPECT_EQ(pdisp->GetComponent(8 + v, k), m.gridpoints.disp[gp][k]);
+            EXPECT_EQ(pdisp->GetComponent(v, k), 0.0); // the rigid brick has not moved
+        }
+    }
+
+    // Zones of an excavated block are left out: no zones file.
+    m.blocks.flags[1] |= kExcavated;
+    ASSERT_TRUE(export_vtk(m, nullptr, stem, written, error)) << error;
+    EXPECT_EQ(written.size(), 2u);
+}
 
 TEST(ExportVtk, BlocksReadBackAsPolyhedra) {
     const Model m = moved_model();
