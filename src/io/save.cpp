@@ -842,6 +842,8 @@ std::string check_values(const Model& m) {
             c.fail(w + "a flag is out of range");
         }
         if (s.cons[b] > kZoneMohrCoulomb) c.fail(w + "its zone model is " + std::to_string(s.cons[b]) + " (0 to 2 allowed)");
+        // Zoning numbers new continua from the largest one there is, plus one.
+        if (s.body[b] > 1000000000) c.fail(w + "its continuum number is out of range");
         c.vec(s.vel_bc_value[b], w + "the boundary velocity");
         if (s.vel_bc_table[b] < 0 || s.vel_bc_table[b] > 1000000) {
             c.fail(w + "the boundary velocity table is out of range");

@@ -427,6 +427,7 @@ TEST_F(SaveValues, EditedZoneFieldsAreEachRefusedAndTheModelKept) {
          [&](odec::Model& m) { m.blocks.corner_gp[0][5] = ng; }},
         {"block 1 is deformable but belongs to no continuum", [](odec::Model& m) { m.blocks.body[0] = 0; }},
         {"block 1: its zone model is 9 (0 to 2 allowed)", [](odec::Model& m) { m.blocks.cons[0] = 9; }},
+        {"block 1: its continuum number is out of range", [](odec::Model& m) { m.blocks.body[0] = 2147483647; }},
         {"block 1 is rigid but has corner gridpoints",
          [](odec::Model& m) { m.blocks.flags[0] &= static_cast<std::uint8_t>(~odec::kDeformable); }},
         {"the block arrays differ in length", [](odec::Model& m) { m.blocks.body.push_back(1); }},
