@@ -179,7 +179,7 @@ auto fields(IO& io, M& x) -> If<M, BlockSet> {
     // Format 3: deformable blocks (older files hold rigid blocks only; restore_model gives
     // them the defaults of a new block).
     if (io.format >= 3) {
-        io(x.cons); io(x.corner_gp); io(x.body);
+        io(x.cons); io(x.corner_gp); io(x.zone_edge); io(x.body);
     }
     // Derived from the above, but written as they are so nothing is recomputed differently.
     io(x.vertex_offset); io(x.world_vertices);
@@ -621,7 +621,8 @@ std::string check_consistent(const Model& m) {
     same(s.rotation.size()); same(s.volume.size()); same(s.mass.size()); same(s.inertia_body.size());
     same(s.inertia_unit.size()); same(s.material.size()); same(s.region.size()); same(s.group.size());
     same(s.flags.size()); same(s.vel_bc.size()); same(s.vel_bc_value.size()); same(s.vel_bc_table.size());
-    same(s.half_kick.size()); same(s.cons.size()); same(s.corner_gp.size()); same(s.body.size());
+    same(s.half_kick.size()); same(s.cons.size()); same(s.corner_gp.size()); same(s.zone_edge.size());
+    same(s.body.size());
     if (!sizes_ok) return "the block arrays differ in length";
     if (!s.vertex_offset.empty()) {
         if (s.vertex_offset.size() != n + 1 || s.vertex_offset[0] != 0) return "the world vertex offsets are wrong";
@@ -692,12 +693,17 @@ std::string check_consistent(const Model& m) {
     const HistorySet& h = m.histories;
     for (const History& item : h.items) {
         if (item.values.size() > h.sample_steps.size()) return "a history has more values than samples";
-        // A history's gridpoint or zone at or beyond the count is one that was removed since
-        // (the history then samples 0); a negative index other than -1 is damage.
-        if (item.gridpoint < -1) return "a history refers to gridpoint " + std::to_string(item.gridpoint);
-        if (item.zone < -1) return "a history refers to zone " + std::to_string(item.zone);
+        // -1: none; -2: removed with its block (the history samples 0).
+        if (item.gridpoint < -2 || item.gridpoint >= m.gridpoints.size()) {
+            return "a history refers to gridpoint " + std::to_string(item.gridpoint) + ", which does not exist";
+        }
+        if (item.zone < -2 || item.zone >= m.zones.size()) {
+            return "a history refers to zone " + std::to_string(item.zone) + ", which does not exist";
+        }
         for (int g : item.gridpoints) {
-            if (g < 0) return "a reaction history refers to gridpoint " + std::to_string(g);
+            if (g < 0 || g >= m.gridpoints.size()) {
+                return "a reaction history refers to gridpoint " + std::to_string(g) + ", which does not exist";
+            }
         }
         for (int id : item.blocks) {
             if (id < 1) return "a reaction history refers to block id " + std::to_string(id);
@@ -842,6 +848,8 @@ std::string check_values(const Model& m) {
             c.fail(w + "a flag is out of range");
         }
         if (s.cons[b] > kZoneMohrCoulomb) c.fail(w + "its zone model is " + std::to_string(s.cons[b]) + " (0 to 2 allowed)");
+        // 'gen' zones a block again with the edge it was zoned with (0: none yet).
+        c.at_least(s.zone_edge[b], 0, w + "its zone edge");
         // Zoning numbers new continua from the largest one there is, plus one.
         if (s.body[b] > 1000000000) c.fail(w + "its continuum number is out of range");
         c.vec(s.vel_bc_value[b], w + "the boundary velocity");
@@ -1095,6 +1103,7 @@ bool restore_model(const std::string& path, Model& out, std::string& error) {
             const size_t n = fresh.blocks.id.size();
             fresh.blocks.cons.assign(n, kZoneElastic);
             fresh.blocks.corner_gp.assign(n, {});
+            fresh.blocks.zone_edge.assign(n, 0.0);
             fresh.blocks.body.assign(n, 0);
         }
         if (r.left() != 0) {

@@ -203,8 +203,8 @@ TEST_F(Save, AZonedModelGoesOnBitForBit) {
 
 TEST_F(Save, AModelSavedRightAfterDeleteRestoresAndGoesOn) {
     // Deleting blocks leaves the world vertices stale until the next step rebuilds them, and
-    // the histories of the deleted block's gridpoint and zone pointing past the gridpoints and
-    // zones left (they sample 0): such a model saves, restores and goes on as if never saved.
+    // the histories of the deleted block's gridpoint and zone marked removed (-2: they sample
+    // 0): such a model saves, restores and goes on as if never saved.
     const std::string build =
         "poly brick 0 1 0 1 0 1\npoly brick 3 4 0 1 0 1\npoly brick 6 7 0 1 0 1\n"
         "prop mat=1 dens=2500 ymod=10e9 prat=0.25\ngen edge 0.5 range id 1 2\n"
@@ -214,8 +214,9 @@ TEST_F(Save, AModelSavedRightAfterDeleteRestoresAndGoesOn) {
     Session a;
     ASSERT_TRUE(a.run(build)) << a.error();
     ASSERT_EQ(a.model.blocks.size(), 2);
-    ASSERT_GE(a.model.histories.items[0].gridpoint, a.model.gridpoints.size());
-    ASSERT_GE(a.model.histories.items[1].zone, a.model.zones.size());
+    ASSERT_EQ(a.model.histories.items[0].gridpoint, -2);
+    ASSERT_EQ(a.model.histories.items[1].zone, -2);
+    ASSERT_GE(a.model.histories.items[2].gridpoint, 0);
     ASSERT_TRUE(a.run("save '" + at("deleted") + "'\nstep 30")) << a.error();
     Session b;
     ASSERT_TRUE(b.run("restore '" + at("deleted") + "'\nstep 30")) << b.error();
@@ -237,6 +238,8 @@ TEST_F(Save, AZonedModelRestoresEveryField) {
     EXPECT_EQ(m.blocks.corner_gp, x.blocks.corner_gp);
     EXPECT_EQ(m.blocks.corner_gp[0].size(), 8u);
     EXPECT_EQ(m.blocks.body, x.blocks.body);
+    EXPECT_EQ(m.blocks.zone_edge, x.blocks.zone_edge);
+    EXPECT_EQ(m.blocks.zone_edge[0], 0.25);
     EXPECT_TRUE(m.blocks.flags[0] & odec::kDeformable);
     EXPECT_EQ(m.zones.gp, x.zones.gp);
     EXPECT_EQ(m.zones.block, x.zones.block);
@@ -314,6 +317,7 @@ TEST_F(Save, OlderFormatsStillRestore) {
     EXPECT_TRUE(m.stress_boundary.faces.empty());
     EXPECT_EQ(m.blocks.cons, std::vector<std::uint8_t>{odec::kZoneElastic});
     EXPECT_EQ(m.blocks.body, std::vector<int>{0});
+    EXPECT_EQ(m.blocks.zone_edge, std::vector<double>{0.0});
     EXPECT_TRUE(m.blocks.corner_gp[0].empty());
     EXPECT_FALSE(m.blocks.flags[0] & odec::kDeformable);
     ASSERT_EQ(m.histories.items.size(), 1u);
@@ -615,7 +619,7 @@ TEST(SaveLayout, EveryFieldIsSaved) {
     using namespace odec;
     const char* fix = "a field was added: save and restore it in src/io/save.cpp, then update this count";
     EXPECT_EQ(count_fields<Model>(), 23u) << fix;
-    EXPECT_EQ(count_fields<BlockSet>(), 31u) << fix;
+    EXPECT_EQ(count_fields<BlockSet>(), 32u) << fix;
     EXPECT_EQ(count_fields<ZoneSet>(), 7u) << fix;
     EXPECT_EQ(count_fields<GridpointSet>(), 17u) << fix;
     EXPECT_EQ(count_fields<StressBoundary>(), 1u) << fix;

@@ -184,9 +184,9 @@ std::string model_problem(const odec::Model& m) {
         if (!f.force.allFinite()) return "face force";
     }
     for (const History& h : m.histories.items) {
-        if (h.gridpoint < -1 || h.zone < -1) return "history index";
+        if (h.gridpoint < -2 || h.gridpoint >= ng || h.zone < -2 || h.zone >= z.size()) return "history index";
         for (int c : h.gridpoints)
-            if (c < 0) return "reaction gridpoint";
+            if (c < 0 || c >= ng) return "reaction gridpoint";
     }
     for (const auto& [number, t] : m.tables.tables) {
         for (size_t k = 0; k < t.points.size(); ++k) {
@@ -428,6 +428,8 @@ TEST_F(SaveValues, EditedZoneFieldsAreEachRefusedAndTheModelKept) {
         {"block 1 is deformable but belongs to no continuum", [](odec::Model& m) { m.blocks.body[0] = 0; }},
         {"block 1: its zone model is 9 (0 to 2 allowed)", [](odec::Model& m) { m.blocks.cons[0] = 9; }},
         {"block 1: its continuum number is out of range", [](odec::Model& m) { m.blocks.body[0] = 2147483647; }},
+        {"block 1: its zone edge is not a finite number", [&](odec::Model& m) { m.blocks.zone_edge[0] = nan; }},
+        {"block 1: its zone edge is -0.5, below 0", [](odec::Model& m) { m.blocks.zone_edge[0] = -0.5; }},
         {"block 1 is rigid but has corner gridpoints",
          [](odec::Model& m) { m.blocks.flags[0] &= static_cast<std::uint8_t>(~odec::kDeformable); }},
         {"the block arrays differ in length", [](odec::Model& m) { m.blocks.body.push_back(1); }},
@@ -437,9 +439,16 @@ TEST_F(SaveValues, EditedZoneFieldsAreEachRefusedAndTheModelKept) {
          [](odec::Model& m) { m.stress_boundary.faces[0].gp[1] = m.stress_boundary.faces[0].gp[0]; }},
         {"the force on a face loaded by 'bound stress' is not finite",
          [&](odec::Model& m) { m.stress_boundary.faces[0].force.z() = nan; }},
-        {"a history refers to gridpoint -7", [](odec::Model& m) { m.histories.items[0].gridpoint = -7; }},
-        {"a history refers to zone -2", [](odec::Model& m) { m.histories.items[1].zone = -2; }},
-        {"a reaction history refers to gridpoint -1", [](odec::Model& m) { m.histories.items[2].gridpoints[0] = -1; }},
+        {"a history refers to gridpoint -7, which does not exist", [](odec::Model& m) { m.histories.items[0].gridpoint = -7; }},
+        {"a history refers to gridpoint " + n_gp + ", which does not exist",
+         [&](odec::Model& m) { m.histories.items[0].gridpoint = ng; }},
+        {"a history refers to zone -3, which does not exist", [](odec::Model& m) { m.histories.items[1].zone = -3; }},
+        {"a history refers to zone " + std::to_string(nz) + ", which does not exist",
+         [&](odec::Model& m) { m.histories.items[1].zone = nz; }},
+        {"a reaction history refers to gridpoint -1, which does not exist",
+         [](odec::Model& m) { m.histories.items[2].gridpoints[0] = -1; }},
+        {"a reaction history refers to gridpoint " + n_gp + ", which does not exist",
+         [&](odec::Model& m) { m.histories.items[2].gridpoints.back() = ng; }},
     };
     for (const Edit& e : edits) {
         SCOPED_TRACE(e.what);
