@@ -62,7 +62,8 @@ const CommandSpec& jset_command() {
         c.describe("Each plane cuts every selected block it crosses into two. A cut that would leave a "
                    "piece thinner than a millionth of the block is not made (it is counted; 'print info' "
                    "shows how many). The orientation convention: the planes' upward normal is "
-                   "(sin dip sin dd, sin dip cos dd, cos dip), x east, y north, z up.");
+                   "(sin dip sin dd, sin dip cos dd, cos dip), x east, y north, z up. Deformable blocks are "
+                   "not cut (their zones would not follow): cut the rock first, then zone it.");
         c.example("jset dip 60 dd 90 origin 0,0,0 spacing 2 number 5");
         c.example("jset dip 0 dd 0 origin 0,0,5 join");
         c.handle([](CommandContext& ctx, const Args& a) {

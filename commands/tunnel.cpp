@@ -51,7 +51,7 @@ const CommandSpec& tunnel_command() {
         c.keyword("group", 2, "group of the pieces inside the tunnel wall").word("name").defaults("tunnel");
         c.keyword("jmat", 2, "joint material of the contacts across the new cuts").integer("n", 1, 1000000);
         c.range("which blocks to cut: see 'help range' (hidden and excavated blocks are never cut)");
-        c.describe("The pattern is that of 'poly tunnel': in the cross-section the tunnel wall is a regular polygon "
+        c.describe("Deformable blocks are not cut (cut first, then zone). The pattern is that of 'poly tunnel': in the cross-section the tunnel wall is a regular polygon "
                    "of 'ntheta' sides with the area of the circle of 'radius', one corner on the horizontal plane "
                    "through the axis (on the x axis when the axis is vertical); around it lie 'nrad' rings, bounded by "
                    "larger polygons out to the one with the area of the circle of 'outer', each 'ratio' times as thick "
