@@ -411,12 +411,11 @@ void zone_forces(Model& m, double dt) {
     for (size_t k = 0; k < m.materials.size(); ++k) {
         if (m.materials[k].defined) constants[k] = zone_constants(m.materials[k]);
     }
-    const std::uint8_t* bflags = m.blocks.flags.data();
     const int* bmat = m.blocks.material.data();
     const Vec3* vel = g.vel.data();
     // Pass 1: volumetric strain rates, averaged at the gridpoints (volume-weighted).
     for (int i = 0; i < nz; ++i) {
-        if (z.model[i] == kZoneNull || (bflags[z.block[i]] & kExcavated)) continue;
+        if (!zone_active(m, i)) continue;
         const auto& q = z.gp[i];
         const auto& gr = z.grad[i];
         const Vec3 v0 = vel[q[0]];
@@ -434,7 +433,7 @@ void zone_forces(Model& m, double dt) {
     }
     // Pass 2: strain increments, stresses and corner forces.
     for (int i = 0; i < nz; ++i) {
-        if (z.model[i] == kZoneNull || (bflags[z.block[i]] & kExcavated)) continue;
+        if (!zone_active(m, i)) continue;
         const auto& q = z.gp[i];
         const auto& gr = z.grad[i];
         // Velocity gradient L_ab = sum_k (v_k - v_0)_a grad_k,b over corners 1..3.
