@@ -211,6 +211,9 @@ void print_max(CommandContext& ctx) {
     for (int b = 0; b < s.size(); ++b) {
         if (s.flags[b] & kExcavated) continue;
         take(disp, s.disp[b].norm(), b);
+        // A deformable block moves by its gridpoints: their lines below show its velocity
+        // and unbalanced force (the block's own are not integrated).
+        if (s.flags[b] & kDeformable) continue;
         take(vel, velocity_at_t(m, b).norm(), b);
         if (!(s.flags[b] & kFixed)) take(unbal, s.force[b].norm(), b);
     }

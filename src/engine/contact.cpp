@@ -25,15 +25,15 @@ void ContactSet::clear() {
     jmat.clear(); jcons.clear(); joined.clear(); sub_offset.assign(1, 0);
     sub_contact.clear(); sub_side.clear(); sub_key.clear(); sub_vertex.clear(); sub_area.clear();
     sub_local.clear(); sub_un.clear(); sub_udil.clear(); sub_sn.clear(); sub_us.clear(); sub_ss.clear();
-    sub_flags.clear();
+    sub_flags.clear(); sub_tri.clear();
     detected = false;
+    surface_ready = false;
     ref_centroid.clear(); ref_orientation.clear(); geo_centroid.clear(); geo_orientation.clear();
     radius.clear();
 }
 
 ContactInfo contact_info(const Model& m, int c) {
     const ContactSet& cs = m.contacts;
-    const BlockSet& s = m.blocks;
     ContactInfo info;
     info.id = cs.id[c];
     info.block_a = cs.block_a[c];
@@ -49,8 +49,7 @@ ContactInfo contact_info(const Model& m, int c) {
     bool any_slip = false, all_open = true, any_failed = false;
     for (int k = k0; k < k1; ++k) {
         const double w = cs.sub_area[k];
-        const int owner = cs.sub_side[k] == 1 ? info.block_b : info.block_a;
-        x += w * (s.centroid[owner] + s.orientation[owner] * cs.sub_local[k]);
+        x += w * sub_point(m, c, k);
         area += w;
         sn += w * cs.sub_sn[k];
         un += w * (cs.sub_un[k] + cs.sub_udil[k]);
@@ -78,6 +77,14 @@ ContactInfo contact_info(const Model& m, int c) {
     else if (any_failed) info.state = ContactState::Failed;
     else info.state = ContactState::Elastic;
     return info;
+}
+
+Vec3 sub_point(const Model& m, int c, int k) {
+    const ContactSet& cs = m.contacts;
+    const int side = cs.sub_side[k];
+    if (side >= 3) return m.gridpoints.pos[cs.sub_vertex[k]];
+    const int owner = side == 1 ? cs.block_b[c] : cs.block_a[c];
+    return m.blocks.centroid[owner] + m.blocks.orientation[owner] * cs.sub_local[k];
 }
 
 int find_contact_at(const Model& m, const Vec3& x) {
@@ -119,6 +126,42 @@ int assign_joint_material(Model& m, const Range& r, int jmat, int jcons) {
         if (!r.contains_contact(m, info.centroid, cs.block_a[c], cs.block_b[c])) continue;
         if (jmat > 0) cs.jmat[c] = jmat;
         if (jcons > 0) cs.jcons[c] = jcons;
+        ++changed;
+    }
+    return changed;
+}
+
+int set_insitu_contact_stress(Model& m, const Range& r, const std::array<double, 6>& s0,
+                              const std::array<double, 6>& gx, const std::array<double, 6>& gy,
+                              const std::array<double, 6>& gz) {
+    ensure_detected(m);
+    ContactSet& cs = m.contacts;
+    int changed = 0;
+    for (int c = 0; c < cs.size(); ++c) {
+        const int jm = cs.jmat[c];
+        if (jm <= 0 || jm >= static_cast<int>(m.joint_materials.size()) || !m.joint_materials[jm].defined) continue;
+        const JointMaterial& j = m.joint_materials[jm];
+        if (!(j.kn > 0) || !(j.ks > 0)) continue;
+        const ContactInfo info = contact_info(m, c);
+        if (!r.contains_contact(m, info.centroid, cs.block_a[c], cs.block_b[c])) continue;
+        const Vec3 n = cs.normal[c];
+        for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
+            const Vec3 x = sub_point(m, c, k);
+            double t[6];
+            for (int i = 0; i < 6; ++i) t[i] = s0[i] + x.x() * gx[i] + x.y() * gy[i] + x.z() * gz[i];
+            Mat3 sigma;
+            sigma << t[0], t[3], t[4], t[3], t[1], t[5], t[4], t[5], t[2];
+            // Block b lies on the +n side: the rock pulls on it through the plane with the
+            // traction sigma (-n); the joint puts area (sn n + ss) on it.
+            const Vec3 traction = -(sigma * n);
+            const double sn = traction.dot(n);
+            cs.sub_sn[k] = sn;
+            cs.sub_ss[k] = traction - sn * n;
+            cs.sub_un[k] = sn / j.kn; // the closure that carries it (total form)
+            cs.sub_udil[k] = 0;
+            cs.sub_us[k].setZero();
+            cs.sub_flags[k] &= static_cast<std::uint8_t>(~(kSubOpen | kSubSlip));
+        }
         ++changed;
     }
     return changed;

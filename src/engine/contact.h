@@ -21,6 +21,7 @@
 // detection reruns, into buffers kept between runs, so cycling allocates nothing.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -61,13 +62,22 @@ struct ContactSet {
     // ---- per sub-contact (n_subs) ----
     std::vector<int> sub_contact;         // (n_subs) owning contact
     std::vector<std::uint8_t> sub_side;   // (n_subs) 0: vertex of block a, 1: vertex of block b,
-                                          //          2: where an edge of one crosses an edge of the other
+                                          //          2: where an edge of one crosses an edge of the other,
+                                          //          3: gridpoint of deformable block a pressing on b,
+                                          //          4: gridpoint of deformable block b pressing on a
     std::vector<std::int64_t> sub_key;    // (n_subs) what the point is (vertex, or pair of edges): the
                                           //          identity that carries its history across refreshes
-    std::vector<int> sub_vertex;          // (n_subs) the block's vertex index (sides 0, 1), else -1
+    std::vector<int> sub_vertex;          // (n_subs) the block's vertex index (sides 0, 1), the
+                                          //          gridpoint (sides 3, 4), else -1
     std::vector<double> sub_area;         // (n_subs) m^2, share of the contact area (they sum to it)
     std::vector<Eigen::Vector3d> sub_local; // (n_subs) m, point in the owner's body frame (block b for
-                                          //          side 1, else block a)
+                                          //          side 1, else block a); sides 3 and 4: where the
+                                          //          gridpoint meets the other block, in that block's
+                                          //          body frame when it is rigid, else the weights of
+                                          //          the corners of sub_tri
+    std::vector<std::array<int, 3>> sub_tri; // (n_subs) sides 3 and 4 against a deformable block: the
+                                          //          gridpoints of the surface triangle the gridpoint
+                                          //          meets; else -1
     std::vector<double> sub_un;           // (n_subs) m, normal closure (> 0 compressed), from motion
     std::vector<double> sub_udil;         // (n_subs) m, dilation accumulated while slipping
     std::vector<double> sub_sn;           // (n_subs) Pa, normal stress, compression positive
@@ -85,6 +95,13 @@ struct ContactSet {
     std::vector<Eigen::Quaterniond> geo_orientation; // (n_blocks) orientation then
     std::vector<double> radius;           // (n_blocks) m, largest vertex distance from the centroid
     long n_detections = 0;                // full detections so far (for tests and profiling)
+
+    // Derived from the zones, rebuilt when the model changes (not saved): the surface
+    // triangles of every deformable block, outward, grouped by block.
+    std::vector<std::array<int, 3>> surface_tri;  // gridpoints, counter-clockwise seen from outside
+    std::vector<int> surface_face;                // the block face each lies on
+    std::vector<int> surface_offset;              // (n_blocks + 1) first triangle of each block
+    bool surface_ready = false;
 
     int size() const { return static_cast<int>(block_a.size()); }
     int n_subs() const { return static_cast<int>(sub_contact.size()); }
@@ -116,6 +133,13 @@ double contact_tolerance(const Model& m);
 // for region/group/id filters) the range selects. jmat or jcons <= 0 leaves that one alone.
 // Returns how many contacts changed.
 int assign_joint_material(Model& m, const Range& r, int jmat, int jcons);
+// `insitu stress ...`: every contact (with a joint material) whose centroid the range selects
+// starts carrying the stress s + x gx + y gy + z gz (xx yy zz xy xz yz, tension positive) at
+// each sub-contact point: normal stress, shear stress, and the closure that carries it.
+// Returns how many contacts were set.
+int set_insitu_contact_stress(Model& m, const Range& r, const std::array<double, 6>& s,
+                              const std::array<double, 6>& gx, const std::array<double, 6>& gy,
+                              const std::array<double, 6>& gz);
 // `join range ...`: glue every contact between two of these blocks. Returns how many.
 int join_blocks(Model& m, const std::vector<int>& block_indices);
 
@@ -153,6 +177,8 @@ struct ContactInfo {
     ContactState state = ContactState::Elastic;
 };
 ContactInfo contact_info(const Model& m, int contact_index);
+// World position of sub-contact k (of contact c) now.
+Eigen::Vector3d sub_point(const Model& m, int c, int k);
 // Index of the contact whose centroid is nearest x, or -1 when there are none.
 int find_contact_at(const Model& m, const Eigen::Vector3d& x);
 // Index of the contact with this id, or -1.

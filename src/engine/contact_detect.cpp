@@ -60,6 +60,7 @@
 
 #include "engine/common_plane.h"
 #include "engine/contact.h"
+#include "engine/contact_gridpoint.h"
 #include "engine/model.h"
 
 namespace odec {
@@ -400,7 +401,7 @@ void swap_arrays(ContactSet& x, ContactSet& y) {
     x.sub_contact.swap(y.sub_contact); x.sub_side.swap(y.sub_side); x.sub_key.swap(y.sub_key);
     x.sub_vertex.swap(y.sub_vertex); x.sub_area.swap(y.sub_area); x.sub_local.swap(y.sub_local);
     x.sub_un.swap(y.sub_un); x.sub_udil.swap(y.sub_udil); x.sub_sn.swap(y.sub_sn); x.sub_us.swap(y.sub_us);
-    x.sub_ss.swap(y.sub_ss); x.sub_flags.swap(y.sub_flags);
+    x.sub_ss.swap(y.sub_ss); x.sub_flags.swap(y.sub_flags); x.sub_tri.swap(y.sub_tri);
 }
 
 void clear_arrays(ContactSet& x) {
@@ -408,11 +409,15 @@ void clear_arrays(ContactSet& x) {
     x.jmat.clear(); x.jcons.clear(); x.joined.clear(); x.sub_offset.assign(1, 0);
     x.sub_contact.clear(); x.sub_side.clear(); x.sub_key.clear(); x.sub_vertex.clear();
     x.sub_area.clear(); x.sub_local.clear(); x.sub_un.clear(); x.sub_udil.clear(); x.sub_sn.clear();
-    x.sub_us.clear(); x.sub_ss.clear(); x.sub_flags.clear();
+    x.sub_us.clear(); x.sub_ss.clear(); x.sub_flags.clear(); x.sub_tri.clear();
 }
 
-void push_sub(ContactSet& to, int c, int side, std::int64_t key, int vertex, double area, const Vec3& local) {
+constexpr std::array<int, 3> kNoTri = {-1, -1, -1};
+
+void push_sub(ContactSet& to, int c, int side, std::int64_t key, int vertex, double area, const Vec3& local,
+              const std::array<int, 3>& tri = kNoTri) {
     to.sub_contact.push_back(c);
+    to.sub_tri.push_back(tri);
     to.sub_side.push_back(static_cast<std::uint8_t>(side));
     to.sub_key.push_back(key);
     to.sub_vertex.push_back(vertex);
@@ -427,7 +432,8 @@ void copy_contact(const ContactSet& from, int c, ContactSet& to) {
     to.normal.push_back(from.normal[c]); to.point.push_back(from.point[c]); to.gap.push_back(from.gap[c]);
     to.jmat.push_back(from.jmat[c]); to.jcons.push_back(from.jcons[c]); to.joined.push_back(from.joined[c]);
     for (int k = from.sub_offset[c]; k < from.sub_offset[c + 1]; ++k) {
-        push_sub(to, nc, from.sub_side[k], from.sub_key[k], from.sub_vertex[k], from.sub_area[k], from.sub_local[k]);
+        push_sub(to, nc, from.sub_side[k], from.sub_key[k], from.sub_vertex[k], from.sub_area[k], from.sub_local[k],
+                 from.sub_tri[k]);
         to.sub_un.push_back(from.sub_un[k]); to.sub_udil.push_back(from.sub_udil[k]);
         to.sub_sn.push_back(from.sub_sn[k]); to.sub_us.push_back(from.sub_us[k]);
         to.sub_ss.push_back(from.sub_ss[k]); to.sub_flags.push_back(from.sub_flags[k]);
@@ -457,7 +463,7 @@ void copy_run(const ContactSet& from, int c0, int c1, ContactSet& to) {
     app(to.sub_local, from.sub_local, k0, k1); app(to.sub_un, from.sub_un, k0, k1);
     app(to.sub_udil, from.sub_udil, k0, k1); app(to.sub_sn, from.sub_sn, k0, k1);
     app(to.sub_us, from.sub_us, k0, k1); app(to.sub_ss, from.sub_ss, k0, k1);
-    app(to.sub_flags, from.sub_flags, k0, k1);
+    app(to.sub_flags, from.sub_flags, k0, k1); app(to.sub_tri, from.sub_tri, k0, k1);
 }
 
 // Make cs the contacts `plan` lists, in its order: entry c >= 0 keeps old contact c as it
@@ -487,7 +493,7 @@ bool apply_plan_in_place(ContactSet& cs, const ContactSet& fresh, const std::vec
         cs.gap.resize(c); cs.jmat.resize(c); cs.jcons.resize(c); cs.joined.resize(c); cs.sub_offset.resize(c + 1);
         cs.sub_contact.resize(k); cs.sub_side.resize(k); cs.sub_key.resize(k); cs.sub_vertex.resize(k);
         cs.sub_area.resize(k); cs.sub_local.resize(k); cs.sub_un.resize(k); cs.sub_udil.resize(k);
-        cs.sub_sn.resize(k); cs.sub_us.resize(k); cs.sub_ss.resize(k); cs.sub_flags.resize(k);
+        cs.sub_sn.resize(k); cs.sub_us.resize(k); cs.sub_ss.resize(k); cs.sub_flags.resize(k); cs.sub_tri.resize(k);
     };
     size_all(nc_max, ns_max);
     wc = 0;
@@ -505,7 +511,7 @@ bool apply_plan_in_place(ContactSet& cs, const ContactSet& fresh, const std::vec
                 auto mv = [&](auto& v) { std::copy(v.begin() + k0, v.begin() + k1, v.begin() + wk); };
                 mv(cs.sub_contact); mv(cs.sub_side); mv(cs.sub_key); mv(cs.sub_vertex); mv(cs.sub_area);
                 mv(cs.sub_local); mv(cs.sub_un); mv(cs.sub_udil); mv(cs.sub_sn); mv(cs.sub_us); mv(cs.sub_ss);
-                mv(cs.sub_flags);
+                mv(cs.sub_flags); mv(cs.sub_tri);
             }
             wk += k1 - k0;
         } else {
@@ -520,7 +526,7 @@ bool apply_plan_in_place(ContactSet& cs, const ContactSet& fresh, const std::vec
                 cs.sub_local[wk] = fresh.sub_local[j]; cs.sub_un[wk] = fresh.sub_un[j];
                 cs.sub_udil[wk] = fresh.sub_udil[j]; cs.sub_sn[wk] = fresh.sub_sn[j];
                 cs.sub_us[wk] = fresh.sub_us[j]; cs.sub_ss[wk] = fresh.sub_ss[j];
-                cs.sub_flags[wk] = fresh.sub_flags[j];
+                cs.sub_flags[wk] = fresh.sub_flags[j]; cs.sub_tri[wk] = fresh.sub_tri[j];
             }
         }
         ++wc;
@@ -542,6 +548,7 @@ void apply_plan_copy(ContactSet& cs, const ContactSet& fresh, const std::vector<
     out.sub_contact.reserve(ns); out.sub_side.reserve(ns); out.sub_key.reserve(ns); out.sub_vertex.reserve(ns);
     out.sub_area.reserve(ns); out.sub_local.reserve(ns); out.sub_un.reserve(ns); out.sub_udil.reserve(ns);
     out.sub_sn.reserve(ns); out.sub_us.reserve(ns); out.sub_ss.reserve(ns); out.sub_flags.reserve(ns);
+    out.sub_tri.reserve(ns);
     for (int i = 0; i < np;) {
         if (plan[i] < 0) {
             copy_contact(fresh, ~plan[i], out);
@@ -578,6 +585,7 @@ struct Detector {
     std::vector<NewSub> subs;
     std::vector<double> face_area_a, face_area_b;
     std::vector<double> nodal_a, nodal_b; // (n_vertices) m^2, each vertex's own area facing the plane
+    std::vector<GridpointSub> gsubs;
 
     BlockView view(int b) const {
         return BlockView{m.blocks.world_vertices.data() + m.blocks.vertex_offset[b], &m.blocks.shape[b]};
@@ -628,25 +636,10 @@ struct Detector {
         return tag;
     }
 
-    // Build contact (a, b) into `next`, carrying history from old contact oc (-1: new).
-    // Returns false when the blocks are farther apart than ctol.
-    bool build(int a, int b, int oc, bool require_close) {
-        const BlockView va = view(a), vb = view(b);
-        const Vec3* warm = oc >= 0 ? &cs.normal[oc] : nullptr;
-        const CommonPlane cp = common_plane(va, vb, warm, oc >= 0 ? tol : 0.0, 0.1 * tol);
-        if (require_close && cp.gap > tol) return false;
-        const Frame fr = make_frame(cp);
-        present_faces(va, fr, 0, tol, pieces_a, nodal_a);
-        present_faces(vb, fr, 1, tol, pieces_b, nodal_b);
-        face_area_a.assign(m.blocks.shape[a].n_faces(), 0.0);
-        face_area_b.assign(m.blocks.shape[b].n_faces(), 0.0);
-        const double min_area = 1e-12 * tol * tol;
-        polygon_subcontacts(fr, pieces_a, pieces_b, 1e-9 * tol, min_area, subs, face_area_a, face_area_b, nodal_a,
-                            nodal_b);
-
-        const int nc = next.size();
+    // The contact's own entries in `next`: id, joint material and model (from the old
+    // contact, else from the joint plane its faces lie on), blocks and plane.
+    void push_header(int a, int b, int oc, const BlockView& va, const BlockView& vb, const CommonPlane& cp) {
         const BlockSet& s = m.blocks;
-        const Mat3 rot[2] = {s.orientation[a].toRotationMatrix(), s.orientation[b].toRotationMatrix()};
         if (oc >= 0) {
             next.id.push_back(cs.id[oc]);
             next.jmat.push_back(cs.jmat[oc]);
@@ -686,6 +679,65 @@ struct Detector {
         next.normal.push_back(cp.normal);
         next.point.push_back(cp.point);
         next.gap.push_back(cp.gap);
+    }
+
+    // Build contact (a, b), one of them deformable, from its gridpoints (contact_gridpoint.h).
+    bool build_gridpoint(int a, int b, int oc, bool require_close) {
+        const BlockView va = view(a), vb = view(b);
+        const Vec3* warm = oc >= 0 ? &cs.normal[oc] : nullptr;
+        const CommonPlane cp = common_plane(va, vb, warm, oc >= 0 ? tol : 0.0, 0.1 * tol);
+        if (require_close && cp.gap > tol) return false;
+        face_area_a.assign(m.blocks.shape[a].n_faces(), 0.0);
+        face_area_b.assign(m.blocks.shape[b].n_faces(), 0.0);
+        gridpoint_subcontacts(m, a, b, cp, tol, gsubs, face_area_a, face_area_b);
+        const int nc = next.size();
+        push_header(a, b, oc, va, vb, cp);
+        int k = oc >= 0 ? cs.sub_offset[oc] : 0;
+        const int k_end = oc >= 0 ? cs.sub_offset[oc + 1] : 0;
+        for (const GridpointSub& gs : gsubs) {
+            while (k < k_end && cs.sub_key[k] < gs.key) ++k;
+            push_sub(next, nc, gs.side, gs.key, gs.gp, gs.area, gs.local, gs.tri);
+            if (k < k_end && cs.sub_key[k] == gs.key) {
+                next.sub_un.push_back(cs.sub_un[k]);
+                next.sub_udil.push_back(cs.sub_udil[k]);
+                next.sub_sn.push_back(cs.sub_sn[k]);
+                next.sub_us.push_back(retangent(cs.sub_us[k], cp.normal));
+                next.sub_ss.push_back(retangent(cs.sub_ss[k], cp.normal));
+                next.sub_flags.push_back(cs.sub_flags[k] & ~kSubNew);
+            } else {
+                next.sub_un.push_back(gs.closure);
+                next.sub_udil.push_back(0);
+                next.sub_sn.push_back(0);
+                next.sub_us.push_back(Vec3::Zero());
+                next.sub_ss.push_back(Vec3::Zero());
+                next.sub_flags.push_back(kSubNew);
+            }
+        }
+        next.sub_offset.push_back(next.n_subs());
+        return true;
+    }
+
+    // Build contact (a, b) into `next`, carrying history from old contact oc (-1: new).
+    // Returns false when the blocks are farther apart than ctol.
+    bool build(int a, int b, int oc, bool require_close) {
+        if ((m.blocks.flags[a] | m.blocks.flags[b]) & kDeformable) return build_gridpoint(a, b, oc, require_close);
+        const BlockView va = view(a), vb = view(b);
+        const Vec3* warm = oc >= 0 ? &cs.normal[oc] : nullptr;
+        const CommonPlane cp = common_plane(va, vb, warm, oc >= 0 ? tol : 0.0, 0.1 * tol);
+        if (require_close && cp.gap > tol) return false;
+        const Frame fr = make_frame(cp);
+        present_faces(va, fr, 0, tol, pieces_a, nodal_a);
+        present_faces(vb, fr, 1, tol, pieces_b, nodal_b);
+        face_area_a.assign(m.blocks.shape[a].n_faces(), 0.0);
+        face_area_b.assign(m.blocks.shape[b].n_faces(), 0.0);
+        const double min_area = 1e-12 * tol * tol;
+        polygon_subcontacts(fr, pieces_a, pieces_b, 1e-9 * tol, min_area, subs, face_area_a, face_area_b, nodal_a,
+                            nodal_b);
+
+        const int nc = next.size();
+        const BlockSet& s = m.blocks;
+        const Mat3 rot[2] = {s.orientation[a].toRotationMatrix(), s.orientation[b].toRotationMatrix()};
+        push_header(a, b, oc, va, vb, cp);
 
         // Merge with the old sub-contacts: both lists are in key order.
         int k = oc >= 0 ? cs.sub_offset[oc] : 0;
@@ -802,9 +854,8 @@ void broad_phase(const Model& m, double tol, std::vector<std::int64_t>& pairs) {
             for (long j = i + 1; j < cell_start[c + 1]; ++j) {
                 const int b = cell_items[j];
                 if ((s.flags[a] & kFixed) && (s.flags[b] & kFixed) && !s.vel_bc[a] && !s.vel_bc[b]) continue;
-                // Deformable blocks touch others through their gridpoints (zones.h), and the
-                // blocks of one continuum share them.
-                if ((s.flags[a] | s.flags[b]) & kDeformable) continue;
+                // The blocks of one continuum share their gridpoints: no contact between them.
+                if ((s.flags[a] & s.flags[b] & kDeformable) && s.body[a] == s.body[b]) continue;
                 if ((lo[a].array() > hi[b].array()).any() || (lo[b].array() > hi[a].array()).any()) continue;
                 const Vec3 il = lo[a].cwiseMax(lo[b]);
                 const long owner = (cell_of(il.z(), 2) * dims[1] + cell_of(il.y(), 1)) * dims[0] + cell_of(il.x(), 0);
@@ -837,6 +888,8 @@ void detect_contacts(Model& m) {
     const int n = s.size();
     if (static_cast<int>(s.vertex_offset.size()) != n + 1) return; // world vertices not refreshed yet
     const bool full_needed = !cs.detected || m.geometry_changed || static_cast<int>(cs.ref_centroid.size()) != n;
+    if (full_needed) cs.surface_ready = false; // the zones may have changed
+    refresh_contact_surface(m);
 
     thread_local ContactSet next;
     thread_local std::vector<std::int64_t> pairs;
@@ -865,7 +918,7 @@ void detect_contacts(Model& m) {
             cs.radius[b] = r;
         }
     }
-    Detector d{m, cs, next, cs.ctol, {}, {}, {}, {}, {}, {}, {}};
+    Detector d{m, cs, next, cs.ctol, {}, {}, {}, {}, {}, {}, {}, {}};
     plan.clear();
     clear_arrays(next);
 

@@ -7,6 +7,7 @@
 
 #include "engine/blocks.h"
 #include "engine/contact.h"
+#include "engine/contact_gridpoint.h"
 
 namespace odec {
 
@@ -436,9 +437,8 @@ std::string prepare_cycle_once(Model& m) {
         refresh_world_vertices(m);
         detect_contacts(m);
         update_gridpoint_masses(m);
-        const std::string cp = deformable_contact_problem(m, m.contacts.ctol);
-        if (!cp.empty()) return cp;
     }
+    refresh_contact_surface(m); // the zones' step allows for the joints on their surface
     const double zone_dt = zone_critical_timestep(m);
     if (m.settings.dt_fixed > 0) {
         if (zone_dt > 0 && m.settings.dt_fixed > zone_dt / 0.9) {
@@ -583,13 +583,14 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
             StageTimer t{prof, Stage::DetectContacts};
             detect_contacts(m);
         }
+        if (m.zones.size() > 0) {
+            // Zone forces first: they start the gridpoints' forces, which contacts add to.
+            StageTimer t{prof, Stage::Zones};
+            zone_forces(m, m.dt);
+        }
         {
             StageTimer t{prof, Stage::UpdateContacts};
             update_contacts(m, m.dt);
-        }
-        if (m.zones.size() > 0) {
-            StageTimer t{prof, Stage::Zones};
-            zone_forces(m, m.dt);
         }
         int bad;
         {

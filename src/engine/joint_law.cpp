@@ -62,11 +62,67 @@ LawParams law_params(const Model& m, int jmat, int jcons) {
     return p;
 }
 
+// One step of the joint law at sub-contact k, for the displacement increment du of block b
+// relative to block a there. Returns the force on b (a takes its opposite).
+inline Vec3 joint_step(ContactSet& cs, int k, const LawParams& p, bool joined, const Vec3& nrm, const Vec3& du) {
+    std::uint8_t flags = cs.sub_flags[k];
+    Vec3 dus = Vec3::Zero();
+    if (flags & kSubNew) {
+        // Its closure was measured from the geometry at t: the step is already in it.
+        flags &= ~kSubNew;
+    } else {
+        const double dun = du.dot(nrm);
+        cs.sub_un[k] -= dun;
+        dus = du - dun * nrm;
+        cs.sub_us[k] += dus;
+    }
+    flags &= ~(kSubSlip | kSubOpen);
+    double sn;
+    Vec3 ss = cs.sub_ss[k] - p.ks * dus;
+    if (joined) {
+        sn = p.kn * cs.sub_un[k];
+    } else {
+        const bool failed = flags & kSubFailed;
+        double coh = failed ? 0.0 : p.coh;
+        const double ten = failed ? 0.0 : p.ten;
+        double tan_phi = failed ? p.tan_res : p.tan_phi;
+        sn = p.kn * (cs.sub_un[k] + cs.sub_udil[k]);
+        if (sn < -ten || (sn <= 0 && ten <= 0)) {
+            // Open: past its tensile strength, which (if any) is lost with cohesion.
+            if (sn < -ten && (coh > 0 || ten > 0)) flags |= kSubFailed;
+            sn = 0;
+            ss.setZero();
+            flags |= kSubOpen;
+        } else {
+            double tmax = std::max(0.0, coh + sn * tan_phi);
+            const double t = ss.norm();
+            if (t > tmax) {
+                if (!failed && (coh > 0 || ten > 0 || p.model2)) {
+                    flags |= kSubFailed;
+                    coh = 0;
+                    tan_phi = p.tan_res;
+                    tmax = std::max(0.0, sn * tan_phi);
+                }
+                ss *= tmax / t;
+                flags |= kSubSlip;
+                if (p.tan_dil != 0 && (p.zdil <= 0 || cs.sub_us[k].norm() < p.zdil)) {
+                    cs.sub_udil[k] += dus.norm() * p.tan_dil;
+                }
+            }
+        }
+    }
+    cs.sub_sn[k] = sn;
+    cs.sub_ss[k] = ss;
+    cs.sub_flags[k] = flags;
+    return cs.sub_area[k] * (sn * nrm + ss);
+}
+
 } // namespace
 
 void update_contacts(Model& m, double dt) {
     ContactSet& cs = m.contacts;
     BlockSet& s = m.blocks;
+    GridpointSet& g = m.gridpoints;
     const int n = s.size();
     thread_local std::vector<Mat3> rot;
     thread_local std::vector<Vec3> vel, spin;
@@ -80,6 +136,8 @@ void update_contacts(Model& m, double dt) {
         vel[b] = still ? Vec3::Zero() : s.vel[b];
         spin[b] = still ? Vec3::Zero() : s.ang_vel[b];
     }
+    // So does a gridpoint.
+    auto gp_vel = [&g](int i) { return g.half_kick[i] ? Vec3(Vec3::Zero()) : g.vel[i]; };
     // Joint-law constants once per material and model, not per contact.
     thread_local std::vector<LawParams> params;
     const int n_jmat = static_cast<int>(m.joint_materials.size());
@@ -96,6 +154,40 @@ void update_contacts(Model& m, double dt) {
         const LawParams& p = (jm > 0 && jm < n_jmat) ? params[2 * jm + (cs.jcons[c] == 2 ? 1 : 0)] : none;
         const bool joined = cs.joined[c] != 0;
         const Vec3 nrm = cs.normal[c];
+        if ((s.flags[a] | s.flags[b]) & kDeformable) {
+            // Gridpoints against the other block's surface (contact_gridpoint.h).
+            for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
+                const bool of_a = cs.sub_side[k] == 3;
+                const int gp = cs.sub_vertex[k];
+                const int o = of_a ? b : a;
+                const auto& tri = cs.sub_tri[k];
+                const Vec3& w = cs.sub_local[k];
+                Vec3 vo, lever = Vec3::Zero();
+                if (tri[0] >= 0) {
+                    vo = w[0] * gp_vel(tri[0]) + w[1] * gp_vel(tri[1]) + w[2] * gp_vel(tri[2]);
+                } else {
+                    lever = rot[o] * cs.sub_local[k];
+                    vo = vel[o] + spin[o].cross(lever);
+                }
+                const Vec3 vg = gp_vel(gp);
+                const Vec3 f = joint_step(cs, k, p, joined, nrm, (of_a ? vo - vg : vg - vo) * dt);
+                const Vec3 fg = of_a ? Vec3(-f) : f; // on the gridpoint; its partner takes -fg
+                const double fn = f.norm();
+                g.force[gp] += fg;
+                g.force_scale[gp] += fn;
+                if (tri[0] >= 0) {
+                    for (int i = 0; i < 3; ++i) {
+                        g.force[tri[i]] -= w[i] * fg;
+                        g.force_scale[tri[i]] += w[i] * fn;
+                    }
+                } else {
+                    s.force[o] -= fg;
+                    s.moment[o] -= lever.cross(fg);
+                    s.force_scale[o] += fn;
+                }
+            }
+            continue;
+        }
         const Vec3 ca = s.centroid[a], cb = s.centroid[b];
         const Vec3 va = vel[a], wa = spin[a], vb = vel[b], wb = spin[b];
         Vec3 fa = Vec3::Zero(), ma = Vec3::Zero(), fb = Vec3::Zero(), mb = Vec3::Zero();
@@ -104,57 +196,7 @@ void update_contacts(Model& m, double dt) {
             const int owner = cs.sub_side[k] == 1 ? b : a;
             const Vec3 x = s.centroid[owner] + rot[owner] * cs.sub_local[k];
             const Vec3 ra = x - ca, rb = x - cb;
-            std::uint8_t flags = cs.sub_flags[k];
-            Vec3 dus = Vec3::Zero();
-            if (flags & kSubNew) {
-                // Its closure was measured from the geometry at t: the step is already in it.
-                flags &= ~kSubNew;
-            } else {
-                const Vec3 du = (vb + wb.cross(rb) - va - wa.cross(ra)) * dt;
-                const double dun = du.dot(nrm);
-                cs.sub_un[k] -= dun;
-                dus = du - dun * nrm;
-                cs.sub_us[k] += dus;
-            }
-            flags &= ~(kSubSlip | kSubOpen);
-            double sn;
-            Vec3 ss = cs.sub_ss[k] - p.ks * dus;
-            if (joined) {
-                sn = p.kn * cs.sub_un[k];
-            } else {
-                const bool failed = flags & kSubFailed;
-                double coh = failed ? 0.0 : p.coh;
-                const double ten = failed ? 0.0 : p.ten;
-                double tan_phi = failed ? p.tan_res : p.tan_phi;
-                sn = p.kn * (cs.sub_un[k] + cs.sub_udil[k]);
-                if (sn < -ten || (sn <= 0 && ten <= 0)) {
-                    // Open: past its tensile strength, which (if any) is lost with cohesion.
-                    if (sn < -ten && (coh > 0 || ten > 0)) flags |= kSubFailed;
-                    sn = 0;
-                    ss.setZero();
-                    flags |= kSubOpen;
-                } else {
-                    double tmax = std::max(0.0, coh + sn * tan_phi);
-                    const double t = ss.norm();
-                    if (t > tmax) {
-                        if (!failed && (coh > 0 || ten > 0 || p.model2)) {
-                            flags |= kSubFailed;
-                            coh = 0;
-                            tan_phi = p.tan_res;
-                            tmax = std::max(0.0, sn * tan_phi);
-                        }
-                        ss *= tmax / t;
-                        flags |= kSubSlip;
-                        if (p.tan_dil != 0 && (p.zdil <= 0 || cs.sub_us[k].norm() < p.zdil)) {
-                            cs.sub_udil[k] += dus.norm() * p.tan_dil;
-                        }
-                    }
-                }
-            }
-            cs.sub_sn[k] = sn;
-            cs.sub_ss[k] = ss;
-            cs.sub_flags[k] = flags;
-            const Vec3 f = cs.sub_area[k] * (sn * nrm + ss);
+            const Vec3 f = joint_step(cs, k, p, joined, nrm, (vb + wb.cross(rb) - va - wa.cross(ra)) * dt);
             fb += f;
             mb += rb.cross(f);
             fa -= f;
@@ -175,7 +217,8 @@ double contact_critical_timestep(const Model& m) {
     const ContactSet& cs = m.contacts;
     double m_min = 0;
     for (int b = 0; b < s.size(); ++b) {
-        if ((s.flags[b] & (kExcavated | kFixed)) || !(s.mass[b] > 0)) continue;
+        // A deformable block's own mass does not move as one: its gridpoints set the zones' step.
+        if ((s.flags[b] & (kExcavated | kFixed | kDeformable)) || !(s.mass[b] > 0)) continue;
         if (m_min == 0 || s.mass[b] < m_min) m_min = s.mass[b];
     }
     if (!(m_min > 0)) return 0;
@@ -219,8 +262,7 @@ double stable_timestep_limit(const Model& m, int* block_out) {
         if ((s.flags[a] | s.flags[b]) & kExcavated) continue;
         const double k = std::max(m.joint_materials[jm].kn, m.joint_materials[jm].ks);
         for (int i = cs.sub_offset[c]; i < cs.sub_offset[c + 1]; ++i) {
-            const int owner = cs.sub_side[i] == 1 ? b : a;
-            const Vec3 x = s.centroid[owner] + s.orientation[owner] * cs.sub_local[i];
+            const Vec3 x = sub_point(m, c, i);
             const double ki = k * cs.sub_area[i];
             kt[a] += ki;
             kt[b] += ki;
@@ -233,7 +275,7 @@ double stable_timestep_limit(const Model& m, int* block_out) {
     double omega2 = 0;
     int worst = -1;
     for (int b = 0; b < n; ++b) {
-        if ((s.flags[b] & (kExcavated | kFixed)) || !(s.mass[b] > 0)) continue;
+        if ((s.flags[b] & (kExcavated | kFixed | kDeformable)) || !(s.mass[b] > 0)) continue;
         double w2 = kt[b] / s.mass[b];
         const double i_min = Eigen::SelfAdjointEigenSolver<Mat3>(s.inertia_body[b], Eigen::EigenvaluesOnly)
                                  .eigenvalues()

@@ -1,5 +1,7 @@
 #include "engine/zones.h"
 
+#include "engine/contact.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -8,6 +10,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "engine/blocks.h"
+#include "engine/contact.h"
 #include "engine/model.h"
 #include "engine/range.h"
 #include "engine/table.h"
@@ -330,36 +333,52 @@ std::string zones_problem(const Model& m) {
     return "";
 }
 
-std::string deformable_contact_problem(const Model& m, double ctol) {
+namespace {
+
+// The stiffness the joints can add to each surface gridpoint of a deformable block that has
+// something to touch (a rigid block, or a block of another continuum): the stiffest joint
+// material over the gridpoint's share of its surface, twice (the spring ties it to a point
+// of the other block). Empty when no gridpoint can touch anything.
+std::vector<double> joint_stiffness_on_gridpoints(const Model& m) {
     const BlockSet& s = m.blocks;
-    std::vector<Vec3> lo(s.size()), hi(s.size());
+    const ContactSet& cs = m.contacts;
+    double kj = 0;
+    for (const JointMaterial& j : m.joint_materials) {
+        if (j.defined) kj = std::max(kj, std::max(j.kn, j.ks));
+    }
+    if (!(kj > 0) || !cs.surface_ready || static_cast<int>(cs.surface_offset.size()) != s.size() + 1) return {};
+    int first_body = -1;
+    bool other = false;
+    for (int b = 0; b < s.size() && !other; ++b) {
+        if (s.flags[b] & kExcavated) continue;
+        if (!(s.flags[b] & kDeformable)) other = true;
+        else if (first_body < 0) first_body = s.body[b];
+        else other = s.body[b] != first_body;
+    }
+    if (!other) return {};
+    const GridpointSet& g = m.gridpoints;
+    std::vector<double> k(g.size(), 0.0);
     for (int b = 0; b < s.size(); ++b) {
-        lo[b] = hi[b] = s.world_vertices[s.vertex_offset[b]];
-        for (int v = s.vertex_offset[b]; v < s.vertex_offset[b + 1]; ++v) {
-            lo[b] = lo[b].cwiseMin(s.world_vertices[v]);
-            hi[b] = hi[b].cwiseMax(s.world_vertices[v]);
+        if (s.flags[b] & kExcavated) continue;
+        for (int t = cs.surface_offset[b]; t < cs.surface_offset[b + 1]; ++t) {
+            const auto& q = cs.surface_tri[t];
+            const double area = 0.5 * (g.pos[q[1]] - g.pos[q[0]]).cross(g.pos[q[2]] - g.pos[q[0]]).norm();
+            for (int c : q) k[c] += 2.0 * kj * area / 3.0;
         }
     }
-    for (int a = 0; a < s.size(); ++a) {
-        if (!(s.flags[a] & kDeformable) || (s.flags[a] & kExcavated)) continue;
-        for (int b = 0; b < s.size(); ++b) {
-            if (b == a || (s.flags[b] & kExcavated)) continue;
-            if ((s.flags[b] & kDeformable) && s.body[b] == s.body[a]) continue;
-            if (((lo[a].array() - ctol) > hi[b].array()).any() || ((lo[b].array() - ctol) > hi[a].array()).any()) continue;
-            return "deformable block " + std::to_string(s.id[a]) + " touches block " + std::to_string(s.id[b]) +
-                   ", which is not part of its continuum: contacts of deformable blocks are not available yet "
-                   "(zone touching blocks together after 'join', or keep both rigid)";
-        }
-    }
-    return "";
+    return k;
 }
+
+} // namespace
 
 double zone_critical_timestep(const Model& m) {
     const GridpointSet& g = m.gridpoints;
+    const std::vector<double> joint = joint_stiffness_on_gridpoints(m);
     double dt = 0;
     for (int i = 0; i < g.size(); ++i) {
-        if (!(g.mass[i] > 0) || !(g.stiffness[i] > 0) || g.vel_bc[i] == 7) continue;
-        const double d = 2.0 * std::sqrt(g.mass[i] / g.stiffness[i]);
+        const double k = g.stiffness[i] + (joint.empty() ? 0.0 : joint[i]);
+        if (!(g.mass[i] > 0) || !(k > 0) || g.vel_bc[i] == 7) continue;
+        const double d = 2.0 * std::sqrt(g.mass[i] / k);
         if (dt == 0 || d < dt) dt = d;
     }
     // The bound on the stiffness is already on the safe side; a little more margin for the

@@ -129,11 +129,9 @@ void refresh_deformable_vertices(Model& m);
 // Why the zones cannot cycle (a zone without material, elastic moduli missing...), or "".
 std::string zones_problem(const Model& m);
 
-// A deformable block that touches (within ctol) a block of another continuum: contacts of
-// deformable blocks are not computed yet, so such a model cannot cycle. Returns why, or "".
-std::string deformable_contact_problem(const Model& m, double ctol);
-
-// Largest stable timestep of the zones, s (0 when there are none).
+// Largest stable timestep of the zones, s (0 when there are none). Where a deformable block
+// has something to touch, the stiffest joint material on its surface gridpoints counts too
+// (the contact surface must be ready: refresh_contact_surface).
 double zone_critical_timestep(const Model& m);
 
 // Zone stage of the cycle: strain rates, stresses, and the forces of the zones, gravity and

@@ -217,6 +217,8 @@ auto fields(IO& io, M& x) -> If<M, ContactSet> {
     io(x.jmat); io(x.jcons); io(x.joined); io(x.sub_offset);
     io(x.sub_contact); io(x.sub_side); io(x.sub_key); io(x.sub_vertex); io(x.sub_area); io(x.sub_local);
     io(x.sub_un); io(x.sub_udil); io(x.sub_sn); io(x.sub_us); io(x.sub_ss); io(x.sub_flags);
+    // Format 4: contacts of deformable blocks (older files have rigid sub-contacts only).
+    if (io.format >= 4) io(x.sub_tri);
     io(x.ctol); io(x.next_id); io(x.detected);
     io(x.ref_centroid); io(x.ref_orientation); io(x.geo_centroid); io(x.geo_orientation); io(x.radius);
     io(x.n_detections);
@@ -663,7 +665,8 @@ std::string check_consistent(const Model& m) {
     const size_t ns = c.sub_contact.size();
     if (c.sub_side.size() != ns || c.sub_key.size() != ns || c.sub_vertex.size() != ns ||
         c.sub_area.size() != ns || c.sub_local.size() != ns || c.sub_un.size() != ns || c.sub_udil.size() != ns ||
-        c.sub_sn.size() != ns || c.sub_us.size() != ns || c.sub_ss.size() != ns || c.sub_flags.size() != ns) {
+        c.sub_sn.size() != ns || c.sub_us.size() != ns || c.sub_ss.size() != ns || c.sub_flags.size() != ns ||
+        c.sub_tri.size() != ns) {
         return "the sub-contact arrays differ in length";
     }
     if (c.sub_offset.empty() ? (nc != 0 || ns != 0)
@@ -911,10 +914,30 @@ std::string check_values(const Model& m) {
         if (cs.joined[k] > 1) c.fail(w + "a flag is out of range");
         for (int i = cs.sub_offset[k]; i < cs.sub_offset[k + 1] && c.ok(); ++i) {
             if (cs.sub_contact[i] != k) c.fail(w + "a sub-contact belongs to another contact");
-            if (cs.sub_side[i] > 3) c.fail(w + "a sub-contact side is out of range");
-            const int owner = cs.sub_side[i] == 1 ? cs.block_b[k] : cs.block_a[k];
-            if (cs.sub_vertex[i] < -1 || cs.sub_vertex[i] >= s.shape[owner].n_vertices()) {
-                c.fail(w + "a sub-contact vertex is out of range");
+            const int side = cs.sub_side[i];
+            const int a = cs.block_a[k], b = cs.block_b[k];
+            const bool deformable_pair = ((s.flags[a] | s.flags[b]) & kDeformable) != 0;
+            if (side > 4 || (side >= 3) != deformable_pair) c.fail(w + "a sub-contact side is out of range");
+            if (side >= 3 && c.ok()) {
+                // A gridpoint of its own block against the other's surface.
+                const int own = side == 3 ? a : b, other = side == 3 ? b : a;
+                const int ng = static_cast<int>(m.gridpoints.pos.size());
+                if (!(s.flags[own] & kDeformable) || cs.sub_vertex[i] < 0 || cs.sub_vertex[i] >= ng) {
+                    c.fail(w + "a sub-contact gridpoint is out of range");
+                }
+                const auto& t = cs.sub_tri[i];
+                const bool on_triangle = (s.flags[other] & kDeformable) != 0;
+                for (int q : t) {
+                    if (on_triangle ? (q < 0 || q >= ng) : q != -1) c.fail(w + "a sub-contact triangle is out of range");
+                }
+            } else if (c.ok()) {
+                const int owner = side == 1 ? b : a;
+                if (cs.sub_vertex[i] < -1 || cs.sub_vertex[i] >= s.shape[owner].n_vertices()) {
+                    c.fail(w + "a sub-contact vertex is out of range");
+                }
+                for (int q : cs.sub_tri[i]) {
+                    if (q != -1) c.fail(w + "a sub-contact triangle is out of range");
+                }
             }
             c.at_least(cs.sub_area[i], 0, w + "a sub-contact area");
             c.vec(cs.sub_local[i], w + "a sub-contact point");
@@ -1106,6 +1129,7 @@ bool restore_model(const std::string& path, Model& out, std::string& error) {
             fresh.blocks.zone_edge.assign(n, 0.0);
             fresh.blocks.body.assign(n, 0);
         }
+        if (file_format < 4) fresh.contacts.sub_tri.assign(fresh.contacts.sub_contact.size(), {-1, -1, -1});
         if (r.left() != 0) {
             return refuse("the file is damaged: " + std::to_string(r.left()) + " bytes follow the last section");
         }

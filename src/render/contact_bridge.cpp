@@ -68,11 +68,10 @@ ContactView make_contact_view(const Model& m, const std::vector<int>* contact_in
         Vec3 force = Vec3::Zero();
         if (have_subs) {
             for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
-                const int owner = cs.sub_side[k] == 1 ? info.block_b : info.block_a;
                 // The force the joint law puts on block b: area * (sn n + ss).
                 const Vec3 f = cs.sub_area[k] * (cs.sub_sn[k] * info.normal + cs.sub_ss[k]);
                 force += f;
-                subs.centroid.push_back(bs.centroid[owner] + bs.orientation[owner] * cs.sub_local[k]);
+                subs.centroid.push_back(sub_point(m, c, k));
                 subs.normal.push_back(info.normal);
                 subs.area.push_back(cs.sub_area[k]);
                 subs.block1.push_back(id_a);

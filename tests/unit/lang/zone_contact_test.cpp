@@ -1,0 +1,175 @@
+// Contacts of deformable blocks: gridpoints against rigid faces and against the surface
+// triangles of other deformable blocks, checked against the statics and the friction law.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <unistd.h>
+
+#include "engine/contact.h"
+#include "engine/zones.h"
+#include "test_util.h"
+
+using namespace odec;
+using odec::test::Session;
+
+namespace {
+
+// Sum of the normal forces a contact carries, N.
+double normal_force(const Model& m, int c) {
+    const ContactSet& cs = m.contacts;
+    double f = 0;
+    for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) f += cs.sub_area[k] * cs.sub_sn[k];
+    return f;
+}
+
+int contact_between(const Model& m, int block_a_id, int block_b_id) {
+    const int a = m.block_index(block_a_id), b = m.block_index(block_b_id);
+    for (int c = 0; c < m.contacts.size(); ++c) {
+        if (m.contacts.block_a[c] == std::min(a, b) && m.contacts.block_b[c] == std::max(a, b)) return c;
+    }
+    return -1;
+}
+
+const char* kBlockOnBase =
+    "poly brick 0 1 0 1 -1 0\n"
+    "poly brick 0 1 0 1 0 1\n"
+    "prop mat=1 dens=2500 ymod=10e9 prat=0.25\n"
+    "prop jmat=1 jkn=1e11 jks=1e11 jfric=30\n"
+    "set jmat 1\n"
+    "fix range z -1 0\n"
+    "gen edge 0.25 range z 0 1\n";
+
+} // namespace
+
+// A 1 m elastic cube resting on a fixed rigid base through a joint. At rest the joint carries
+// the weight, rho g H = 25 kPa over the face, closed by sigma / kn; the top settles by the
+// column's own shortening rho g H^2 / (2 E) plus that closure.
+TEST(ZoneContacts, RigidBaseCarriesADeformableBlock) {
+    Session s;
+    ASSERT_TRUE(s.run(std::string(kBlockOnBase) + "grav 0 0 -10\nsolve ratio 1e-7")) << s.error();
+    const Model& m = s.model;
+    ASSERT_EQ(m.contacts.size(), 1);
+    const ContactInfo ci = contact_info(m, 0);
+    const double sigma = 2500.0 * 10.0 * 1.0;
+    EXPECT_NEAR(ci.area, 1.0, 1e-9);                      // the gridpoints' areas tile the face
+    EXPECT_NEAR(ci.normal_stress, sigma, 1e-3 * sigma);   // 0.1 %
+    EXPECT_NEAR(ci.normal_disp, sigma / 1e11, 1e-3 * sigma / 1e11);
+    // Every sub-contact is a gridpoint of the deformable block pressing on the rigid face.
+    for (int k = 0; k < m.contacts.n_subs(); ++k) {
+        EXPECT_EQ(m.contacts.sub_side[k], 4);
+        EXPECT_EQ(m.contacts.sub_tri[k][0], -1);
+    }
+    const int top = find_gridpoint_near(m, Vec3(0.5, 0.5, 1.0));
+    ASSERT_GE(top, 0);
+    const double expected = 2500.0 * 10.0 * 1.0 / (2.0 * 10e9) + sigma / 1e11;
+    EXPECT_NEAR(-m.gridpoints.disp[top].z(), expected, 0.02 * expected); // 2 %: tetrahedra, base friction
+    // The reaction read at the fixed base is the force the model puts on it, its own weight
+    // and the block's through the joint: 2 x 25 kN, downward.
+    ASSERT_TRUE(s.run("hist zreaction range z -1 0\nstep 10")) << s.error();
+    ASSERT_FALSE(s.model.histories.items.back().values.empty());
+    EXPECT_NEAR(s.model.histories.items.back().values.back(), -50000.0, 50.0);
+}
+
+// Two deformable blocks zoned apart (different sizes, so their gridpoints do not line up):
+// the upper one's weight crosses the deformable-deformable joint, and both weights the base.
+TEST(ZoneContacts, DeformableBlocksCarryEachOther) {
+    Session s;
+    ASSERT_TRUE(s.run(std::string(kBlockOnBase) +
+                      "poly brick 0.2 0.8 0.2 0.8 1 1.5\n"
+                      "gen edge 0.15 range z 1 1.5\n"
+                      "grav 0 0 -10\nsolve ratio 1e-7"))
+        << s.error();
+    const Model& m = s.model;
+    const int upper = contact_between(m, 2, 3), lower = contact_between(m, 1, 2);
+    ASSERT_GE(upper, 0);
+    ASSERT_GE(lower, 0);
+    const double w_top = 2500.0 * 10.0 * 0.6 * 0.6 * 0.5, w_mid = 2500.0 * 10.0 * 1.0;
+    EXPECT_NEAR(normal_force(m, upper), w_top, 1e-3 * w_top);
+    EXPECT_NEAR(normal_force(m, lower), w_top + w_mid, 1e-3 * (w_top + w_mid));
+    // Both blocks' gridpoints press on the other's surface triangles.
+    bool side3 = false, side4 = false;
+    for (int k = m.contacts.sub_offset[upper]; k < m.contacts.sub_offset[upper + 1]; ++k) {
+        side3 |= m.contacts.sub_side[k] == 3;
+        side4 |= m.contacts.sub_side[k] == 4;
+        EXPECT_GE(m.contacts.sub_tri[k][0], 0);
+        EXPECT_NEAR(m.contacts.sub_local[k].sum(), 1.0, 1e-9); // weights of a point in its triangle
+    }
+    EXPECT_TRUE(side3 && side4);
+}
+
+// Gravity tilted 40 degrees on a joint of friction 30: the block slides, undamped, at
+// a = g (sin 40 - cos 40 tan 30) = 2.005 m/s^2. Tilted 20 degrees and damped to rest, it stays
+// put, the joint carrying rho g H (cos 20, sin 20). (Undamped, a block dropped on an unloaded
+// joint bounces: each time the joint opens it loses its grip and creeps down the slope.)
+TEST(ZoneContacts, FrictionHoldsOrLetsGoAsCoulombSays) {
+    const double g = 10.0, phi = 30.0 * M_PI / 180.0;
+    for (const double deg : {40.0, 20.0}) {
+        const double th = deg * M_PI / 180.0;
+        Session s;
+        char grav[96];
+        std::snprintf(grav, sizeof grav, "grav %.12g 0 %.12g\n", g * std::sin(th), -g * std::cos(th));
+        ASSERT_TRUE(s.run("poly brick -1 3 -1 2 -1 0\npoly brick 0 1 0 1 0 1\n"
+                          "prop mat=1 dens=2500 ymod=10e9 prat=0.25\nprop jmat=1 jkn=1e10 jks=1e10 jfric=30\n"
+                          "set jmat 1\nfix range z -1 0\ngen edge 0.25 range z 0 1\n" +
+                          std::string(grav) + (deg > 30 ? "damp off\nsolve time 0.2" : "solve ratio 1e-6")))
+            << s.error();
+        const Model& m = s.model;
+        // Mean velocity of the block's gridpoints (its centre of mass moves with it).
+        double vx = 0;
+        for (int i = 0; i < m.gridpoints.size(); ++i) vx += m.gridpoints.vel[i].x();
+        vx /= m.gridpoints.size();
+        const double a = g * (std::sin(th) - std::cos(th) * std::tan(phi));
+        if (a > 0) {
+            EXPECT_NEAR(vx, a * m.time, 0.02 * a * m.time) << deg; // 2 %: elastic ringing, undamped
+        } else {
+            const ContactInfo ci = contact_info(m, 0);
+            EXPECT_LT(ci.shear_disp, 1e-5) << deg; // elastic shear only
+            EXPECT_NEAR(ci.normal_stress, 25000.0 * std::cos(th), 0.01 * 25000.0 * std::cos(th));
+            EXPECT_NEAR(ci.shear_stress, 25000.0 * std::sin(th), 0.01 * 25000.0 * std::sin(th));
+        }
+    }
+}
+
+// A model with deformable contacts saved in the middle of a run continues to the same bits.
+TEST(ZoneContacts, SaveAndRestoreContinueToTheSameBits) {
+    char dir[] = "/tmp/odec-zc-XXXXXX";
+    ASSERT_NE(mkdtemp(dir), nullptr);
+    const std::string path = std::string(dir) + "/drop.sav";
+    const std::string script = std::string(kBlockOnBase) + "poly brick 0.2 0.8 0.2 0.8 1 1.5\n"
+                               "gen edge 0.2 range z 1 1.5\ngrav 0 0 -10\ndamp off\nstep 150\n";
+    Session a, b;
+    ASSERT_TRUE(a.run(script + "save '" + path + "'\nstep 150")) << a.error();
+    ASSERT_TRUE(b.run("restore '" + path + "'\nstep 150")) << b.error();
+    const GridpointSet& ga = a.model.gridpoints;
+    const GridpointSet& gb = b.model.gridpoints;
+    ASSERT_EQ(ga.size(), gb.size());
+    for (int i = 0; i < ga.size(); ++i) {
+        ASSERT_EQ(ga.pos[i], gb.pos[i]) << i;
+        ASSERT_EQ(ga.vel[i], gb.vel[i]) << i;
+    }
+    ASSERT_EQ(a.model.contacts.sub_sn, b.model.contacts.sub_sn);
+    // The upper block presses on the middle one: their contact carries load.
+    const int c = contact_between(a.model, 2, 3);
+    ASSERT_GE(c, 0);
+    EXPECT_GT(normal_force(a.model, c), 0.0);
+    std::remove(path.c_str());
+    rmdir(dir);
+}
+
+// Taking the base away lets the block fall freely: its contact goes with it.
+TEST(ZoneContacts, RemovingTheBaseLetsTheBlockFall) {
+    Session s;
+    ASSERT_TRUE(s.run(std::string(kBlockOnBase) + "grav 0 0 -10\nsolve ratio 1e-6\n"
+                      "delete range z -1 0\ndamp off\nini zvel 0\nreset disp"))
+        << s.error();
+    const double t0 = s.model.time;
+    ASSERT_TRUE(s.run("solve time 0.05")) << s.error();
+    const Model& m = s.model;
+    const double t = m.time - t0;
+    EXPECT_EQ(m.contacts.size(), 0);
+    const int top = find_gridpoint_near(m, Vec3(0.5, 0.5, 1.0));
+    // Free fall from rest, less the small rebound of the column released from its weight.
+    EXPECT_NEAR(m.gridpoints.disp[top].z(), -0.5 * 10.0 * t * t, 2e-3 * 0.5 * 10.0 * t * t);
+}
