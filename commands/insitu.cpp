@@ -1,5 +1,6 @@
 #include "commands.h"
 #include "common.h"
+#include "engine/contact.h"
 #include "engine/zones.h"
 
 namespace odec {
@@ -18,8 +19,10 @@ const CommandSpec& insitu_command() {
                    "a rock mass under its own weight has negative szz growing with depth: with the surface at "
                    "z = 0, density rho and gravity g, 'insitu stress 0 0 0 0 0 0 zgrad k rho g, k rho g, "
                    "rho g, 0 0 0' (z negative below the surface). Such a state in equilibrium with gravity and "
-                   "the boundaries starts without a jolt. Gridpoint displacements and velocities are not "
-                   "changed.");
+                   "the boundaries starts without a jolt. The contacts (with a joint material) whose centroid "
+                   "the range selects take the same stress at each sub-contact: normal and shear stress, and the "
+                   "joint closure that carries it, so the joints start loaded too. Gridpoint displacements and "
+                   "velocities are not changed.");
         c.example("insitu stress -15e6 -15e6 -30e6 0 0 0");
         c.example("insitu stress 0 0 0 0 0 0 zgrad 1.3e4 1.3e4 2.6e4 0 0 0");
         c.handle([](CommandContext& ctx, const Args& a) {
@@ -38,12 +41,14 @@ const CommandSpec& insitu_command() {
                 }
                 return s;
             };
+            // Zones first: a range that selects no zone leaves the contacts alone too.
             const int n = set_insitu_stress(m, a.range, six("stress"), six("xgrad"), six("ygrad"), six("zgrad"));
             if (n == 0) {
                 fail(a.loc, "the range selects no zone", {"zones are selected by their centroid; rigid blocks have none"},
                      "insitu");
             }
-            if (!ctx.interp.quiet) ctx.out << n << " zones set\n";
+            const int nc = set_insitu_contact_stress(m, a.range, six("stress"), six("xgrad"), six("ygrad"), six("zgrad"));
+            if (!ctx.interp.quiet) ctx.out << n << " zones and " << nc << " contacts set\n";
         });
         return c;
     }();

@@ -265,7 +265,9 @@ TEST(Numbers, EveryCommandTakesOrRefusesAbsurdNumbersCleanly) {
             const std::string e = s.error().substr(err_before.size());
             EXPECT_EQ(e.rfind("t.dat:1:", 0), 0u) << "not located: " << e;
             EXPECT_NE(e.find(": error: "), std::string::npos) << e;
-            if (line.find("nan") == std::string::npos) EXPECT_EQ(e.find("nan"), std::string::npos) << e;
+            if (line.find("nan") == std::string::npos) {
+                EXPECT_EQ(e.find("nan"), std::string::npos) << e;
+            }
             if (e.find("error: stopped: ") != std::string::npos) {
                 // A run that blew up: named, and stopped while its numbers were still numbers.
                 EXPECT_NE(e.find("has run away (step "), std::string::npos) << e;

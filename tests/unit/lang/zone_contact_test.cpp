@@ -173,3 +173,29 @@ TEST(ZoneContacts, RemovingTheBaseLetsTheBlockFall) {
     // Free fall from rest, less the small rebound of the column released from its weight.
     EXPECT_NEAR(m.gridpoints.disp[top].z(), -0.5 * 10.0 * t * t, 2e-3 * 0.5 * 10.0 * t * t);
 }
+
+// Two blocks zoned apart, confined on rollers, given the in-situ stress of their own weight
+// (szz = -rho g (2 - z), sxx = syy = nu / (1 - nu) szz): 'insitu' loads the joint between them
+// too, so gravity finds everything in equilibrium and nothing moves. Without the joint's
+// share the upper block would drop onto an unloaded joint.
+TEST(ZoneContacts, InsituStressLoadsTheJointsToo) {
+    const std::string model =
+        "poly brick 0 1 0 1 0 1\npoly brick 0 1 0 1 1 2\n"
+        "prop mat=1 dens=2500 ymod=10e9 prat=0.25\nprop jmat=1 jkn=1e11 jks=1e11 jfric=30\nset jmat 1\n"
+        "gen edge 0.25\nbound zvel 0 range z -0.001 0.001\n"
+        "bound xvel 0 range x -0.001 0.001\nbound xvel 0 range x 0.999 1.001\n"
+        "bound yvel 0 range y -0.001 0.001\nbound yvel 0 range y 0.999 1.001\ngrav 0 0 -10\n";
+    const std::string insitu = "insitu stress -16666.6667 -16666.6667 -50000 0 0 0 zgrad 8333.33333 8333.33333 25000 0 0 0\n";
+    Session s;
+    ASSERT_TRUE(s.run(model + insitu)) << s.error();
+    ASSERT_EQ(s.model.contacts.size(), 1);
+    const double sigma = 2500.0 * 10.0 * 1.0; // the upper block's weight over its base
+    EXPECT_NEAR(contact_info(s.model, 0).normal_stress, sigma, 1e-6 * sigma);
+    EXPECT_NEAR(contact_info(s.model, 0).normal_disp, sigma / 1e11, 1e-6 * sigma / 1e11);
+    ASSERT_TRUE(s.run("damp off\nstep 300")) << s.error();
+    double most = 0;
+    for (const Vec3& d : s.model.gridpoints.disp) most = std::max(most, d.norm());
+    // Dropped onto an unloaded joint it would close by sigma / kn = 2.5e-7 m: a million times more.
+    EXPECT_LT(most, 1e-13);
+    EXPECT_NEAR(contact_info(s.model, 0).normal_stress, sigma, 1e-6 * sigma);
+}
