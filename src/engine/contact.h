@@ -1,4 +1,4 @@
-// Contacts between rigid blocks: the common-plane method with sub-contacts.
+// Contacts between blocks: the common-plane method with sub-contacts.
 //
 // A contact joins two blocks a < b whose bounding boxes, enlarged by the contact
 // tolerance ctol, overlap and whose gap is below ctol. Between them lies the common
@@ -15,6 +15,9 @@
 // be half slipping, half stuck, or partly open. Forces act at these points, which span
 // the whole contact area, so a block can lean its load out to the very edge of its base,
 // as a rigid block does. Between geometry refreshes each point rides on its block.
+//
+// A contact with a deformable block is carried instead by the block's surface gridpoints
+// (sides 3 and 4 below), each pressing on the other block's surface (contact_gridpoint.h).
 //
 // Everything is a structure of arrays: per contact, and per sub-contact with each
 // contact's sub-contacts stored consecutively (sub_offset). Arrays are rebuilt only when

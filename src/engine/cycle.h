@@ -3,7 +3,9 @@
 // Each step runs named stages in a fixed order, each timed into Model::profile:
 //   apply_loads      gravity and applied forces into each block's force
 //   detect_contacts  new and lost contacts (only when blocks moved far enough)
-//   update_contacts  relative motion -> joint stresses -> forces on both blocks
+//   zones            zone stresses -> gridpoint forces, with gravity and loads (zones.h)
+//   update_contacts  relative motion -> joint stresses -> forces on both blocks (or on
+//                    the gridpoints of deformable ones)
 //   integrate        central differences: velocity at t+dt/2, position at t+dt
 //   record           histories every ncyc steps
 //
