@@ -25,13 +25,106 @@ int find_root(std::vector<int>& parent, int i) {
     return i;
 }
 
+// `zone model elastic|mohr|null density ... bulk ... shear ... [range]` (UDEC).
+void zone_model_form(CommandContext& ctx, const Args& a) {
+    Model& m = ctx.model;
+    if (a.has("young") != a.has("poisson")) {
+        const KeywordUse* u = a.has("young") ? a.find("young") : a.find("poisson");
+        fail(u->loc, "'young' and 'poisson' go together", {"or give 'bulk' and 'shear'"}, "zone");
+    }
+    const std::string word = a.find("model")->values[0].text;
+    const std::uint8_t cons = word == "elastic" ? kZoneElastic : word == "mohr" ? kZoneMohrCoulomb : kZoneNull;
+    const std::vector<int> blocks = blocks_to_change(ctx, a);
+    if (blocks.empty()) return;
+    const int first = m.blocks.material[blocks[0]];
+    Material mat = first > 0 && first < static_cast<int>(m.materials.size()) ? m.materials[first] : Material();
+    mat.defined = true;
+    mat.density = a.real_or("density", mat.density);
+    mat.bulk = a.real_or("bulk", mat.bulk);
+    mat.shear = a.real_or("shear", mat.shear);
+    if (a.has("young")) {
+        const double e = a.real("young"), nu = a.real("poisson");
+        mat.bulk = e / (3 * (1 - 2 * nu));
+        mat.shear = e / (2 * (1 + nu));
+    }
+    mat.cohesion = a.real_or("cohesion", mat.cohesion);
+    mat.friction = a.real_or("friction", mat.friction);
+    mat.tension = a.real_or("tension", mat.tension);
+    mat.dilation = a.real_or("dilation", mat.dilation);
+    if (mat.dilation > mat.friction) {
+        const KeywordUse* u = a.has("dilation") ? a.find("dilation") : a.has("friction") ? a.find("friction") : a.find("model");
+        fail(u->values[0].loc,
+             "the dilation angle (" + num(mat.dilation) + " deg) may not exceed the friction angle (" + num(mat.friction) +
+                 " deg): a zone would create energy as it yields",
+             {"give 'dilation' at most 'friction'"}, "zone");
+    }
+    for (int b : blocks) {
+        MassProperties mp;
+        mp.volume = m.blocks.volume[b];
+        mp.inertia = m.blocks.inertia_unit[b];
+        const std::string problem = block_numbers_problem(mp, mat.density);
+        if (!problem.empty()) {
+            const KeywordUse* u = a.has("density") ? a.find("density") : a.find("model");
+            fail(u->values[0].loc, "block " + std::to_string(m.blocks.id[b]) + ": " + problem, {}, "zone");
+        }
+    }
+    // The first material with these very values, else a new number.
+    int n = -1;
+    for (int k = 1; k < static_cast<int>(m.materials.size()) && n < 0; ++k) {
+        const Material& o = m.materials[k];
+        if (o.defined && o.density == mat.density && o.bulk == mat.bulk && o.shear == mat.shear &&
+            o.cohesion == mat.cohesion && o.friction == mat.friction && o.tension == mat.tension &&
+            o.dilation == mat.dilation) {
+            n = k;
+        }
+    }
+    if (n < 0) {
+        n = std::max<int>(1, static_cast<int>(m.materials.size()));
+        if (n > 1000000) fail(a.loc, "there are already a million materials: no number is left for a new one", {}, "zone");
+        m.materials.resize(n + 1);
+        m.materials[n] = mat;
+    }
+    std::vector<char> chosen(m.blocks.size(), 0);
+    for (int b : blocks) {
+        chosen[b] = 1;
+        m.blocks.material[b] = n;
+        m.blocks.cons[b] = cons;
+    }
+    int zones = 0;
+    for (int z = 0; z < m.zones.size(); ++z) {
+        if (!chosen[m.zones.block[z]]) continue;
+        m.zones.model[z] = cons;
+        ++zones;
+    }
+    update_masses(m);
+    m.geometry_changed = true;
+    if (!ctx.interp.quiet) {
+        ctx.out << blocks.size() << " blocks (" << zones << " zones) take zone model " << word << " and material " << n
+                << "\n";
+    }
+}
+
 } // namespace
 
 const CommandSpec& generate_command() {
     static const CommandSpec spec = [] {
         CommandSpec c("generate", 3, "make blocks deformable: divide them into tetrahedral zones");
         c.alias("zone");
-        c.keyword("edge", 2, "mean edge length of the zones, m").real("e", 0, kInf, Limit::Open);
+        c.keyword("edge", 2, "mean edge length of the zones, m").real("e", 0, kInf, Limit::Open).in_choice(1);
+        c.keyword("model", 3, "the UDEC form: zone model and material of the blocks of the range")
+            .one_of("model", {"elastic", "mohr", "null"})
+            .in_choice(1);
+        c.keyword("density", 3, "with 'model': mass density, kg/m^3").real("rho", 0, kInf, Limit::Open);
+        c.keyword("bulk", 2, "with 'model': bulk modulus K, Pa").real("K", 0, kInf, Limit::Open);
+        c.keyword("shear", 2, "with 'model': shear modulus G, Pa").real("G", 0, kInf, Limit::Open);
+        c.keyword("young", 2, "with 'model': Young's modulus E, Pa (with 'poisson', instead of K and G)")
+            .real("E", 0, kInf, Limit::Open);
+        c.keyword("poisson", 2, "with 'model': Poisson's ratio (with 'young')").real("nu", -1, 0.5, Limit::Open, Limit::Open);
+        c.keyword("cohesion", 3, "with 'model mohr': cohesion, Pa").real("c", 0);
+        c.keyword("friction", 3, "with 'model mohr': friction angle, degrees").real("phi", 0, 90, Limit::Closed, Limit::Open);
+        c.keyword("tension", 3, "with 'model mohr': tensile strength, Pa").real("t", 0);
+        c.keyword("dilation", 3, "with 'model mohr': dilation angle, degrees").real("psi", 0, 90, Limit::Closed, Limit::Open);
+        c.require_one_of(1);
         c.range();
         c.describe("Each block of the range (every block when no range is given) is divided into "
                    "tetrahedral zones of mean edge length about e: its degrees of freedom become the "
@@ -44,12 +137,22 @@ const CommandSpec& generate_command() {
                    "lost) and zones the rest of its continuum again with it at their own size, so that a "
                    "continuum can be zoned finer where it matters: 'gen edge 1' then 'gen edge 0.2 range ...' "
                    "grades from 0.2 m to 1 m, conforming. The command reports the zones and gridpoints made and the worst zone's radius "
-                   "ratio (3 r_in / r_out: 1 for a regular tetrahedron).");
+                   "ratio (3 r_in / r_out: 1 for a regular tetrahedron). "
+                   "The UDEC form 'zone model elastic|mohr|null density ... bulk ... shear ... [friction ... "
+                   "cohesion ... tension ... dilation ...] [range ...]' gives the blocks of the range (and "
+                   "their zones) that zone model (1, 2 or 0) and a material of these properties: the first "
+                   "material number with exactly these values, or a new one (properties not given are those "
+                   "of the first block's material). Odec keeps materials per block, so a block the range "
+                   "selects takes the material whole.");
         c.example("gen edge 0.5");
         c.example("zone edge 0.2 range z -5 0");
+        c.example("zone model mohr density 2700 bulk 3.6e10 shear 2.7e10 friction 51 cohesion 5.5e7 tension 1.2e7");
         c.handle([](CommandContext& ctx, const Args& a) {
             Model& m = ctx.model;
-            if (!a.has("edge")) fail(a.loc, "'generate' needs 'edge e', the zone size", {"e.g. 'gen edge 0.5'"}, "generate");
+            if (a.has("model")) {
+                zone_model_form(ctx, a);
+                return;
+            }
             const KeywordUse* eu = a.find("edge");
             const double edge = a.real("edge");
             std::vector<int> blocks = blocks_to_change(ctx, a);

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "engine/contact.h"
 #include "engine/model.h"
 #include "engine/zones.h"
 #include "test_util.h"
@@ -207,3 +208,35 @@ void check_wave(const char* script, double f, double joint_z, double record_past
 
 TEST(Verification, WaveAcrossAJointAt1000Hz) { check_wave("wave-joint-1000.dat", 1000, 5, 1); }
 TEST(Verification, WaveAcrossAJointAt100Hz) { check_wave("wave-joint-100.dat", 100, 36, 5); }
+
+// Elastic settlement of a deformable block on a rigid base through a joint: the joint carries
+// the weight over the area, the zones' vertical stress grows with depth as rho g, and the top
+// settles by rho g H^2 / (2E) plus the joint's closure.
+TEST(Verification, DeformableBlockSettlesOnAJoint) {
+    Session s;
+    run_script(s, "settlement-joint.dat");
+    const odec::Model& m = s.model;
+    ASSERT_EQ(m.contacts.size(), 1);
+    const odec::ContactInfo ci = odec::contact_info(m, 0);
+    report("settlement: joint normal stress", ci.normal_stress, 50e3, "Pa");
+    EXPECT_NEAR(ci.normal_stress, 50e3, 0.001 * 50e3);
+    for (const double z : {0.5, 1.0, 1.5}) {
+        double sum = 0, zsum = 0, vol = 0;
+        for (int i = 0; i < m.zones.size(); ++i) {
+            const odec::Vec3 c = odec::zone_centroid(m, i);
+            if (std::abs(c.z() - z) > 0.1) continue;
+            sum += m.zones.volume[i] * m.zones.stress[i][2];
+            zsum += m.zones.volume[i] * c.z();
+            vol += m.zones.volume[i];
+        }
+        ASSERT_GT(vol, 0);
+        const double analytic = -2500.0 * 10.0 * (2.0 - zsum / vol);
+        char what[64];
+        std::snprintf(what, sizeof what, "settlement: szz, slab at z = %.1f m", z);
+        report(what, sum / vol, analytic, "Pa");
+        EXPECT_NEAR(sum / vol, analytic, 0.02 * std::abs(analytic)); // 2 %: tetrahedra, base friction
+    }
+    const double top = -hist(s, 1).back(), analytic_top = 2500.0 * 10.0 * 4.0 / (2.0 * 10e9) + 5e-7;
+    report("settlement: top of the block", top, analytic_top, "m");
+    EXPECT_NEAR(top, analytic_top, 0.02 * analytic_top);
+}

@@ -221,3 +221,41 @@ TEST(Zones, FixAndFreeActOnGridpointsByPosition) {
     ASSERT_TRUE(s.run("free range z -0.01 0.01")) << s.error();
     for (int g = 0; g < m.gridpoints.size(); ++g) EXPECT_EQ(m.gridpoints.vel_bc[g], 0);
 }
+
+// UDEC's form: 'zone model elastic|mohr|null density ... bulk ... shear ...' gives the blocks
+// of the range a zone model and a material of those values (the same values, the same number).
+TEST(Zones, UdecZoneModelFormSetsModelAndMaterial) {
+    Session s;
+    ASSERT_TRUE(s.run("poly brick 0 1 0 1 0 1\npoly brick 0 1 0 1 1 2\npoly brick 0 1 0 1 2 3\ngen edge 0.5\n"
+                      "zone model elastic density 2700 bulk 3.6e10 shear 2.7e10 range z 0 1\n"
+                      "zone model mohr density 2700 bulk 3.6e10 shear 2.7e10 friction 51 cohesion 5.5e7 "
+                      "tension 1.17e7 range z 1 3"))
+        << s.error();
+    const Model& m = s.model;
+    EXPECT_EQ(m.blocks.material[0], 1);
+    EXPECT_EQ(m.blocks.material[1], 2);
+    EXPECT_EQ(m.blocks.material[2], 2);
+    EXPECT_EQ(m.blocks.cons[0], kZoneElastic);
+    EXPECT_EQ(m.blocks.cons[2], kZoneMohrCoulomb);
+    for (int z = 0; z < m.zones.size(); ++z) {
+        EXPECT_EQ(m.zones.model[z], m.zones.block[z] == 0 ? kZoneElastic : kZoneMohrCoulomb);
+    }
+    const Material& mc = m.materials[2];
+    EXPECT_EQ(mc.density, 2700);
+    EXPECT_EQ(mc.friction, 51);
+    EXPECT_EQ(mc.cohesion, 5.5e7);
+    EXPECT_EQ(mc.tension, 1.17e7);
+    EXPECT_NEAR(m.blocks.mass[0], 2700.0, 1e-9); // the block's mass follows
+    // Young's modulus and Poisson's ratio in place of K and G; a refused form changes nothing.
+    ASSERT_TRUE(s.run("zone model elastic young 10e9 poisson 0.25 range z 0 1")) << s.error();
+    EXPECT_NEAR(m.materials[m.blocks.material[0]].bulk, 10e9 / 1.5, 1.0);
+    EXPECT_NEAR(m.materials[m.blocks.material[0]].shear, 10e9 / 2.5, 1.0);
+    const size_t n_materials = m.materials.size();
+    EXPECT_FALSE(s.run("zone model mohr friction 30 dilation 40"));
+    EXPECT_NE(s.error().find("may not exceed the friction angle"), std::string::npos) << s.error();
+    EXPECT_FALSE(s.run("zone model mohr young 1e9"));
+    EXPECT_EQ(m.materials.size(), n_materials);
+    EXPECT_EQ(m.blocks.cons[0], kZoneElastic);
+    // It cycles: the zones have what they need.
+    ASSERT_TRUE(s.run("grav 0 0 -10\nbound zvel 0 range z -0.01 0.01\nstep 20")) << s.error();
+}
