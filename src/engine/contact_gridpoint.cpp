@@ -35,6 +35,9 @@ struct PlaneFrame {
 struct FlatTri {
     int t = 0;                      // index into cs.surface_tri
     double u[3], v[3], h[3];
+    bool in[3];                     // corner within ctol of the plane
+    bool flat = false;              // within 20 degrees of the plane
+    double area = 0;                // m^2, projected on the plane
     double lo_u, hi_u, lo_v, hi_v;  // footprint bounds
 };
 
@@ -45,6 +48,10 @@ struct FlatFace {
     double h0 = 0, hu = 0, hv = 0;  // height of the face over (u, v)
     double height(double uu, double vv) const { return h0 + hu * uu + hv * vv; }
 };
+
+// A surface triangle within 20 degrees of the common plane lies flat on it (a face-to-face
+// contact); one more tilted belongs to an edge or a corner of its block near the plane.
+constexpr double kFlat = 0.9396926207859084; // cos 20 deg
 
 bool inside_face(const FlatFace& f, double u, double v, double eps) {
     const int n = static_cast<int>(f.u.size());
@@ -194,8 +201,10 @@ void gridpoint_subcontacts(const Model& m, int a, int b, const CommonPlane& cp, 
     std::vector<double>* face_area[2] = {&face_area_a, &face_area_b};
     thread_local std::vector<FlatTri> tris[2];
     thread_local std::vector<FlatFace> faces[2];
-    thread_local std::vector<std::pair<int, double>> nodal[2]; // (gridpoint, area)
+    // (gridpoint, area on triangles flat to the plane, area on tilted ones)
+    thread_local std::vector<std::array<double, 3>> nodal[2];
     thread_local TriGrid grid[2];
+    double flat_area[2] = {0, 0};
     for (int side = 0; side < 2; ++side) {
         const double sign = side == 0 ? 1.0 : -1.0; // a faces +n, b faces -n
         const int bk = blk[side];
@@ -221,26 +230,17 @@ void gridpoint_subcontacts(const Model& m, int a, int b, const CommonPlane& cp, 
                 if (!(twice > 0)) continue;
                 const double c = sign * nrm.dot(fr.n) / twice;
                 if (c < 0.01) continue; // edge-on or facing away
-                const double projected = 0.5 * twice * c;
-                for (int i = 0; i < 3; ++i) {
-                    if (in[i]) nodal[side].emplace_back(q[i], projected / 3.0);
-                }
+                ft.area = 0.5 * twice * c;
+                ft.flat = c >= kFlat;
+                for (int i = 0; i < 3; ++i) ft.in[i] = in[i];
                 const int f = cs.surface_face[t];
-                if (f >= 0 && f < static_cast<int>(face_area[side]->size())) (*face_area[side])[f] += projected;
+                if (f >= 0 && f < static_cast<int>(face_area[side]->size())) (*face_area[side])[f] += ft.area;
                 ft.lo_u = std::min({ft.u[0], ft.u[1], ft.u[2]});
                 ft.hi_u = std::max({ft.u[0], ft.u[1], ft.u[2]});
                 ft.lo_v = std::min({ft.v[0], ft.v[1], ft.v[2]});
                 ft.hi_v = std::max({ft.v[0], ft.v[1], ft.v[2]});
                 tris[side].push_back(ft);
             }
-            std::sort(nodal[side].begin(), nodal[side].end());
-            int w = 0;
-            auto& nd = nodal[side];
-            for (int r = 0; r < static_cast<int>(nd.size()); ++r) {
-                if (w > 0 && nd[w - 1].first == nd[r].first) nd[w - 1].second += nd[r].second;
-                else nd[w++] = nd[r];
-            }
-            nd.resize(w);
             grid[side].build(tris[side]);
         } else {
             const BlockView bv = view_of(m, bk);
@@ -270,7 +270,53 @@ void gridpoint_subcontacts(const Model& m, int a, int b, const CommonPlane& cp, 
             }
         }
     }
-    const bool both = deformable[0] && deformable[1];
+    // Each gridpoint's area: its third of each surface triangle around it that faces the plane,
+    // where that third lies over the other block (tested at its centre), so that a gridpoint
+    // on the edge of the other block's footprint takes only the part of its area inside it,
+    // and blocks that meet only along an edge or at a corner carry nothing while they touch.
+    auto covered = [&](int other, double u, double v) {
+        if (deformable[other]) {
+            Vec3 w;
+            return grid[other].find(tris[other], u, v, w) >= 0;
+        }
+        for (const FlatFace& ff : faces[other]) {
+            if (inside_face(ff, u, v, 0.0)) return true;
+        }
+        return false;
+    };
+    for (int side = 0; side < 2; ++side) {
+        if (!deformable[side]) continue;
+        auto& nd = nodal[side];
+        for (const FlatTri& ft : tris[side]) {
+            const auto& q = cs.surface_tri[ft.t];
+            const double cu = (ft.u[0] + ft.u[1] + ft.u[2]) / 3.0, cv = (ft.v[0] + ft.v[1] + ft.v[2]) / 3.0;
+            for (int i = 0; i < 3; ++i) {
+                if (!ft.in[i]) continue;
+                const int j = (i + 1) % 3, k = (i + 2) % 3;
+                // Centre of the corner's third: the quadrilateral corner, mid-edges, centroid.
+                const double u = 0.25 * (ft.u[i] + 0.5 * (ft.u[i] + ft.u[j]) + 0.5 * (ft.u[i] + ft.u[k]) + cu);
+                const double v = 0.25 * (ft.v[i] + 0.5 * (ft.v[i] + ft.v[j]) + 0.5 * (ft.v[i] + ft.v[k]) + cv);
+                if (!covered(1 - side, u, v)) continue;
+                const double third = ft.area / 3.0;
+                nd.push_back({static_cast<double>(q[i]), ft.flat ? third : 0.0, ft.flat ? 0.0 : third});
+            }
+        }
+        std::stable_sort(nd.begin(), nd.end(), [](const auto& x, const auto& y) { return x[0] < y[0]; });
+        int w = 0;
+        for (int r = 0; r < static_cast<int>(nd.size()); ++r) {
+            if (w > 0 && nd[w - 1][0] == nd[r][0]) {
+                nd[w - 1][1] += nd[r][1];
+                nd[w - 1][2] += nd[r][2];
+            } else {
+                nd[w++] = nd[r];
+            }
+        }
+        nd.resize(w);
+        for (const auto& e : nd) flat_area[side] += e[1];
+    }
+    // Between two deformable blocks each side presses with half its area, unless only one
+    // side lies flat on the plane (an edge or corner of the other pressing into its face).
+    const bool both = deformable[0] && deformable[1] && flat_area[0] > 0 && flat_area[1] > 0;
     const double min_area = 1e-12 * tol * tol;
     const double eps = 1e-7 * tol;
     for (int side = 0; side < 2; ++side) {
@@ -279,8 +325,14 @@ void gridpoint_subcontacts(const Model& m, int a, int b, const CommonPlane& cp, 
         const double other_sign = other == 0 ? 1.0 : -1.0;
         const int ob = blk[other];
         const Mat3 rot_t = s.orientation[ob].toRotationMatrix().transpose();
-        for (const auto& [gp, area] : nodal[side]) {
-            if (!(area > min_area)) continue;
+        for (const auto& e : nodal[side]) {
+            const int gp = static_cast<int>(e[0]);
+            // Only a gridpoint on the block's surface flat to the plane carries the contact; one
+            // on tilted surfaces only (an edge or a corner) carries it with its own area where it
+            // presses into a rigid block's face, and nothing while it only touches.
+            const bool on_flat = e[1] > min_area;
+            const double area = on_flat ? e[1] : e[2];
+            if (!(area > min_area) || (!on_flat && deformable[other])) continue;
             double u, v, h;
             fr.to_plane(g.pos[gp], u, v, h);
             GridpointSub sub;
@@ -308,11 +360,13 @@ void gridpoint_subcontacts(const Model& m, int a, int b, const CommonPlane& cp, 
             }
             // The partner point must lie near the plane too: beyond ctol the surfaces are apart.
             if (!found || other_sign * ho < -tol) continue;
+            const double closure = side == 0 ? h - ho : ho - h;
+            if (!on_flat && !(closure > 0)) continue;
             sub.side = 3 + side;
             sub.gp = gp;
             sub.key = (static_cast<std::int64_t>(side) << 61) | gp;
             sub.area = both ? 0.5 * area : area;
-            sub.closure = side == 0 ? h - ho : ho - h;
+            sub.closure = closure;
             out.push_back(sub);
         }
     }

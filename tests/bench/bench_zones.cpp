@@ -3,7 +3,11 @@
 // counted), settling under gravity on a fixed base. Prints zones, gridpoints, bytes per zone
 // (its arrays and its share of the gridpoints'), steps per second, zone updates per second and
 // the share of each cycle stage.
-// Usage: bench_zones [n ...] [--steps s] [--mc]   (default n = 26 55: about 1e5 and 1e6 zones)
+// With --jointed b, the cube is cut into separate blocks of b x b x b m, each zoned on its own
+// (gridpoints of their own), which touch through the contacts of their surface gridpoints
+// (joints kn = ks = 1e10 Pa/m, friction 30): the figures then include the contacts.
+// Usage: bench_zones [n ...] [--steps s] [--mc] [--jointed b]
+//        (default n = 26 55: about 1e5 and 1e6 zones)
 #include <array>
 #include <chrono>
 #include <cstdio>
@@ -13,6 +17,7 @@
 #include <vector>
 
 #include "engine/blocks.h"
+#include "engine/contact.h"
 #include "engine/cycle.h"
 #include "engine/model.h"
 #include "engine/zones.h"
@@ -32,7 +37,7 @@ double bytes_of(const V& v) {
     return static_cast<double>(v.capacity() * sizeof(typename V::value_type));
 }
 
-void run(int n, long steps, bool mc) {
+void run(int n, long steps, bool mc, int jointed) {
     Model m;
     m.materials.resize(2);
     Material& mat = m.materials[1];
@@ -44,8 +49,24 @@ void run(int n, long steps, bool mc) {
     mat.friction = 35;
     mat.tension = 1e6;
     m.gravity = Vec3(0, 0, -10);
-    const int b = add_block(m, make_brick(0, n, 0, n, 0, n), 0, -1, 1);
-    m.blocks.cons[b] = mc ? kZoneMohrCoulomb : kZoneElastic;
+    const int bs = jointed > 0 && n % jointed == 0 ? jointed : n; // block size, m
+    const int nb = n / bs;
+    for (int k = 0; k < nb; ++k)
+        for (int j = 0; j < nb; ++j)
+            for (int i = 0; i < nb; ++i) {
+                const int b = add_block(m, make_brick(i * bs, (i + 1) * bs, j * bs, (j + 1) * bs, k * bs, (k + 1) * bs), 0,
+                                        -1, 1);
+                m.blocks.cons[b] = mc ? kZoneMohrCoulomb : kZoneElastic;
+            }
+    if (nb > 1) {
+        m.joint_materials.resize(2);
+        JointMaterial& jm = m.joint_materials[1];
+        jm.defined = true;
+        jm.kn = 1e10;
+        jm.ks = 1e10;
+        jm.friction = 30;
+        m.settings.default_jmat = 1;
+    }
     // Nodes of the grid, and six tetrahedra per cell around its main diagonal (Kuhn's split,
     // which conforms across cells).
     BlockMesh mesh;
@@ -54,7 +75,8 @@ void run(int n, long steps, bool mc) {
     for (int k = 0; k <= n; ++k)
         for (int j = 0; j <= n; ++j)
             for (int i = 0; i <= n; ++i) mesh.nodes.emplace_back(i, j, k);
-    mesh.tets.resize(1);
+    const int n_blocks = m.blocks.size();
+    mesh.tets.resize(n_blocks);
     const int paths[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
     for (int k = 0; k < n; ++k)
         for (int j = 0; j < n; ++j)
@@ -69,18 +91,23 @@ void run(int n, long steps, bool mc) {
                     }
                     const Vec3 &a = mesh.nodes[t[0]], &b1 = mesh.nodes[t[1]], &c1 = mesh.nodes[t[2]], &d = mesh.nodes[t[3]];
                     if ((b1 - a).dot((c1 - a).cross(d - a)) < 0) std::swap(t[2], t[3]);
-                    mesh.tets[0].push_back(t);
+                    mesh.tets[((k / bs) * nb + j / bs) * nb + i / bs].push_back(t);
                 }
             }
-    // The block's corners, in the order of its polyhedron's vertices.
-    std::vector<int> corners;
-    for (const Vec3& v : m.blocks.shape[b].vertices) {
-        const Vec3 x = m.blocks.centroid[b] + v;
-        corners.push_back(node(static_cast<int>(std::lround(x.x())), static_cast<int>(std::lround(x.y())),
-                               static_cast<int>(std::lround(x.z()))));
+    // Each block's corners, in the order of its polyhedron's vertices; each block its own body.
+    std::vector<int> blocks, bodies;
+    for (int b = 0; b < n_blocks; ++b) {
+        std::vector<int> corners;
+        for (const Vec3& v : m.blocks.shape[b].vertices) {
+            const Vec3 x = m.blocks.centroid[b] + v;
+            corners.push_back(node(static_cast<int>(std::lround(x.x())), static_cast<int>(std::lround(x.y())),
+                                   static_cast<int>(std::lround(x.z()))));
+        }
+        mesh.corner_node.push_back(corners);
+        blocks.push_back(b);
+        bodies.push_back(b + 1);
     }
-    mesh.corner_node.push_back(corners);
-    zone_blocks(m, {b}, {0}, mesh);
+    zone_blocks(m, blocks, bodies, mesh);
     GridpointSet& g = m.gridpoints;
     for (int i = 0; i < g.size(); ++i) {
         if (g.pos[i].z() < 1e-9) g.vel_bc[i] = 7;
@@ -110,11 +137,19 @@ void run(int n, long steps, bool mc) {
              bytes_of(g.force_scale) + bytes_of(g.nmd_volume) + bytes_of(g.nmd_rate) + bytes_of(g.block) +
              bytes_of(g.vel_bc) + bytes_of(g.vel_bc_value) + bytes_of(g.vel_bc_table) + bytes_of(g.half_kick);
     const double zones = z.size();
-    std::printf("%s cube %d^3 m: %d zones, %d gridpoints, %.0f bytes per zone\n", mc ? "Mohr-Coulomb" : "elastic", n,
-                z.size(), g.size(), bytes / zones);
+    std::printf("%s cube %d^3 m", mc ? "Mohr-Coulomb" : "elastic", n);
+    if (nb > 1) {
+        std::printf(" in %d blocks of %d^3 m, %d contacts, %d sub-contacts", n_blocks, bs, m.contacts.size(),
+                    m.contacts.n_subs());
+    }
+    std::printf(": %d zones, %d gridpoints, %.0f bytes per zone\n", z.size(), g.size(), bytes / zones);
     std::printf("  %ld steps in %.3f s of processor time (%.3f s wall): %.1f steps/s, %.3g zone updates/s "
                 "(%.1f ns per zone-step)\n",
                 steps, seconds, wall, steps / seconds, zones * steps / seconds, 1e9 * seconds / (zones * steps));
+    if (nb > 1) {
+        std::printf("  %.3g sub-contact updates/s (with the zones of the same steps)\n",
+                    static_cast<double>(m.contacts.n_subs()) * steps / seconds);
+    }
     const Profile& p = m.profile;
     double total = 0;
     for (double s : p.seconds) total += s;
@@ -131,9 +166,12 @@ int main(int argc, char** argv) {
     std::vector<int> sizes;
     long steps = 0;
     bool mc = false;
+    int jointed = 0;
     for (int i = 1; i < argc; ++i) {
         if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) {
             steps = std::atol(argv[++i]);
+        } else if (!std::strcmp(argv[i], "--jointed") && i + 1 < argc) {
+            jointed = std::atoi(argv[++i]);
         } else if (!std::strcmp(argv[i], "--mc")) {
             mc = true;
         } else {
@@ -141,6 +179,6 @@ int main(int argc, char** argv) {
         }
     }
     if (sizes.empty()) sizes = {26, 55};
-    for (int n : sizes) run(n, steps > 0 ? steps : (n <= 30 ? 200 : 40), mc);
+    for (int n : sizes) run(n, steps > 0 ? steps : (n <= 30 ? 200 : 40), mc, jointed);
     return 0;
 }

@@ -199,3 +199,34 @@ TEST(ZoneContacts, InsituStressLoadsTheJointsToo) {
     EXPECT_LT(most, 1e-13);
     EXPECT_NEAR(contact_info(s.model, 0).normal_stress, sigma, 1e-6 * sigma);
 }
+
+// A 2 x 2 x 2 stack of deformable blocks (three joint sets, zoned apart) on rollers: the joint
+// at mid-height carries the whole weight of the upper layer, and the blocks that meet only
+// along an edge or at a corner carry nothing, however they settle.
+TEST(ZoneContacts, ARegularStackLosesNoLoadToEdgeAndCornerContacts) {
+    Session s;
+    ASSERT_TRUE(s.run("poly brick 0 2 0 2 0 2\njset dip 0 dd 0 origin 0,0,1\njset dip 90 dd 90 origin 1,0,0\n"
+                      "jset dip 90 dd 0 origin 0,1,0\nprop mat=1 dens=2500 ymod=10e9 prat=0.25\n"
+                      "prop jmat=1 jkn=1e10 jks=1e10 jfric=30\nset jmat 1\ngen edge 0.25\n"
+                      "bound zvel 0 range z -0.001 0.001\nbound xvel 0 range x -0.001 0.001\n"
+                      "bound xvel 0 range x 1.999 2.001\nbound yvel 0 range y -0.001 0.001\n"
+                      "bound yvel 0 range y 1.999 2.001\ngrav 0 0 -10\nsolve ratio 1e-6"))
+        << s.error();
+    const Model& m = s.model;
+    double mid = 0;
+    int faces = 0, others = 0;
+    for (int c = 0; c < m.contacts.size(); ++c) {
+        const ContactInfo ci = contact_info(m, c);
+        if (ci.area > 0.5) {
+            ++faces;
+            if (std::abs(ci.normal.z()) > 0.99) mid += normal_force(m, c);
+        } else {
+            ++others;
+            EXPECT_EQ(normal_force(m, c), 0.0) << "contact " << ci.id;
+        }
+    }
+    EXPECT_EQ(faces, 12);  // 4 horizontal, 8 vertical
+    EXPECT_EQ(others, 16); // 12 pairs across an edge, 4 across a corner
+    const double upper_weight = 4 * 2500.0 * 10.0 * 1.0;
+    EXPECT_NEAR(mid, upper_weight, 1e-3 * upper_weight);
+}
