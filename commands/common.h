@@ -120,4 +120,40 @@ inline std::string num(double x) {
 
 inline std::string vec_text(const Vec3& v) { return "(" + num(v.x()) + "," + num(v.y()) + "," + num(v.z()) + ")"; }
 
+// The block material a command's keywords give, starting from `base`: density, bulk modulus
+// ('bulk' or 'k'), shear modulus ('shear' or 'g'), Young's modulus and Poisson's ratio (named
+// `young` and `poisson` by the command; together they replace K and G), and the Mohr-Coulomb
+// cohesion, friction, tension and dilation. Fails, naming the word, when only one of the pair
+// is given or when a dilation or friction given leaves the dilation above the friction.
+inline Material material_from_args(const Args& a, Material base, const char* young, const char* poisson,
+                                   const std::string& help_topic) {
+    if (a.has(young) != a.has(poisson)) {
+        const KeywordUse* u = a.has(young) ? a.find(young) : a.find(poisson);
+        fail(u->loc, std::string("'") + young + "' and '" + poisson + "' go together", {"or give 'bulk' and 'shear'"},
+             help_topic);
+    }
+    Material mat = base;
+    mat.defined = true;
+    mat.density = a.real_or("density", mat.density);
+    mat.bulk = a.real_or("k", a.real_or("bulk", mat.bulk));
+    mat.shear = a.real_or("g", a.real_or("shear", mat.shear));
+    if (a.has(young)) {
+        const double e = a.real(young), nu = a.real(poisson);
+        mat.bulk = e / (3 * (1 - 2 * nu));
+        mat.shear = e / (2 * (1 + nu));
+    }
+    mat.cohesion = a.real_or("cohesion", mat.cohesion);
+    mat.friction = a.real_or("friction", mat.friction);
+    mat.tension = a.real_or("tension", mat.tension);
+    mat.dilation = a.real_or("dilation", mat.dilation);
+    if (mat.dilation > mat.friction && (a.has("dilation") || a.has("friction"))) {
+        const KeywordUse* u = a.has("dilation") ? a.find("dilation") : a.find("friction");
+        fail(u->values[0].loc,
+             "the dilation angle (" + num(mat.dilation) + " deg) may not exceed the friction angle (" +
+                 num(mat.friction) + " deg): a zone would create energy as it yields",
+             {"give the dilation at most the friction angle"}, help_topic);
+    }
+    return mat;
+}
+
 } // namespace odec

@@ -28,36 +28,14 @@ int find_root(std::vector<int>& parent, int i) {
 // `zone model elastic|mohr|null density ... bulk ... shear ... [range]` (UDEC).
 void zone_model_form(CommandContext& ctx, const Args& a) {
     Model& m = ctx.model;
-    if (a.has("young") != a.has("poisson")) {
-        const KeywordUse* u = a.has("young") ? a.find("young") : a.find("poisson");
-        fail(u->loc, "'young' and 'poisson' go together", {"or give 'bulk' and 'shear'"}, "zone");
-    }
     const std::string word = a.find("model")->values[0].text;
     const std::uint8_t cons = word == "elastic" ? kZoneElastic : word == "mohr" ? kZoneMohrCoulomb : kZoneNull;
     const std::vector<int> blocks = blocks_to_change(ctx, a);
     if (blocks.empty()) return;
     const int first = m.blocks.material[blocks[0]];
-    Material mat = first > 0 && first < static_cast<int>(m.materials.size()) ? m.materials[first] : Material();
-    mat.defined = true;
-    mat.density = a.real_or("density", mat.density);
-    mat.bulk = a.real_or("bulk", mat.bulk);
-    mat.shear = a.real_or("shear", mat.shear);
-    if (a.has("young")) {
-        const double e = a.real("young"), nu = a.real("poisson");
-        mat.bulk = e / (3 * (1 - 2 * nu));
-        mat.shear = e / (2 * (1 + nu));
-    }
-    mat.cohesion = a.real_or("cohesion", mat.cohesion);
-    mat.friction = a.real_or("friction", mat.friction);
-    mat.tension = a.real_or("tension", mat.tension);
-    mat.dilation = a.real_or("dilation", mat.dilation);
-    if (mat.dilation > mat.friction) {
-        const KeywordUse* u = a.has("dilation") ? a.find("dilation") : a.has("friction") ? a.find("friction") : a.find("model");
-        fail(u->values[0].loc,
-             "the dilation angle (" + num(mat.dilation) + " deg) may not exceed the friction angle (" + num(mat.friction) +
-                 " deg): a zone would create energy as it yields",
-             {"give 'dilation' at most 'friction'"}, "zone");
-    }
+    const Material mat = material_from_args(
+        a, first > 0 && first < static_cast<int>(m.materials.size()) ? m.materials[first] : Material(), "young",
+        "poisson", "zone");
     for (int b : blocks) {
         MassProperties mp;
         mp.volume = m.blocks.volume[b];

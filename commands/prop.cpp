@@ -52,10 +52,6 @@ const CommandSpec& prop_command() {
                          {}, "property");
                 }
             }
-            if (a.has("ymod") != a.has("prat")) {
-                const KeywordUse* u = a.has("ymod") ? a.find("ymod") : a.find("prat");
-                fail(u->loc, "'ymod' and 'prat' go together", {"or give 'bulk' and 'shear'"}, "property");
-            }
             if (joint) {
                 const int n = a.integer("jmat");
                 ensure_index(m.joint_materials, n);
@@ -90,27 +86,8 @@ const CommandSpec& prop_command() {
                 }
             }
             // Computed aside and checked, then stored: a refused command changes nothing.
-            Material mat = n < static_cast<int>(m.materials.size()) ? m.materials[n] : Material();
-            mat.defined = true;
-            mat.density = a.real_or("density", mat.density);
-            mat.bulk = a.real_or("k", a.real_or("bulk", mat.bulk));
-            mat.shear = a.real_or("g", a.real_or("shear", mat.shear));
-            if (a.has("ymod")) {
-                const double e = a.real("ymod"), nu = a.real("prat");
-                mat.bulk = e / (3 * (1 - 2 * nu));
-                mat.shear = e / (2 * (1 + nu));
-            }
-            mat.cohesion = a.real_or("cohesion", mat.cohesion);
-            mat.friction = a.real_or("friction", mat.friction);
-            mat.tension = a.real_or("tension", mat.tension);
-            mat.dilation = a.real_or("dilation", mat.dilation);
-            if (mat.dilation > mat.friction && (a.has("dilation") || a.has("friction"))) {
-                const KeywordUse* u = a.has("dilation") ? a.find("dilation") : a.find("friction");
-                fail(u->values[0].loc,
-                     "the dilation angle (" + num(mat.dilation) + " deg) may not exceed the friction angle (" +
-                         num(mat.friction) + " deg): a zone would create energy as it yields",
-                     {"give 'dil' at most 'fric'"}, "prop");
-            }
+            const Material mat = material_from_args(
+                a, n < static_cast<int>(m.materials.size()) ? m.materials[n] : Material(), "ymod", "prat", "property");
             ensure_index(m.materials, n);
             m.materials[n] = mat;
             if (a.has("density")) update_masses(m);

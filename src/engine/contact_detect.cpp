@@ -636,6 +636,27 @@ struct Detector {
         return tag;
     }
 
+    // The history of the sub-contact just pushed to `next`: that of old sub-contact k (its
+    // shear turned onto the new plane), or, for a new one (k < 0), the closure the geometry
+    // shows. A point that slides with the overlap (`moving`) keeps no closure of its own.
+    void push_history(int k, double closure, bool moving, const Vec3& normal) {
+        if (k >= 0) {
+            next.sub_un.push_back(moving ? closure : cs.sub_un[k]);
+            next.sub_udil.push_back(moving ? 0.0 : cs.sub_udil[k]);
+            next.sub_sn.push_back(cs.sub_sn[k]);
+            next.sub_us.push_back(retangent(cs.sub_us[k], normal));
+            next.sub_ss.push_back(retangent(cs.sub_ss[k], normal));
+            next.sub_flags.push_back(cs.sub_flags[k] & ~kSubNew);
+        } else {
+            next.sub_un.push_back(closure);
+            next.sub_udil.push_back(0);
+            next.sub_sn.push_back(0);
+            next.sub_us.push_back(Vec3::Zero());
+            next.sub_ss.push_back(Vec3::Zero());
+            next.sub_flags.push_back(kSubNew);
+        }
+    }
+
     // The contact's own entries in `next`: id, joint material and model (from the old
     // contact, else from the joint plane its faces lie on), blocks and plane.
     void push_header(int a, int b, int oc, const BlockView& va, const BlockView& vb, const CommonPlane& cp) {
@@ -697,21 +718,7 @@ struct Detector {
         for (const GridpointSub& gs : gsubs) {
             while (k < k_end && cs.sub_key[k] < gs.key) ++k;
             push_sub(next, nc, gs.side, gs.key, gs.gp, gs.area, gs.local, gs.tri);
-            if (k < k_end && cs.sub_key[k] == gs.key) {
-                next.sub_un.push_back(cs.sub_un[k]);
-                next.sub_udil.push_back(cs.sub_udil[k]);
-                next.sub_sn.push_back(cs.sub_sn[k]);
-                next.sub_us.push_back(retangent(cs.sub_us[k], cp.normal));
-                next.sub_ss.push_back(retangent(cs.sub_ss[k], cp.normal));
-                next.sub_flags.push_back(cs.sub_flags[k] & ~kSubNew);
-            } else {
-                next.sub_un.push_back(gs.closure);
-                next.sub_udil.push_back(0);
-                next.sub_sn.push_back(0);
-                next.sub_us.push_back(Vec3::Zero());
-                next.sub_ss.push_back(Vec3::Zero());
-                next.sub_flags.push_back(kSubNew);
-            }
+            push_history(k < k_end && cs.sub_key[k] == gs.key ? k : -1, gs.closure, false, cp.normal);
         }
         next.sub_offset.push_back(next.n_subs());
         return true;
@@ -749,22 +756,7 @@ struct Detector {
             const Vec3 local = rot[side == 1 ? 1 : 0].transpose() * (ns.x - s.centroid[owner]);
             const int vertex = side < 2 ? corner_vertex(ns.key) : -1;
             push_sub(next, nc, side, ns.key, vertex, ns.area, local);
-            if (k < k_end && cs.sub_key[k] == ns.key) {
-                const bool moving_point = on_touch_line(ns.key);
-                next.sub_un.push_back(moving_point ? ns.closure : cs.sub_un[k]);
-                next.sub_udil.push_back(moving_point ? 0.0 : cs.sub_udil[k]);
-                next.sub_sn.push_back(cs.sub_sn[k]);
-                next.sub_us.push_back(retangent(cs.sub_us[k], cp.normal));
-                next.sub_ss.push_back(retangent(cs.sub_ss[k], cp.normal));
-                next.sub_flags.push_back(cs.sub_flags[k] & ~kSubNew);
-            } else {
-                next.sub_un.push_back(ns.closure);
-                next.sub_udil.push_back(0);
-                next.sub_sn.push_back(0);
-                next.sub_us.push_back(Vec3::Zero());
-                next.sub_ss.push_back(Vec3::Zero());
-                next.sub_flags.push_back(kSubNew);
-            }
+            push_history(k < k_end && cs.sub_key[k] == ns.key ? k : -1, ns.closure, on_touch_line(ns.key), cp.normal);
         }
         next.sub_offset.push_back(next.n_subs());
         return true;

@@ -83,14 +83,6 @@ void adjust_auto_damping(Damping& d, const AutoDampingPower& p, long step, doubl
     d.auto_coefficient = std::clamp(d.auto_coefficient, c_min, c_max);
 }
 
-// Factor on block b's prescribed velocity: its table's value at the model time, else 1.
-double prescribed_scale(const Model& m, int b) {
-    const int table = m.blocks.vel_bc_table[b];
-    if (table <= 0) return 1.0;
-    const Table* t = m.tables.find(table);
-    return t ? t->at(m.time) : 0.0;
-}
-
 // Returns the index of a block whose motion became non-finite, or -1.
 int integrate(Model& m, double dt) {
     BlockSet& s = m.blocks;
@@ -106,7 +98,7 @@ int integrate(Model& m, double dt) {
             // (the fixed base of a shake table moves as its table says, without turning).
             Vec3 v = Vec3::Zero();
             if (s.vel_bc[b]) {
-                const double scale = prescribed_scale(m, b);
+                const double scale = m.table_factor(m.blocks.vel_bc_table[b]);
                 for (int i = 0; i < 3; ++i) {
                     if (s.vel_bc[b] & (1 << i)) v[i] = s.vel_bc_value[b][i] * scale;
                 }
@@ -134,7 +126,7 @@ int integrate(Model& m, double dt) {
         }
         Vec3 v = s.vel[b] + a * kick;
         if (s.vel_bc[b]) {
-            const double scale = prescribed_scale(m, b);
+            const double scale = m.table_factor(m.blocks.vel_bc_table[b]);
             for (int i = 0; i < 3; ++i) {
                 if (s.vel_bc[b] & (1 << i)) {
                     v[i] = s.vel_bc_value[b][i] * scale;

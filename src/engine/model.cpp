@@ -33,4 +33,10 @@ int Model::group_index(const std::string& name, bool create) {
     return static_cast<int>(group_names.size()) - 1;
 }
 
+double Model::table_factor(int table) const {
+    if (table <= 0) return 1.0;
+    const Table* t = tables.find(table);
+    return t ? t->at(time) : 0.0;
+}
+
 } // namespace odec

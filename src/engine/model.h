@@ -169,6 +169,9 @@ struct Model {
     int block_index(int block_id) const;
     // Index of group `name`, creating it when `create`; -1 when absent and not created.
     int group_index(const std::string& name, bool create);
+    // Factor on a prescribed velocity driven by table n ('bound xvel v hist table n') at the
+    // model's time: 1 without a table (n <= 0), 0 when table n no longer exists.
+    double table_factor(int table) const;
 };
 
 } // namespace odec

@@ -54,12 +54,6 @@ const Material* zone_material(const Model& m, int z) {
     return &m.materials[mat];
 }
 
-double prescribed_scale(const Model& m, int table) {
-    if (table <= 0) return 1.0;
-    const Table* t = m.tables.find(table);
-    return t ? t->at(m.time) : 0.0;
-}
-
 } // namespace
 
 bool is_deformable(const Model& m, int b) { return (m.blocks.flags[b] & kDeformable) != 0; }
@@ -426,7 +420,8 @@ void zone_forces(Model& m, double dt) {
     // of the model when zoned, computed once.
     if (large || z.grad.size() != static_cast<size_t>(nz)) refresh_zone_geometry(z, large ? g.pos : g.ref);
     // Material constants once per material; per zone whether it carries stress.
-    std::vector<ZoneMaterialConstants> constants(m.materials.size());
+    thread_local std::vector<ZoneMaterialConstants> constants; // kept: no allocation per step
+    constants.assign(m.materials.size(), ZoneMaterialConstants());
     for (size_t k = 0; k < m.materials.size(); ++k) {
         if (m.materials[k].defined) constants[k] = zone_constants(m.materials[k]);
     }
@@ -519,7 +514,7 @@ int integrate_gridpoints(Model& m, double dt, double* damping_power, double* for
             continue;
         }
         const double kick = g.half_kick[i] ? 0.5 * dt : dt;
-        const double scale = g.vel_bc[i] ? prescribed_scale(m, g.vel_bc_table[i]) : 1.0;
+        const double scale = g.vel_bc[i] ? m.table_factor(g.vel_bc_table[i]) : 1.0;
         Vec3 v;
         for (int k = 0; k < 3; ++k) {
             if (g.vel_bc[i] & (1 << k)) {
