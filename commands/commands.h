@@ -48,5 +48,8 @@ const CommandSpec& save_command();
 const CommandSpec& restore_command();
 const CommandSpec& plot_command();
 const CommandSpec& export_command();
+const CommandSpec& config_command();
+const CommandSpec& show_command();
+const CommandSpec& list_command();
 
 } // namespace odec

@@ -3,6 +3,8 @@
 #include "engine/blocks.h"
 #include "engine/contact.h"
 #include "engine/zones.h"
+#include "fish/intrinsics.h"
+#include "fish/runtime.h"
 #include "io/csv.h"
 
 #include <cmath>
@@ -53,6 +55,9 @@ const CommandSpec& hist_command() {
         c.keyword("sstress", 2, "shear stress of the contact nearest the point (or the one given by contact), Pa").vec("x,y,z").optional().in_choice(1);
         c.keyword("ndis", 2, "normal closure of the contact nearest the point (or the one given by contact), m").vec("x,y,z").optional().in_choice(1);
         c.keyword("sdis", 2, "shear displacement of the contact nearest the point (or the one given by contact), m").vec("x,y,z").optional().in_choice(1);
+        c.keyword("fish", 4, "the value of a FISH variable or function (also written 'hist @name'), in its own unit")
+            .word("name")
+            .in_choice(1);
         c.keyword("contact", 4, "with a contact quantity: follow the contact with this id instead of a point")
             .integer("id", 1);
         c.keyword("write", 2, "write histories n ... to a CSV file").integer("n", 1).repeat().in_choice(1);
@@ -118,6 +123,20 @@ const CommandSpec& hist_command() {
             else if (what == "ratio") h.kind = HistoryKind::Ratio;
             else if (what == "time") h.kind = HistoryKind::Time;
             else if (what == "step") h.kind = HistoryKind::Step;
+            else if (what == "fish") {
+                h.kind = HistoryKind::Fish;
+                const Value& v = a.find("fish")->values[0];
+                h.source = v.text;
+                if (!h.source.empty() && h.source[0] == '@') h.source.erase(0, 1);
+                std::string lower = h.source;
+                for (char& ch : lower) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+                const fish::Symbol* s = ctx.interp.fish().find(lower);
+                if (!s && !fish::find_intrinsic(lower)) {
+                    fail(v.loc, "'" + h.source + "' is no FISH variable or function",
+                         {"define it first: def " + h.source + " ... end"}, "history");
+                }
+                if (s && s->array) fail(v.loc, "'" + h.source + "' is an array: a history records one value", {}, "history");
+            }
             for (const BlockQuantity& q : kBlockQuantities) {
                 if (what != q.name) continue;
                 h.kind = q.kind;

@@ -260,10 +260,51 @@ void draw(CommandContext& ctx, const Args& a, const render::Scene& scene, const 
     ctx.out << "\n";
 }
 
+// 3DEC's plot views (`plot create`, `plot add ...`, `plot set projection ...`): odec draws a
+// picture per command and keeps no view, so these are accepted with a warning. `plot bitmap
+// ... filename f` draws the default picture into f. True when the command was one of them.
+bool classic_plot_form(CommandContext& ctx, const Args& a) {
+    static const char* const kClassic[] = {"create", "clear", "add", "reset", "current", "destroy", "bitmap", "projection"};
+    const KeywordUse* use = nullptr;
+    for (const char* k : kClassic) {
+        if ((use = a.find(k))) break;
+    }
+    if (!use) return false;
+    const std::string& k = use->spec->name;
+    if (k == "bitmap") {
+        std::string file;
+        for (size_t i = 0; i + 1 < use->rest.size(); ++i) {
+            if (use->rest[i].lower == "filename" || use->rest[i].lower == "file") file = use->rest[i + 1].text;
+        }
+        warn(ctx, use->loc, "'plot bitmap': odec keeps no plot views; it draws 'plot block' into " +
+                                (file.empty() ? std::string("the next free plot-NNNN.png") : "'" + file + "'"));
+        std::string cmd = "plot block";
+        if (!file.empty()) {
+            if (file.find('\'') != std::string::npos) fail(use->loc, "'plot bitmap': a file name with a quote", {}, "plot");
+            cmd += " file '" + file + "'";
+        }
+        // Drawn as the command the warning names.
+        const std::string where = use->loc.file ? use->loc.file->name : std::string("<input>");
+        if (!ctx.interp.run_text(where + " (plot bitmap)", cmd, false)) throw ScriptFailed{};
+        return true;
+    }
+    warn(ctx, use->loc, "'plot " + k + " ...' (a 3DEC plot view) is accepted and ignored: each 'plot' command draws "
+                        "a picture of its own");
+    return true;
+}
+
 void handle_plot(CommandContext& ctx, const Args& a) {
     const auto t0 = Clock::now();
     const Model& m = ctx.model;
     PlotSettings& settings = plot_settings(ctx.interp);
+    if (classic_plot_form(ctx, a)) return;
+    if (const KeywordUse* axes = a.find("axes")) {
+        warn(ctx, axes->loc, "'axes ...' is not drawn by odec: the picture shows the axes' directions in its title");
+    }
+    if (const KeywordUse* ax = a.has("xaxis") ? a.find("xaxis") : a.find("yaxis")) {
+        warn(ctx, ax->loc, "axis labels ('xaxis ...', 'yaxis ...') are ignored: a history chart is labelled by the "
+                           "histories' own labels ('hist label n text')");
+    }
     if (a.has("set")) {
         store_settings(ctx, a, settings);
         return;
@@ -484,6 +525,18 @@ const CommandSpec& plot_command() {
         c.keyword("background", 2, "background colour").one_of("colour", kBackgrounds).defaults("white");
         c.keyword("ids", 3, "label each block drawn with its id (as 'range id' takes it)");
         c.keyword("set", 3, "keep this command's size, view, background and map for later plots; draw nothing");
+        // 3DEC's plot views, accepted for its scripts (see classic_plot_form).
+        c.keyword("create", 3, "(3DEC) create a plot view: accepted and ignored, with a warning").rest_as_words().in_choice(9);
+        c.keyword("clear", 3, "(3DEC) clear the plot view: accepted and ignored").rest_as_words().in_choice(9);
+        c.keyword("add", 3, "(3DEC) add an item to the plot view: accepted and ignored").rest_as_words().in_choice(9);
+        c.keyword("reset", 3, "(3DEC) reset the plot view: accepted and ignored").rest_as_words().in_choice(9);
+        c.keyword("current", 3, "(3DEC) choose the current plot view: accepted and ignored").rest_as_words().in_choice(9);
+        c.keyword("destroy", 3, "(3DEC) delete a plot view: accepted and ignored").rest_as_words().in_choice(9);
+        c.keyword("bitmap", 3, "(3DEC) write the plot view to 'filename f': draws 'plot block' into f").rest_as_words().in_choice(9);
+        c.keyword("projection", 4, "(3DEC, after 'set') the view's projection and camera: accepted and ignored").rest_as_words().in_choice(9);
+        c.keyword("axes", 3, "(3DEC) draw the axes: accepted and ignored").rest_as_words();
+        c.keyword("xaxis", 3, "(3DEC) the chart's x axis title: accepted and ignored").rest_as_words();
+        c.keyword("yaxis", 3, "(3DEC) the chart's y axis title: accepted and ignored").rest_as_words();
         c.range("which blocks (and the contacts between them, and the zones whose centroid it contains) to draw: see 'help range'");
         c.describe(
             "Items are 'block', 'zone', 'vector', 'principal' and 'contact', each with an optional quantity "

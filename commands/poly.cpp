@@ -4,6 +4,9 @@
 #include "engine/tunnel.h"
 #include "tunnel_axis.h"
 
+#include <cstdio>
+#include <limits>
+
 namespace odec {
 
 namespace {
@@ -24,6 +27,48 @@ double tolerance_for(const std::vector<Vec3>& pts) {
         hi = hi.cwiseMax(p);
     }
     return 1e-6 * std::max(1e-3, (hi - lo).norm());
+}
+
+// Input that is convex only nearly (a voussoir whose curved face was given as a polygon,
+// coordinates rounded to a few digits) is taken as the convex hull of its vertices when no
+// vertex lies deeper inside that hull than this fraction of the block's size.
+constexpr double kHullDepthFraction = 0.02;
+
+// The convex hull of the points, and how far the deepest point lies inside its surface (m).
+bool hull_of(const std::vector<Vec3>& pts, double tol, Polyhedron& p, double& depth, std::string& error) {
+    if (!make_convex_hull(pts, tol, p, error)) return false;
+    depth = 0;
+    for (const Vec3& x : pts) {
+        double inside = std::numeric_limits<double>::infinity();
+        for (int f = 0; f < p.n_faces(); ++f) {
+            const Vec3 n = p.face_normal(f);
+            inside = std::min(inside, n.dot(p.vertices[p.face_vertex(f, 0)] - x));
+        }
+        depth = std::max(depth, inside);
+    }
+    return true;
+}
+
+// Replace a failed build by the hull when the input is nearly convex; say so. False when the
+// input is too far from convex (the original error stands).
+bool accept_hull(CommandContext& ctx, const std::vector<Vec3>& all, const std::string& what, Polyhedron& p) {
+    Polyhedron hull;
+    double depth = 0;
+    std::string error;
+    const double tol = tolerance_for(all);
+    if (!hull_of(all, tol, hull, depth, error)) return false;
+    Vec3 lo, hi;
+    hull.bounds(lo, hi);
+    const double size = (hi - lo).norm();
+    if (depth > kHullDepthFraction * size) return false;
+    p = std::move(hull);
+    if (!ctx.interp.quiet) {
+        char buf[200];
+        std::snprintf(buf, sizeof buf, "%.3g m (%.2g %% of the block's size)", depth, 100.0 * depth / size);
+        ctx.interp.err << "warning: " << what << ": taken as the convex hull of its vertices; the deepest vertex lies "
+                       << buf << " inside it\n";
+    }
+    return true;
 }
 
 // Blocks one 'poly tunnel' may make: a guard against a typing slip (nseg 10000 ntheta 720).
@@ -251,7 +296,26 @@ const CommandSpec& poly_command() {
                 const std::vector<Vec3> pa = points_of(*a.find("a")), pb = points_of(*a.find("b"));
                 std::vector<Vec3> all = pa;
                 all.insert(all.end(), pb.begin(), pb.end());
-                if (!make_prism(pa, pb, tolerance_for(all), p, error)) fail(a.find("a")->loc, error, {}, "poly");
+                // Ends that are not translated copies (a tapered or skewed prism) make the convex
+                // hull of the two polygons, as 3DEC does.
+                if (!make_prism(pa, pb, tolerance_for(all), p, error)) {
+                    Polyhedron hull;
+                    double depth = 0;
+                    std::string hull_error;
+                    if (!hull_of(all, tolerance_for(all), hull, depth, hull_error)) fail(a.find("a")->loc, error, {}, "poly");
+                    Vec3 lo, hi;
+                    hull.bounds(lo, hi);
+                    if (depth > tolerance_for(all) && depth > kHullDepthFraction * (hi - lo).norm()) {
+                        fail(a.find("a")->loc, "prism: the two polygons do not make a convex solid (a vertex lies " +
+                                                   num(depth) + " m inside the hull of the others)",
+                             {"polygon a and polygon b must be faces of one convex solid"}, "poly");
+                    }
+                    if (depth > tolerance_for(all) && !ctx.interp.quiet) {
+                        ctx.interp.err << "warning: prism: taken as the convex hull of its two polygons; the deepest "
+                                          "vertex lies " << num(depth) << " m inside it\n";
+                    }
+                    p = std::move(hull);
+                }
             } else if (kind == "face") {
                 std::vector<std::vector<Vec3>> faces;
                 std::vector<Vec3> all;
@@ -264,7 +328,8 @@ const CommandSpec& poly_command() {
                              {}, "poly");
                     }
                 }
-                if (!make_from_faces(faces, tolerance_for(all), p, error)) {
+                if (!make_from_faces(faces, tolerance_for(all), p, error) &&
+                    !(error.find("convex") != std::string::npos && accept_hull(ctx, all, "the faces given are not convex", p))) {
                     // The message names the face by its number; point at that 'face' keyword.
                     const auto uses = a.all("face");
                     SourceLoc loc = uses.front()->loc;

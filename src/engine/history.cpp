@@ -1,5 +1,6 @@
 #include "engine/history.h"
 
+#include <cmath>
 #include <cstdio>
 
 #include "engine/blocks.h"
@@ -15,6 +16,11 @@ double history_value(const Model& m, const History& h) {
     case HistoryKind::Time: return m.time;
     case HistoryKind::Step: return static_cast<double>(m.step);
     case HistoryKind::Ratio: return unbalanced_ratio(m);
+    case HistoryKind::Fish: {
+        if (!m.histories.external) return 0.0;
+        const double v = m.histories.external(h);
+        return std::isfinite(v) ? v : 0.0;
+    }
     case HistoryKind::NStress:
     case HistoryKind::SStress:
     case HistoryKind::NDis:
@@ -113,11 +119,13 @@ static const char* kind_word(HistoryKind k) {
     case HistoryKind::XReaction: return "xreaction";
     case HistoryKind::YReaction: return "yreaction";
     case HistoryKind::ZReaction: return "zreaction";
+    case HistoryKind::Fish: return "fish";
     }
     return "?";
 }
 
 std::string history_default_label(const History& h) {
+    if (h.kind == HistoryKind::Fish) return "@" + h.source;
     std::string s = kind_word(h.kind);
     char buf[160];
     if (h.zone >= 0) {

@@ -1,6 +1,7 @@
 // Histories: quantities sampled every `ncyc` steps while the model cycles.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,7 @@ enum class HistoryKind {
     SXX, SYY, SZZ, SXY, SXZ, SYZ, // stress of the zone at a point, Pa (tension positive)
     XReaction, YReaction, ZReaction, // sum of the unbalanced forces of the held gridpoints (and fixed
                                      // blocks) of a range, N: what the model exerts on its supports
+    Fish,       // the value of a FISH variable or function (`hist @name`), in its own unit
 };
 
 struct History {
@@ -38,6 +40,7 @@ struct History {
     std::vector<int> gridpoints;                     // reactions: the gridpoints summed
     std::vector<int> blocks;                         // reactions: the rigid block ids summed
     std::string label;                               // column title
+    std::string source;                              // Fish: the FISH name sampled
     std::vector<double> values;                      // (n_samples)
 };
 
@@ -45,6 +48,9 @@ struct HistorySet {
     int ncyc = 10;                  // sampling interval in steps
     std::vector<History> items;     // history n is items[n-1]
     std::vector<long> sample_steps; // (n_samples) step of each sample
+    // Reads a Fish history (set by the program that runs FISH; not saved). Without it, or when
+    // it throws, such a history samples 0.
+    std::function<double(const History&)> external;
     // Record one sample of every history.
     void sample(const Model& m);
     void clear_values();

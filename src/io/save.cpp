@@ -121,7 +121,9 @@ auto fields(IO& io, M& x) -> If<M, Table> {
 template <class IO, class M>
 auto fields(IO& io, M& x) -> If<M, History> {
     // The last kind each format knows: format 3 added zone stresses and reactions.
-    const HistoryKind last = io.format >= 3 ? HistoryKind::ZReaction : HistoryKind::SDis;
+    const HistoryKind last = io.format >= 5   ? HistoryKind::Fish
+                             : io.format >= 3 ? HistoryKind::ZReaction
+                                              : HistoryKind::SDis;
     io.enumeration(x.kind, static_cast<int>(last) + 1);
     io(x.point); io(x.block_id); io(x.contact_id); io(x.label); io(x.values);
     // Format 2: the material point a block history follows. Format 1 sampled the
@@ -131,6 +133,8 @@ auto fields(IO& io, M& x) -> If<M, History> {
     if (io.format >= 3) {
         io(x.gridpoint); io(x.zone); io(x.gridpoints); io(x.blocks);
     }
+    // Format 5: the FISH name a history samples (the functions themselves are not saved).
+    if (io.format >= 5) io(x.source);
 }
 
 template <class IO, class M>

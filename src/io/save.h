@@ -17,7 +17,7 @@ namespace odec {
 // layout may read older ones.
 // 2: histories follow a material point; 3: deformable blocks (zones, gridpoints, `bound stress`
 // faces, zone and reaction histories) and the zone stage of the profile.
-constexpr std::uint32_t kSaveFormatVersion = 4;
+constexpr std::uint32_t kSaveFormatVersion = 5;
 
 // Write the model to `path`. The bytes go to a temporary file in the same directory, which
 // is flushed to disk and then renamed over `path`, so a failed or interrupted save leaves

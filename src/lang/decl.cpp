@@ -135,6 +135,11 @@ KeywordSpec& KeywordSpec::forward_to(std::string command) {
     return *this;
 }
 
+KeywordSpec& KeywordSpec::rest_as_words() {
+    rest_of = "*";
+    return *this;
+}
+
 KeywordSpec& KeywordSpec::defaults(std::string text) {
     default_text = std::move(text);
     return *this;
@@ -143,6 +148,7 @@ KeywordSpec& KeywordSpec::defaults(std::string text) {
 std::string KeywordSpec::synopsis() const {
     std::string s = name;
     if (is_range) return s + " <filters>";
+    if (rest_of == "*") return s + " ...";
     if (!rest_of.empty()) return s + " <" + rest_of + " options>";
     for (const ValueSpec& v : values) s += " " + value_synopsis(v);
     if (repeat_last) s += " ...";

@@ -80,6 +80,9 @@ struct KeywordSpec {
     KeywordSpec& defaults(std::string text);
     // The words after this keyword belong to another command (`set plot ...` -> `plot set ...`).
     KeywordSpec& forward_to(std::string command);
+    // The words after this keyword are taken as they are and left to the handler (classic
+    // forms odec accepts with a warning, such as 3DEC's `plot add ...`).
+    KeywordSpec& rest_as_words();
     // "brick x1 x2 y1 y2 z1 z2"
     std::string synopsis() const;
 };

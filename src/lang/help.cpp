@@ -112,7 +112,8 @@ std::string manual_page(const CommandSpec& c) {
         for (const KeywordSpec& k : c.keywords) {
             std::string vals;
             if (k.is_range) vals = "the range phrase (see [the range phrase](range-phrase.md))";
-            if (!k.rest_of.empty()) vals = "the options of `" + k.rest_of + " set` (see [" + k.rest_of + "](" + k.rest_of + ".md))";
+            if (k.rest_of == "*") vals = "the rest of the line, as words";
+            else if (!k.rest_of.empty()) vals = "the options of `" + k.rest_of + " set` (see [" + k.rest_of + "](" + k.rest_of + ".md))";
             for (const ValueSpec& v : k.values) vals += (vals.empty() ? "" : "; ") + value_line(v);
             if (k.repeat_last && !k.values.empty()) vals += " (repeatable)";
             std::string meaning = k.help;

@@ -15,7 +15,30 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "fish/runtime.h"
+
 namespace odec {
+
+namespace {
+
+// FISH reaches the session through this.
+class SessionHost final : public fish::Host {
+public:
+    explicit SessionHost(Interpreter& in) : in_(in) {}
+    Model& model() override { return in_.model; }
+    bool run_commands(const std::shared_ptr<const SourceFile>& file, int first, int last) override {
+        return in_.run_lines(file, first, last);
+    }
+    std::ostream& out() override { return in_.out; }
+    std::ostream& err() override { return in_.err; }
+    bool interrupted() override { return in_.interrupt.load(); }
+    bool confine_files() override { return in_.limits.confine_files; }
+
+private:
+    Interpreter& in_;
+};
+
+} // namespace
 
 namespace {
 
@@ -123,7 +146,8 @@ int TeeBuffer::sync() {
 }
 
 Interpreter::Interpreter(Model& m, const CommandTable& t, std::ostream& o, std::ostream& e)
-    : model(m), table(t), out_tee_(o.rdbuf()), err_tee_(e.rdbuf()), out(&out_tee_), err(&err_tee_) {}
+    : model(m), table(t), out_tee_(o.rdbuf()), err_tee_(e.rdbuf()), out(&out_tee_), err(&err_tee_),
+      fish_host_(std::make_unique<SessionHost>(*this)), fish_(std::make_unique<fish::Runtime>(*fish_host_)) {}
 
 Interpreter::~Interpreter() { close_log(); }
 
@@ -167,8 +191,24 @@ bool Interpreter::execute(const LexedCommand& cmd, bool echo_command) {
         const auto& file = cmd.tokens.front().loc.file;
         for (int l = cmd.first_line; l <= cmd.last_line; ++l) log_file_ << "odec> " << file->lines[l - 1] << "\n";
     }
+    // Histories of FISH values read through the runtime (a `new` or `restore` drops the hook).
+    if (!model.histories.external) {
+        fish::Runtime* rt = fish_.get();
+        model.histories.external = [rt](const History& h) {
+            try {
+                return rt->value_for_command(h.source, SourceLoc{}).number();
+            } catch (...) {
+                return 0.0;
+            }
+        };
+    }
     try {
-        const Args args = parse_command(table, cmd.tokens, &named_ranges);
+        if (is_fish_statement(cmd)) {
+            run_fish_statement(cmd);
+            out.flush();
+            return true;
+        }
+        const Args args = parse_command(table, substitute(cmd.tokens), &named_ranges);
         CommandContext ctx{model, *this, out};
         args.command->handler(ctx, args);
         out.flush();
@@ -219,11 +259,44 @@ bool Interpreter::interrupted_here(const LexedCommand& cmd) {
     return true;
 }
 
+bool Interpreter::run_lexer(Lexer& lex, bool echo_commands) {
+    LexedCommand cmd;
+    for (;;) {
+        try {
+            if (!lex.next(cmd)) break;
+        } catch (const CommandError& e) {
+            err << format_diagnostic(e.diag);
+            return false;
+        } catch (const std::bad_alloc&) {
+            err << "error: out of memory reading '" << lex.file()->name << "'\n";
+            return false;
+        }
+        if (interrupted_here(cmd)) return false;
+        const std::string& verb = cmd.tokens.front().lower;
+        if (cmd.tokens.front().kind == TokenKind::Word && (verb == "def" || verb == "define")) {
+            if (!define_fish(cmd, lex, echo_commands)) return false;
+            continue;
+        }
+        if (!execute(cmd, echo_commands)) return false;
+        if (quit_requested) break;
+        if (return_requested) {
+            return_requested = false;
+            break;
+        }
+    }
+    return true;
+}
+
 bool Interpreter::run_text(const std::string& name, const std::string& text, bool echo_commands) {
     auto file = std::make_shared<SourceFile>();
     file->name = name;
     file->lines = split_lines(text);
     Lexer lex(file);
+    return run_lexer(lex, echo_commands);
+}
+
+bool Interpreter::run_lines(const std::shared_ptr<const SourceFile>& file, int first, int last) {
+    Lexer lex(file, first, last);
     LexedCommand cmd;
     for (;;) {
         try {
@@ -233,14 +306,136 @@ bool Interpreter::run_text(const std::string& name, const std::string& text, boo
             return false;
         }
         if (interrupted_here(cmd)) return false;
-        if (!execute(cmd, echo_commands)) return false;
+        if (!execute(cmd, false)) return false;
         if (quit_requested) break;
-        if (return_requested) {
-            return_requested = false;
-            break;
-        }
     }
     return true;
+}
+
+bool Interpreter::define_fish(const LexedCommand& header, Lexer& lex, bool echo_command) {
+    const auto& file = header.tokens.front().loc.file;
+    const int line = header.first_line;
+    if (echo_command && echo && !quiet) out << file->name << ":" << line << "> " << file->lines[line - 1] << "\n";
+    int first = 0, last = 0;
+    if (!lex.take_definition(first, last)) {
+        Diagnostic d{header.tokens.front().loc,
+                     "'" + header.tokens.front().text + "' has no 'end': the definition runs to the end of the " +
+                         (file->name == "<prompt>" ? "input" : "file"),
+                     {"end the function with a line 'end'"}, "fish"};
+        err << format_diagnostic(d);
+        return false;
+    }
+    try {
+        const fish::Line head = fish::lex_line(file, line, file->lines[line - 1]);
+        std::vector<fish::Line> body;
+        body.reserve(static_cast<size_t>(last - first + 1));
+        for (int l = first; l <= last; ++l) body.push_back(fish::lex_line(file, l, file->lines[l - 1]));
+        fish_->define(head, body);
+    } catch (const CommandError& e) {
+        err << format_diagnostic(e.diag);
+        return false;
+    } catch (const std::bad_alloc&) {
+        out_of_memory(header);
+        return false;
+    }
+    return true;
+}
+
+bool Interpreter::is_fish_statement(const LexedCommand& cmd) const {
+    const Token& t = cmd.tokens.front();
+    if (t.kind != TokenKind::Word) return false;
+    if (t.text.size() > 1 && t.text[0] == '@') return true;
+    // A FISH function named alone, as UDEC scripts call them, when no command has that name.
+    if (!fish_->is_function(t.lower)) return false;
+    std::vector<std::string> cand;
+    return table.match(t.lower, &cand) == nullptr && cand.empty();
+}
+
+void Interpreter::run_fish_statement(const LexedCommand& cmd) {
+    const auto& file = cmd.tokens.front().loc.file;
+    std::string text = file->lines[cmd.first_line - 1];
+    const size_t col0 = static_cast<size_t>(cmd.tokens.front().loc.col - 1);
+    // A statement continued over lines (`&`) is read as one line.
+    for (int l = cmd.first_line + 1; l <= cmd.last_line; ++l) {
+        const size_t amp = text.find_last_of('&');
+        if (amp != std::string::npos) text.erase(amp);
+        text += " " + file->lines[l - 1];
+    }
+    fish_->run_statement(fish::lex_line(file, cmd.first_line, text, col0));
+}
+
+std::vector<Token> Interpreter::substitute(const std::vector<Token>& tokens) {
+    bool any = false;
+    for (const Token& t : tokens) any = any || (t.kind == TokenKind::Word && t.text.size() > 1 && t.text[0] == '@');
+    if (!any) return tokens;
+    std::vector<Token> out;
+    out.reserve(tokens.size() + 4);
+    const CommandSpec* verb = table.match(tokens.front().lower, nullptr);
+    for (size_t k = 0; k < tokens.size(); ++k) {
+        const Token& t = tokens[k];
+        if (!(t.kind == TokenKind::Word && t.text.size() > 1 && t.text[0] == '@')) {
+            out.push_back(t);
+            continue;
+        }
+        const std::string name = t.text.substr(1);
+        // `list @x` names what it prints.
+        if (verb && verb->name == "list") {
+            out.push_back(t);
+            continue;
+        }
+        // `hist @f` records the function as the model cycles: `hist fish f`.
+        if (k == 1 && verb && verb->name == "history") {
+            Token w = t;
+            w.text = w.lower = "fish";
+            out.push_back(w);
+            Token n = t;
+            n.text = name;
+            n.lower = t.lower.substr(1);
+            n.kind = TokenKind::String;
+            out.push_back(n);
+            continue;
+        }
+        const fish::Value v = fish_->value_for_command(name, t.loc);
+        Token r = t;
+        switch (v.type) {
+        case fish::Type::Int:
+        case fish::Type::Float:
+        case fish::Type::Bool:
+            r.kind = TokenKind::Number;
+            r.number = v.number();
+            r.text = r.lower = fish::to_text(v.type == fish::Type::Bool ? fish::Value::integer(v.i) : v);
+            out.push_back(r);
+            break;
+        case fish::Type::String:
+            r.kind = TokenKind::String;
+            r.text = v.s;
+            r.lower = v.s;
+            for (char& c : r.lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+            out.push_back(r);
+            break;
+        case fish::Type::Vector: {
+            Token p = t;
+            p.kind = TokenKind::LParen;
+            p.text = p.lower = "(";
+            out.push_back(p);
+            for (int i = 0; i < 3; ++i) {
+                Token x = t;
+                x.kind = TokenKind::Number;
+                x.number = v.v[i];
+                x.text = x.lower = fish::to_text(fish::Value::real(v.v[i]));
+                out.push_back(x);
+            }
+            p.kind = TokenKind::RParen;
+            p.text = p.lower = ")";
+            out.push_back(p);
+            break;
+        }
+        default:
+            fail(t.loc, "'" + t.text + "' is " + fish::type_name(v) + ": a command takes a number, a string or a vector", {},
+                 "fish");
+        }
+    }
+    return out;
 }
 
 bool Interpreter::run_file(const std::string& path, const SourceLoc* from) {
@@ -293,35 +488,7 @@ bool Interpreter::run_file(const std::string& path, const SourceLoc* from) {
     call_stack_.push_back(canon);
     display_stack_.push_back(path);
     Lexer lex(file);
-    LexedCommand cmd;
-    bool good = true;
-    for (;;) {
-        try {
-            if (!lex.next(cmd)) break;
-        } catch (const CommandError& e) {
-            err << format_diagnostic(e.diag);
-            good = false;
-            break;
-        } catch (const std::bad_alloc&) {
-            err << format_diagnostic(Diagnostic{from ? *from : SourceLoc{}, "out of memory reading '" + path + "'", {},
-                                                from ? "call" : ""});
-            good = false;
-            break;
-        }
-        if (interrupted_here(cmd)) {
-            good = false;
-            break;
-        }
-        if (!execute(cmd, true)) {
-            good = false;
-            break;
-        }
-        if (quit_requested) break;
-        if (return_requested) {
-            return_requested = false;
-            break;
-        }
-    }
+    const bool good = run_lexer(lex, true);
     call_stack_.pop_back();
     display_stack_.pop_back();
     return good;

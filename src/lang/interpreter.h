@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <fstream>
 #include <iosfwd>
+#include <memory>
 #include <ostream>
 #include <streambuf>
 
@@ -20,6 +21,11 @@
 #include "lang/parser.h"
 
 namespace odec {
+
+namespace fish {
+class Runtime;
+class Host;
+} // namespace fish
 
 class Interpreter;
 
@@ -78,6 +84,11 @@ public:
     bool run_text(const std::string& name, const std::string& text, bool echo_commands);
     // Parse and execute one lexed command; false when it failed (reported on err).
     bool execute(const LexedCommand& cmd, bool echo_command);
+    // Run the commands on lines first..last of file (a FISH `command ... endcommand` block),
+    // without echo; false at the first error (reported).
+    bool run_lines(const std::shared_ptr<const SourceFile>& file, int first, int last);
+    // The FISH runtime of this session.
+    fish::Runtime& fish() { return *fish_; }
     // True (and said) when Ctrl-C interrupted an earlier command: the script stops before cmd.
     bool interrupted_here(const LexedCommand& cmd);
 
@@ -125,6 +136,18 @@ public:
 
 private:
     void out_of_memory(const LexedCommand& cmd);
+    // Run every command the lexer gives; false at the first error.
+    bool run_lexer(Lexer& lex, bool echo_commands);
+    // `def name ... end`: compile it; false when it failed (reported).
+    bool define_fish(const LexedCommand& header, Lexer& lex, bool echo_command);
+    // `@f(...)`, `@x = 1`, or a FISH function named alone (UDEC): run it as FISH.
+    bool is_fish_statement(const LexedCommand& cmd) const;
+    void run_fish_statement(const LexedCommand& cmd);
+    // The command's tokens with `@name` replaced by the values FISH has now.
+    std::vector<Token> substitute(const std::vector<Token>& tokens);
+
+    std::unique_ptr<fish::Host> fish_host_;
+    std::unique_ptr<fish::Runtime> fish_;
 
     std::vector<std::string> call_stack_; // canonical paths of the files being run
     std::vector<std::string> display_stack_;

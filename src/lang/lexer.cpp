@@ -1,5 +1,6 @@
 #include "lang/lexer.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cstdlib>
 
@@ -115,17 +116,50 @@ bool parse_number(const std::string& s, double& value) {
 
 bool Lexer::next(LexedCommand& out) {
     const auto& lines = file_->lines;
+    const int end = end_ < 0 ? static_cast<int>(lines.size()) : std::min(end_, static_cast<int>(lines.size()));
     out.tokens.clear();
-    while (line_ < static_cast<int>(lines.size())) {
+    while (line_ < end) {
         out.first_line = line_ + 1;
         bool more = true;
-        while (more && line_ < static_cast<int>(lines.size())) {
+        while (more && line_ < end) {
             const int line_no = line_ + 1;
             more = lex_physical_line(file_, line_no, lines[line_], out.tokens, false);
             out.last_line = line_no;
             ++line_;
         }
         if (!out.tokens.empty()) return true;
+    }
+    return false;
+}
+
+std::string first_word(const std::string& line) {
+    size_t i = 0;
+    while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r' || line[i] == '\f' || line[i] == '\v')) ++i;
+    size_t j = i;
+    while (j < line.size() && !is_separator(line[j]) && line[j] != ';' && line[j] != '(' && line[j] != ')') ++j;
+    return to_lower(line.substr(i, j - i));
+}
+
+bool definition_open(const std::string& text) {
+    bool open = false;
+    for (const std::string& l : split_lines(text)) {
+        const std::string w = first_word(l);
+        if (!open && (w == "def" || w == "define")) open = true;
+        else if (open && w == "end") open = false;
+    }
+    return open;
+}
+
+bool Lexer::take_definition(int& first, int& last) {
+    const auto& lines = file_->lines;
+    const int end = end_ < 0 ? static_cast<int>(lines.size()) : std::min(end_, static_cast<int>(lines.size()));
+    for (int k = line_; k < end; ++k) {
+        if (first_word(lines[k]) == "end") {
+            first = line_ + 1;
+            last = k;
+            line_ = k + 1;
+            return true;
+        }
     }
     return false;
 }

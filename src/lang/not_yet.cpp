@@ -13,11 +13,8 @@ struct Missing {
 const Missing kMissing[] = {
     {"gridpoint", "the 'gridpoint' command is not available: gridpoints of deformable blocks are held with 'fix' "
                   "and 'bound ...vel', loaded with 'bound', listed with 'print gp' and recorded with 'hist'"},
-    {"define", "FISH ('define' ... 'end') is not available yet: the command language runs, FISH functions do not"},
-    {"config", "'config' is not needed: odec always runs the mechanical model, static or dynamic by 'damp'"},
     {"structure", "structural elements ('structure', cables, bolts, liners) are not available yet"},
     {"cable", "cable elements are not available yet"},
-    {"fish", "FISH is not available yet: the command language runs, FISH functions do not"},
 };
 
 } // namespace
@@ -25,7 +22,6 @@ const Missing kMissing[] = {
 std::string not_yet_available(const std::string& w) {
     if (w.size() < 3 && w != "gp") return "";
     if (w == "gp") return kMissing[0].what;
-    if (w == "def") return kMissing[1].what;
     for (const Missing& m : kMissing) {
         const std::string full = m.word;
         if (w.size() <= full.size() && full.compare(0, w.size(), w) == 0) return m.what;

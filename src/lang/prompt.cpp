@@ -65,7 +65,7 @@ void on_line(char* line) {
     }
     std::string text(line);
     std::free(line);
-    if (Lexer::ends_with_continuation(text)) {
+    if (Lexer::ends_with_continuation(text) || definition_open(g_pending + text)) {
         g_pending += text + "\n";
         rl_set_prompt(kContinuation);
         return;

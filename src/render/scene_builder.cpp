@@ -782,6 +782,7 @@ std::string history_axis_title(HistoryKind k) {
     case HistoryKind::XReaction: return "x reaction (N)";
     case HistoryKind::YReaction: return "y reaction (N)";
     case HistoryKind::ZReaction: return "z reaction (N)";
+    case HistoryKind::Fish: return "FISH value";
     }
     return "value";
 }

@@ -161,11 +161,17 @@ TEST(CommandMeaning, PrintTablesFitA100ColumnTerminal) {
 }
 
 TEST(CommandMeaning, WordsOfMissingFeaturesSayWhatIsMissing) {
-    for (const char* line : {"def f", "gp"}) {
+    for (const char* line : {"gp"}) {
         Session s;
         EXPECT_FALSE(s.run(line));
         EXPECT_NE(s.error().find("is not available"), std::string::npos) << line << "\n" << s.error();
         EXPECT_EQ(s.error().find("unknown command"), std::string::npos) << s.error();
+    }
+    // A FISH definition with no 'end' says so.
+    {
+        Session s;
+        EXPECT_FALSE(s.run("def f\n  x = 1"));
+        EXPECT_NE(s.error().find("has no 'end'"), std::string::npos) << s.error();
     }
     // A plain typo is still unknown, with a suggestion.
     Session s;

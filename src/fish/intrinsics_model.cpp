@@ -1,0 +1,448 @@
+// The model seen from FISH: walks over blocks, contacts, sub-contacts, gridpoints and zones,
+// their quantities, and the model's globals. Units are SI; stresses are tension positive for
+// zones and compression positive for contacts (as `print` shows them); forces on a contact are
+// those on its second block.
+#include <cmath>
+
+#include "engine/blocks.h"
+#include "engine/contact.h"
+#include "engine/cycle.h"
+#include "engine/model.h"
+#include "engine/zones.h"
+#include "fish/intrinsics.h"
+#include "fish/runtime.h"
+
+namespace odec::fish {
+
+namespace {
+
+using A = const Value*;
+using L = const SourceLoc&;
+
+const char* kind_name(PtrKind k) {
+    switch (k) {
+    case PtrKind::Block: return "block";
+    case PtrKind::Contact: return "contact";
+    case PtrKind::Sub: return "sub-contact";
+    case PtrKind::Gridpoint: return "gridpoint";
+    case PtrKind::Zone: return "zone";
+    }
+    return "object";
+}
+
+int count_of(const Model& m, PtrKind k) {
+    switch (k) {
+    case PtrKind::Block: return m.blocks.size();
+    case PtrKind::Contact: return m.contacts.size();
+    case PtrKind::Sub: return m.contacts.n_subs();
+    case PtrKind::Gridpoint: return m.gridpoints.size();
+    case PtrKind::Zone: return m.zones.size();
+    }
+    return 0;
+}
+
+// The index a pointer argument stands for, checked.
+int ptr(Runtime& rt, A a, int i, PtrKind k, const char* fn, L loc) {
+    const Value& v = a[i];
+    if (v.type != Type::Pointer || v.kind != k) {
+        fish_fail(loc, std::string("'") + fn + "' needs a " + kind_name(k) + " pointer, not " +
+                           (v.type == Type::Pointer ? std::string("a ") + kind_name(v.kind) + " pointer" : std::string(type_name(v))),
+                  {v.is_null() ? "the walk has ended: the pointer is 0" : "take it from a walk or a finder"});
+    }
+    if (v.i < 0 || v.i >= count_of(rt.host.model(), k)) {
+        fish_fail(loc, std::string("'") + fn + "': that " + kind_name(k) + " no longer exists",
+                  {"the model changed since the pointer was taken (blocks deleted, contacts refreshed)"});
+    }
+    return static_cast<int>(v.i);
+}
+
+Model& model(Runtime& rt) { return rt.host.model(); }
+
+void ensure_contacts(Model& m) {
+    if (m.geometry_changed || !m.contacts.detected) {
+        refresh_world_vertices(m);
+        detect_contacts(m);
+    }
+}
+
+Value vec(const Vec3& v) { return Value::vector(v); }
+Value num(double x) { return Value::real(x); }
+
+double checked(const Value& v, const char* fn, L loc) {
+    if (!v.is_number() || !std::isfinite(v.number())) fish_fail(loc, std::string("'") + fn + "' takes a finite number");
+    return v.number();
+}
+
+// -- blocks ------------------------------------------------------------------------------------
+Value f_block_head(Runtime& rt, A, int, L) { return model(rt).blocks.size() > 0 ? Value::pointer(PtrKind::Block, 0) : Value::null(); }
+Value f_b_next(Runtime& rt, A a, int, L loc) {
+    const int b = ptr(rt, a, 0, PtrKind::Block, "b_next", loc);
+    return b + 1 < model(rt).blocks.size() ? Value::pointer(PtrKind::Block, b + 1) : Value::null();
+}
+#define BLOCK(fn) const int b = ptr(rt, a, 0, PtrKind::Block, fn, loc); const BlockSet& B = model(rt).blocks; (void)B
+Value f_b_id(Runtime& rt, A a, int, L loc) { BLOCK("b_id"); return Value::integer(B.id[b]); }
+Value f_b_x(Runtime& rt, A a, int, L loc) { BLOCK("b_x"); return num(B.centroid[b].x()); }
+Value f_b_y(Runtime& rt, A a, int, L loc) { BLOCK("b_y"); return num(B.centroid[b].y()); }
+Value f_b_z(Runtime& rt, A a, int, L loc) { BLOCK("b_z"); return num(B.centroid[b].z()); }
+Value f_b_pos(Runtime& rt, A a, int, L loc) { BLOCK("b_pos"); return vec(B.centroid[b]); }
+Value f_b_vol(Runtime& rt, A a, int, L loc) { BLOCK("b_vol"); return num(B.volume[b]); }
+Value f_b_mass(Runtime& rt, A a, int, L loc) { BLOCK("b_mass"); return num(B.mass[b]); }
+Value f_b_region(Runtime& rt, A a, int, L loc) { BLOCK("b_region"); return Value::integer(B.region[b]); }
+Value f_b_mat(Runtime& rt, A a, int, L loc) { BLOCK("b_mat"); return Value::integer(B.material[b]); }
+Value f_b_fix(Runtime& rt, A a, int, L loc) { BLOCK("b_fix"); return Value::integer((B.flags[b] & kFixed) ? 1 : 0); }
+Value f_b_type(Runtime& rt, A a, int, L loc) { BLOCK("b_type"); return Value::integer((B.flags[b] & kDeformable) ? 2 : 1); }
+Value f_b_vel(Runtime& rt, A a, int, L loc) { BLOCK("b_vel"); return vec(velocity_at_t(model(rt), b)); }
+Value f_b_xvel(Runtime& rt, A a, int, L loc) { BLOCK("b_xvel"); return num(velocity_at_t(model(rt), b).x()); }
+Value f_b_yvel(Runtime& rt, A a, int, L loc) { BLOCK("b_yvel"); return num(velocity_at_t(model(rt), b).y()); }
+Value f_b_zvel(Runtime& rt, A a, int, L loc) { BLOCK("b_zvel"); return num(velocity_at_t(model(rt), b).z()); }
+Value f_b_disp(Runtime& rt, A a, int, L loc) { BLOCK("b_disp"); return vec(B.disp[b]); }
+Value f_b_xdis(Runtime& rt, A a, int, L loc) { BLOCK("b_xdis"); return num(B.disp[b].x()); }
+Value f_b_ydis(Runtime& rt, A a, int, L loc) { BLOCK("b_ydis"); return num(B.disp[b].y()); }
+Value f_b_zdis(Runtime& rt, A a, int, L loc) { BLOCK("b_zdis"); return num(B.disp[b].z()); }
+Value f_b_force(Runtime& rt, A a, int, L loc) { BLOCK("b_force"); return vec(B.force[b]); }
+Value f_b_xforce(Runtime& rt, A a, int, L loc) { BLOCK("b_xforce"); return num(B.force[b].x()); }
+Value f_b_yforce(Runtime& rt, A a, int, L loc) { BLOCK("b_yforce"); return num(B.force[b].y()); }
+Value f_b_zforce(Runtime& rt, A a, int, L loc) { BLOCK("b_zforce"); return num(B.force[b].z()); }
+Value f_b_zone(Runtime& rt, A a, int, L loc) {
+    BLOCK("b_zone");
+    const auto& z = rt.block_zones()[static_cast<size_t>(b)];
+    return z.empty() ? Value::null() : Value::pointer(PtrKind::Zone, z.front(), b);
+}
+Value f_b_gp(Runtime& rt, A a, int, L loc) {
+    BLOCK("b_gp");
+    const auto& g = rt.block_gridpoints()[static_cast<size_t>(b)];
+    return g.empty() ? Value::null() : Value::pointer(PtrKind::Gridpoint, g.front(), b);
+}
+Value f_b_near(Runtime& rt, A a, int n, L loc) {
+    const int b = find_block_at(model(rt), point_args(a, n, 0, "b_near", loc));
+    return b < 0 ? Value::null() : Value::pointer(PtrKind::Block, b);
+}
+void set_block_vel(Runtime& rt, A a, const Value& v, int k, const char* fn, L loc) {
+    const int b = ptr(rt, a, 0, PtrKind::Block, fn, loc);
+    Model& m = model(rt);
+    const double x = checked(v, fn, loc);
+    // The velocity given is the velocity at t: keep the stored mid-step velocity consistent.
+    Vec3 now = velocity_at_t(m, b);
+    now[k] = x;
+    m.blocks.vel[b][k] = x;
+    (void)now;
+}
+void s_b_xvel(Runtime& rt, A a, int, const Value& v, L loc) { set_block_vel(rt, a, v, 0, "b_xvel", loc); }
+void s_b_yvel(Runtime& rt, A a, int, const Value& v, L loc) { set_block_vel(rt, a, v, 1, "b_yvel", loc); }
+void s_b_zvel(Runtime& rt, A a, int, const Value& v, L loc) { set_block_vel(rt, a, v, 2, "b_zvel", loc); }
+
+Value extra_get(Runtime& rt, int slot, long long id) {
+    auto it = rt.extras[slot].find(id);
+    return it == rt.extras[slot].end() ? Value::integer(0) : it->second;
+}
+Value f_b_extra(Runtime& rt, A a, int, L loc) { BLOCK("b_extra"); return extra_get(rt, 0, B.id[b]); }
+void s_b_extra(Runtime& rt, A a, int, const Value& v, L loc) { BLOCK("b_extra"); rt.extras[0][B.id[b]] = v; }
+
+// -- contacts ------------------------------------------------------------------------------------
+Value f_contact_head(Runtime& rt, A, int, L) {
+    Model& m = model(rt);
+    ensure_contacts(m);
+    return m.contacts.size() > 0 ? Value::pointer(PtrKind::Contact, 0) : Value::null();
+}
+Value f_c_next(Runtime& rt, A a, int, L loc) {
+    const int c = ptr(rt, a, 0, PtrKind::Contact, "c_next", loc);
+    return c + 1 < model(rt).contacts.size() ? Value::pointer(PtrKind::Contact, c + 1) : Value::null();
+}
+#define CONTACT(fn) const int c = ptr(rt, a, 0, PtrKind::Contact, fn, loc); const ContactSet& C = model(rt).contacts; (void)C
+Value f_c_id(Runtime& rt, A a, int, L loc) { CONTACT("c_id"); return Value::integer(C.id[c]); }
+Value f_c_b1(Runtime& rt, A a, int, L loc) { CONTACT("c_b1"); return Value::pointer(PtrKind::Block, C.block_a[c]); }
+Value f_c_b2(Runtime& rt, A a, int, L loc) { CONTACT("c_b2"); return Value::pointer(PtrKind::Block, C.block_b[c]); }
+Value f_c_type(Runtime& rt, A a, int, L loc) {
+    CONTACT("c_type");
+    const Model& m = model(rt);
+    return Value::integer((is_deformable(m, C.block_a[c]) ? 1 : 0) + (is_deformable(m, C.block_b[c]) ? 1 : 0));
+}
+Value f_c_cx(Runtime& rt, A a, int, L loc) {
+    CONTACT("c_cx");
+    return C.sub_offset[c] < C.sub_offset[c + 1] ? Value::pointer(PtrKind::Sub, C.sub_offset[c], c) : Value::null();
+}
+Value f_c_pos(Runtime& rt, A a, int, L loc) { CONTACT("c_pos"); return vec(contact_info(model(rt), c).centroid); }
+Value f_c_x(Runtime& rt, A a, int, L loc) { CONTACT("c_x"); return num(contact_info(model(rt), c).centroid.x()); }
+Value f_c_y(Runtime& rt, A a, int, L loc) { CONTACT("c_y"); return num(contact_info(model(rt), c).centroid.y()); }
+Value f_c_z(Runtime& rt, A a, int, L loc) { CONTACT("c_z"); return num(contact_info(model(rt), c).centroid.z()); }
+Value f_c_n(Runtime& rt, A a, int, L loc) { CONTACT("c_n"); return vec(C.normal[c]); }
+Value f_c_nx(Runtime& rt, A a, int, L loc) { CONTACT("c_nx"); return num(C.normal[c].x()); }
+Value f_c_ny(Runtime& rt, A a, int, L loc) { CONTACT("c_ny"); return num(C.normal[c].y()); }
+Value f_c_nz(Runtime& rt, A a, int, L loc) { CONTACT("c_nz"); return num(C.normal[c].z()); }
+Value f_c_area(Runtime& rt, A a, int, L loc) { CONTACT("c_area"); return num(contact_info(model(rt), c).area); }
+Value f_c_jmat(Runtime& rt, A a, int, L loc) { CONTACT("c_jmat"); return Value::integer(C.jmat[c]); }
+Value f_c_nforce(Runtime& rt, A a, int, L loc) {
+    CONTACT("c_nforce");
+    double f = 0;
+    for (int k = C.sub_offset[c]; k < C.sub_offset[c + 1]; ++k) f += C.sub_sn[k] * C.sub_area[k];
+    return num(f);
+}
+Value f_c_sforce(Runtime& rt, A a, int, L loc) {
+    CONTACT("c_sforce");
+    Vec3 f = Vec3::Zero();
+    for (int k = C.sub_offset[c]; k < C.sub_offset[c + 1]; ++k) f += C.sub_ss[k] * C.sub_area[k];
+    return vec(f);
+}
+Value f_c_near(Runtime& rt, A a, int n, L loc) {
+    Model& m = model(rt);
+    ensure_contacts(m);
+    const int c = find_contact_at(m, point_args(a, n, 0, "c_near", loc));
+    return c < 0 ? Value::null() : Value::pointer(PtrKind::Contact, c);
+}
+Value f_c_extra(Runtime& rt, A a, int, L loc) { CONTACT("c_extra"); return extra_get(rt, 1, C.id[c]); }
+void s_c_extra(Runtime& rt, A a, int, const Value& v, L loc) { CONTACT("c_extra"); rt.extras[1][C.id[c]] = v; }
+
+// -- sub-contacts ------------------------------------------------------------------------------------
+Value f_cx_next(Runtime& rt, A a, int, L loc) {
+    const int s = ptr(rt, a, 0, PtrKind::Sub, "cx_next", loc);
+    const ContactSet& C = model(rt).contacts;
+    const int c = C.sub_contact[s];
+    return s + 1 < C.sub_offset[c + 1] ? Value::pointer(PtrKind::Sub, s + 1, c) : Value::null();
+}
+#define SUB(fn) const int s = ptr(rt, a, 0, PtrKind::Sub, fn, loc); const ContactSet& C = model(rt).contacts; (void)C
+Value f_cx_pos(Runtime& rt, A a, int, L loc) { SUB("cx_pos"); return vec(sub_point(model(rt), C.sub_contact[s], s)); }
+Value f_cx_area(Runtime& rt, A a, int, L loc) { SUB("cx_area"); return num(C.sub_area[s]); }
+Value f_cx_nforce(Runtime& rt, A a, int, L loc) { SUB("cx_nforce"); return num(C.sub_sn[s] * C.sub_area[s]); }
+Value f_cx_sforce(Runtime& rt, A a, int, L loc) { SUB("cx_sforce"); return vec(C.sub_ss[s] * C.sub_area[s]); }
+Value f_cx_xsforce(Runtime& rt, A a, int, L loc) { SUB("cx_xsforce"); return num(C.sub_ss[s].x() * C.sub_area[s]); }
+Value f_cx_ysforce(Runtime& rt, A a, int, L loc) { SUB("cx_ysforce"); return num(C.sub_ss[s].y() * C.sub_area[s]); }
+Value f_cx_zsforce(Runtime& rt, A a, int, L loc) { SUB("cx_zsforce"); return num(C.sub_ss[s].z() * C.sub_area[s]); }
+Value f_cx_nstress(Runtime& rt, A a, int, L loc) { SUB("cx_nstress"); return num(C.sub_sn[s]); }
+Value f_cx_sstress(Runtime& rt, A a, int, L loc) { SUB("cx_sstress"); return vec(C.sub_ss[s]); }
+Value f_cx_ndis(Runtime& rt, A a, int, L loc) { SUB("cx_ndis"); return num(C.sub_un[s]); }
+Value f_cx_sdis(Runtime& rt, A a, int, L loc) { SUB("cx_sdis"); return num(C.sub_us[s].norm()); }
+Value f_cx_state(Runtime& rt, A a, int, L loc) { SUB("cx_state"); return Value::integer(C.sub_flags[s] & (kSubSlip | kSubOpen | kSubFailed)); }
+
+// -- gridpoints ------------------------------------------------------------------------------------
+Value f_gp_head(Runtime& rt, A, int, L) { return model(rt).gridpoints.size() > 0 ? Value::pointer(PtrKind::Gridpoint, 0) : Value::null(); }
+Value f_gp_next(Runtime& rt, A a, int, L loc) {
+    const int g = ptr(rt, a, 0, PtrKind::Gridpoint, "gp_next", loc);
+    const int scope = a[0].scope;
+    if (scope < 0) return g + 1 < model(rt).gridpoints.size() ? Value::pointer(PtrKind::Gridpoint, g + 1) : Value::null();
+    const auto& lists = rt.block_gridpoints();
+    if (scope >= static_cast<int>(lists.size())) return Value::null();
+    const auto& l = lists[static_cast<size_t>(scope)];
+    const auto it = std::upper_bound(l.begin(), l.end(), g);
+    return it == l.end() ? Value::null() : Value::pointer(PtrKind::Gridpoint, *it, scope);
+}
+#define GP(fn) const int g = ptr(rt, a, 0, PtrKind::Gridpoint, fn, loc); const GridpointSet& G = model(rt).gridpoints; (void)G
+Value f_gp_id(Runtime& rt, A a, int, L loc) { GP("gp_id"); return Value::integer(g + 1); }
+Value f_gp_x(Runtime& rt, A a, int, L loc) { GP("gp_x"); return num(G.pos[g].x()); }
+Value f_gp_y(Runtime& rt, A a, int, L loc) { GP("gp_y"); return num(G.pos[g].y()); }
+Value f_gp_z(Runtime& rt, A a, int, L loc) { GP("gp_z"); return num(G.pos[g].z()); }
+Value f_gp_pos(Runtime& rt, A a, int, L loc) { GP("gp_pos"); return vec(G.pos[g]); }
+Value f_gp_disp(Runtime& rt, A a, int, L loc) { GP("gp_disp"); return vec(G.disp[g]); }
+Value f_gp_xdis(Runtime& rt, A a, int, L loc) { GP("gp_xdis"); return num(G.disp[g].x()); }
+Value f_gp_ydis(Runtime& rt, A a, int, L loc) { GP("gp_ydis"); return num(G.disp[g].y()); }
+Value f_gp_zdis(Runtime& rt, A a, int, L loc) { GP("gp_zdis"); return num(G.disp[g].z()); }
+Value f_gp_vel(Runtime& rt, A a, int, L loc) { GP("gp_vel"); return vec(gridpoint_velocity_at_t(model(rt), g)); }
+Value f_gp_xvel(Runtime& rt, A a, int, L loc) { GP("gp_xvel"); return num(gridpoint_velocity_at_t(model(rt), g).x()); }
+Value f_gp_yvel(Runtime& rt, A a, int, L loc) { GP("gp_yvel"); return num(gridpoint_velocity_at_t(model(rt), g).y()); }
+Value f_gp_zvel(Runtime& rt, A a, int, L loc) { GP("gp_zvel"); return num(gridpoint_velocity_at_t(model(rt), g).z()); }
+Value f_gp_force(Runtime& rt, A a, int, L loc) { GP("gp_force"); return vec(G.force[g]); }
+Value f_gp_xforce(Runtime& rt, A a, int, L loc) { GP("gp_xforce"); return num(G.force[g].x()); }
+Value f_gp_yforce(Runtime& rt, A a, int, L loc) { GP("gp_yforce"); return num(G.force[g].y()); }
+Value f_gp_zforce(Runtime& rt, A a, int, L loc) { GP("gp_zforce"); return num(G.force[g].z()); }
+Value f_gp_mass(Runtime& rt, A a, int, L loc) { GP("gp_mass"); return num(G.mass[g]); }
+Value f_gp_near(Runtime& rt, A a, int n, L loc) {
+    const int g = find_gridpoint_near(model(rt), point_args(a, n, 0, "gp_near", loc));
+    return g < 0 ? Value::null() : Value::pointer(PtrKind::Gridpoint, g);
+}
+Value f_gp_extra(Runtime& rt, A a, int, L loc) { GP("gp_extra"); return extra_get(rt, 2, g); }
+void s_gp_extra(Runtime& rt, A a, int, const Value& v, L loc) { GP("gp_extra"); rt.extras[2][g] = v; }
+
+// -- zones ------------------------------------------------------------------------------------
+Value f_zone_head(Runtime& rt, A, int, L) { return model(rt).zones.size() > 0 ? Value::pointer(PtrKind::Zone, 0) : Value::null(); }
+Value f_z_next(Runtime& rt, A a, int, L loc) {
+    const int z = ptr(rt, a, 0, PtrKind::Zone, "z_next", loc);
+    const int scope = a[0].scope;
+    if (scope < 0) return z + 1 < model(rt).zones.size() ? Value::pointer(PtrKind::Zone, z + 1) : Value::null();
+    const auto& lists = rt.block_zones();
+    if (scope >= static_cast<int>(lists.size())) return Value::null();
+    const auto& l = lists[static_cast<size_t>(scope)];
+    const auto it = std::upper_bound(l.begin(), l.end(), z);
+    return it == l.end() ? Value::null() : Value::pointer(PtrKind::Zone, *it, scope);
+}
+#define ZONE(fn) const int z = ptr(rt, a, 0, PtrKind::Zone, fn, loc); const ZoneSet& Z = model(rt).zones; (void)Z
+Value f_z_id(Runtime& rt, A a, int, L loc) { ZONE("z_id"); return Value::integer(z + 1); }
+Value f_z_sxx(Runtime& rt, A a, int, L loc) { ZONE("z_sxx"); return num(Z.stress[z][0]); }
+Value f_z_syy(Runtime& rt, A a, int, L loc) { ZONE("z_syy"); return num(Z.stress[z][1]); }
+Value f_z_szz(Runtime& rt, A a, int, L loc) { ZONE("z_szz"); return num(Z.stress[z][2]); }
+Value f_z_sxy(Runtime& rt, A a, int, L loc) { ZONE("z_sxy"); return num(Z.stress[z][3]); }
+Value f_z_sxz(Runtime& rt, A a, int, L loc) { ZONE("z_sxz"); return num(Z.stress[z][4]); }
+Value f_z_syz(Runtime& rt, A a, int, L loc) { ZONE("z_syz"); return num(Z.stress[z][5]); }
+Value principal(Runtime& rt, A a, int which, const char* fn, L loc) {
+    ZONE(fn);
+    Vec3 p;
+    principal_stresses(Z.stress[z], p);
+    Vec3 s = p;
+    std::sort(s.data(), s.data() + 3);
+    return num(s[which]);
+}
+Value f_z_sig1(Runtime& rt, A a, int, L loc) { return principal(rt, a, 0, "z_sig1", loc); }
+Value f_z_sig2(Runtime& rt, A a, int, L loc) { return principal(rt, a, 1, "z_sig2", loc); }
+Value f_z_sig3(Runtime& rt, A a, int, L loc) { return principal(rt, a, 2, "z_sig3", loc); }
+Value f_z_vol(Runtime& rt, A a, int, L loc) { ZONE("z_vol"); return num(Z.volume[z]); }
+Value f_z_pos(Runtime& rt, A a, int, L loc) { ZONE("z_pos"); return vec(zone_centroid(model(rt), z)); }
+Value f_z_x(Runtime& rt, A a, int, L loc) { ZONE("z_x"); return num(zone_centroid(model(rt), z).x()); }
+Value f_z_y(Runtime& rt, A a, int, L loc) { ZONE("z_y"); return num(zone_centroid(model(rt), z).y()); }
+Value f_z_z(Runtime& rt, A a, int, L loc) { ZONE("z_z"); return num(zone_centroid(model(rt), z).z()); }
+Value f_z_state(Runtime& rt, A a, int, L loc) { ZONE("z_state"); return Value::integer(Z.state[z]); }
+Value f_z_model(Runtime& rt, A a, int, L loc) { ZONE("z_model"); return Value::integer(Z.model[z]); }
+Value f_z_block(Runtime& rt, A a, int, L loc) { ZONE("z_block"); return Value::pointer(PtrKind::Block, Z.block[z]); }
+Value f_z_gp(Runtime& rt, A a, int, L loc) {
+    ZONE("z_gp");
+    const long long k = int_arg(a, 1, "z_gp", loc);
+    if (k < 1 || k > 4) fish_fail(loc, "'z_gp' takes a corner number 1 to 4, not " + std::to_string(k));
+    return Value::pointer(PtrKind::Gridpoint, Z.gp[z][static_cast<size_t>(k - 1)]);
+}
+Value f_z_near(Runtime& rt, A a, int n, L loc) {
+    const int z = find_zone_at(model(rt), point_args(a, n, 0, "z_near", loc));
+    return z < 0 ? Value::null() : Value::pointer(PtrKind::Zone, z);
+}
+Value f_z_extra(Runtime& rt, A a, int, L loc) { ZONE("z_extra"); return extra_get(rt, 3, z); }
+void s_z_extra(Runtime& rt, A a, int, const Value& v, L loc) { ZONE("z_extra"); rt.extras[3][z] = v; }
+
+// -- globals ------------------------------------------------------------------------------------
+Value f_time(Runtime& rt, A, int, L) { return num(model(rt).time); }
+Value f_ncycle(Runtime& rt, A, int, L) { return Value::integer(model(rt).step); }
+Value f_dt(Runtime& rt, A, int, L) { return num(model(rt).dt); }
+Value f_unbal(Runtime& rt, A, int, L) { return num(max_unbalanced_force(model(rt))); }
+Value f_mech_ratio(Runtime& rt, A, int, L) { return num(unbalanced_ratio(model(rt))); }
+Value f_nblock(Runtime& rt, A, int, L) { return Value::integer(model(rt).blocks.size()); }
+Value f_ncontact(Runtime& rt, A, int, L) {
+    ensure_contacts(model(rt));
+    return Value::integer(model(rt).contacts.size());
+}
+Value f_nzone(Runtime& rt, A, int, L) { return Value::integer(model(rt).zones.size()); }
+Value f_ngp(Runtime& rt, A, int, L) { return Value::integer(model(rt).gridpoints.size()); }
+Value f_gravity(Runtime& rt, A, int, L) { return vec(model(rt).gravity); }
+
+} // namespace
+
+const std::vector<Intrinsic>& model_intrinsics() {
+    static const std::vector<Intrinsic> t = {
+        {"block_head", 0, 0, "", "the first block (0 when there are none)", "block", f_block_head, nullptr},
+        {"b_next", 1, 1, "b", "the block after b (0 after the last)", "block", f_b_next, nullptr},
+        {"b_id", 1, 1, "b", "the block's id, as print and range id show it", "block", f_b_id, nullptr},
+        {"b_x", 1, 1, "b", "x of the block's centroid, m", "block", f_b_x, nullptr},
+        {"b_y", 1, 1, "b", "y of the block's centroid, m", "block", f_b_y, nullptr},
+        {"b_z", 1, 1, "b", "z of the block's centroid, m", "block", f_b_z, nullptr},
+        {"b_pos", 1, 1, "b", "the block's centroid (vector), m", "block", f_b_pos, nullptr},
+        {"b_vol", 1, 1, "b", "the block's volume, m^3", "block", f_b_vol, nullptr},
+        {"b_mass", 1, 1, "b", "the block's mass, kg", "block", f_b_mass, nullptr},
+        {"b_region", 1, 1, "b", "the block's region number", "block", f_b_region, nullptr},
+        {"b_mat", 1, 1, "b", "the block's material number", "block", f_b_mat, nullptr},
+        {"b_fix", 1, 1, "b", "1 when the block is fixed, else 0", "block", f_b_fix, nullptr},
+        {"b_type", 1, 1, "b", "1 rigid, 2 deformable (zoned)", "block", f_b_type, nullptr},
+        {"b_vel", 1, 1, "b", "velocity of the centroid (vector), m/s", "block", f_b_vel, nullptr},
+        {"b_xvel", 1, 1, "b", "x velocity of the centroid, m/s (assignable)", "block", f_b_xvel, s_b_xvel},
+        {"b_yvel", 1, 1, "b", "y velocity of the centroid, m/s (assignable)", "block", f_b_yvel, s_b_yvel},
+        {"b_zvel", 1, 1, "b", "z velocity of the centroid, m/s (assignable)", "block", f_b_zvel, s_b_zvel},
+        {"b_disp", 1, 1, "b", "displacement of the centroid since 'reset disp' (vector), m", "block", f_b_disp, nullptr},
+        {"b_xdis", 1, 1, "b", "x displacement of the centroid, m", "block", f_b_xdis, nullptr},
+        {"b_ydis", 1, 1, "b", "y displacement of the centroid, m", "block", f_b_ydis, nullptr},
+        {"b_zdis", 1, 1, "b", "z displacement of the centroid, m", "block", f_b_zdis, nullptr},
+        {"b_force", 1, 1, "b", "unbalanced force on the block in the last step (vector), N", "block", f_b_force, nullptr},
+        {"b_xforce", 1, 1, "b", "x unbalanced force on the block, N", "block", f_b_xforce, nullptr},
+        {"b_yforce", 1, 1, "b", "y unbalanced force on the block, N", "block", f_b_yforce, nullptr},
+        {"b_zforce", 1, 1, "b", "z unbalanced force on the block, N", "block", f_b_zforce, nullptr},
+        {"b_zone", 1, 1, "b", "the block's first zone (0 for a rigid block); z_next walks the block's zones", "block", f_b_zone, nullptr},
+        {"b_gp", 1, 1, "b", "the block's first gridpoint (0 for a rigid block); gp_next walks the block's gridpoints", "block", f_b_gp, nullptr},
+        {"b_near", 1, 3, "x,y,z | v", "the block containing the point, or the nearest", "block", f_b_near, nullptr},
+        {"b_extra", 1, 1, "b", "a value the script stored with the block (assignable; 0 until then)", "block", f_b_extra, s_b_extra},
+        {"contact_head", 0, 0, "", "the first contact (0 when there are none); contacts are found first if the model changed", "contact", f_contact_head, nullptr},
+        {"c_next", 1, 1, "c", "the contact after c (0 after the last)", "contact", f_c_next, nullptr},
+        {"c_id", 1, 1, "c", "the contact's id, as print contact shows it", "contact", f_c_id, nullptr},
+        {"c_b1", 1, 1, "c", "the contact's first block", "contact", f_c_b1, nullptr},
+        {"c_b2", 1, 1, "c", "the contact's second block (the normal points from b1 to b2)", "contact", f_c_b2, nullptr},
+        {"c_type", 1, 1, "c", "0 between rigid blocks, 1 rigid and deformable, 2 between deformable blocks", "contact", f_c_type, nullptr},
+        {"c_cx", 1, 1, "c", "the contact's first sub-contact; cx_next walks them", "contact", f_c_cx, nullptr},
+        {"c_pos", 1, 1, "c", "area centroid of the contact (vector), m", "contact", f_c_pos, nullptr},
+        {"c_x", 1, 1, "c", "x of the contact's centroid, m", "contact", f_c_x, nullptr},
+        {"c_y", 1, 1, "c", "y of the contact's centroid, m", "contact", f_c_y, nullptr},
+        {"c_z", 1, 1, "c", "z of the contact's centroid, m", "contact", f_c_z, nullptr},
+        {"c_n", 1, 1, "c", "unit normal of the common plane, from b1 to b2 (vector)", "contact", f_c_n, nullptr},
+        {"c_nx", 1, 1, "c", "x component of the contact's unit normal", "contact", f_c_nx, nullptr},
+        {"c_ny", 1, 1, "c", "y component of the contact's unit normal", "contact", f_c_ny, nullptr},
+        {"c_nz", 1, 1, "c", "z component of the contact's unit normal", "contact", f_c_nz, nullptr},
+        {"c_area", 1, 1, "c", "contact area, m^2", "contact", f_c_area, nullptr},
+        {"c_jmat", 1, 1, "c", "the contact's joint material number", "contact", f_c_jmat, nullptr},
+        {"c_nforce", 1, 1, "c", "normal force, compression positive, N", "contact", f_c_nforce, nullptr},
+        {"c_sforce", 1, 1, "c", "shear force on b2 (vector), N", "contact", f_c_sforce, nullptr},
+        {"c_near", 1, 3, "x,y,z | v", "the contact nearest the point", "contact", f_c_near, nullptr},
+        {"c_extra", 1, 1, "c", "a value the script stored with the contact (assignable; 0 until then)", "contact", f_c_extra, s_c_extra},
+        {"cx_next", 1, 1, "s", "the next sub-contact of the same contact (0 after the last)", "contact", f_cx_next, nullptr},
+        {"cx_pos", 1, 1, "s", "position of the sub-contact (vector), m", "contact", f_cx_pos, nullptr},
+        {"cx_area", 1, 1, "s", "area of the sub-contact, m^2", "contact", f_cx_area, nullptr},
+        {"cx_nforce", 1, 1, "s", "normal force, compression positive, N", "contact", f_cx_nforce, nullptr},
+        {"cx_sforce", 1, 1, "s", "shear force on the second block (vector), N", "contact", f_cx_sforce, nullptr},
+        {"cx_xsforce", 1, 1, "s", "x component of the shear force, N", "contact", f_cx_xsforce, nullptr},
+        {"cx_ysforce", 1, 1, "s", "y component of the shear force, N", "contact", f_cx_ysforce, nullptr},
+        {"cx_zsforce", 1, 1, "s", "z component of the shear force, N", "contact", f_cx_zsforce, nullptr},
+        {"cx_nstress", 1, 1, "s", "normal stress, compression positive, Pa", "contact", f_cx_nstress, nullptr},
+        {"cx_sstress", 1, 1, "s", "shear stress on the second block (vector), Pa", "contact", f_cx_sstress, nullptr},
+        {"cx_ndis", 1, 1, "s", "normal closure, compression positive, m", "contact", f_cx_ndis, nullptr},
+        {"cx_sdis", 1, 1, "s", "magnitude of the shear displacement, m", "contact", f_cx_sdis, nullptr},
+        {"cx_state", 1, 1, "s", "state bits: 1 slipping, 2 open, 4 failed (0 elastic)", "contact", f_cx_state, nullptr},
+        {"gp_head", 0, 0, "", "the first gridpoint of the model (0 when none)", "gridpoint", f_gp_head, nullptr},
+        {"gp_next", 1, 1, "g", "the next gridpoint: of the same block after b_gp, of the model after gp_head", "gridpoint", f_gp_next, nullptr},
+        {"gp_id", 1, 1, "g", "the gridpoint's number, as print gp shows it", "gridpoint", f_gp_id, nullptr},
+        {"gp_x", 1, 1, "g", "x of the gridpoint, m", "gridpoint", f_gp_x, nullptr},
+        {"gp_y", 1, 1, "g", "y of the gridpoint, m", "gridpoint", f_gp_y, nullptr},
+        {"gp_z", 1, 1, "g", "z of the gridpoint, m", "gridpoint", f_gp_z, nullptr},
+        {"gp_pos", 1, 1, "g", "position of the gridpoint (vector), m", "gridpoint", f_gp_pos, nullptr},
+        {"gp_disp", 1, 1, "g", "displacement since 'reset disp' (vector), m", "gridpoint", f_gp_disp, nullptr},
+        {"gp_xdis", 1, 1, "g", "x displacement, m", "gridpoint", f_gp_xdis, nullptr},
+        {"gp_ydis", 1, 1, "g", "y displacement, m", "gridpoint", f_gp_ydis, nullptr},
+        {"gp_zdis", 1, 1, "g", "z displacement, m", "gridpoint", f_gp_zdis, nullptr},
+        {"gp_vel", 1, 1, "g", "velocity (vector), m/s", "gridpoint", f_gp_vel, nullptr},
+        {"gp_xvel", 1, 1, "g", "x velocity, m/s", "gridpoint", f_gp_xvel, nullptr},
+        {"gp_yvel", 1, 1, "g", "y velocity, m/s", "gridpoint", f_gp_yvel, nullptr},
+        {"gp_zvel", 1, 1, "g", "z velocity, m/s", "gridpoint", f_gp_zvel, nullptr},
+        {"gp_force", 1, 1, "g", "unbalanced force (vector), N", "gridpoint", f_gp_force, nullptr},
+        {"gp_xforce", 1, 1, "g", "x unbalanced force, N", "gridpoint", f_gp_xforce, nullptr},
+        {"gp_yforce", 1, 1, "g", "y unbalanced force, N", "gridpoint", f_gp_yforce, nullptr},
+        {"gp_zforce", 1, 1, "g", "z unbalanced force, N", "gridpoint", f_gp_zforce, nullptr},
+        {"gp_mass", 1, 1, "g", "mass of the gridpoint, kg", "gridpoint", f_gp_mass, nullptr},
+        {"gp_near", 1, 3, "x,y,z | v", "the gridpoint nearest the point (0 when there are none)", "gridpoint", f_gp_near, nullptr},
+        {"gp_extra", 1, 1, "g", "a value the script stored with the gridpoint (assignable)", "gridpoint", f_gp_extra, s_gp_extra},
+        {"zone_head", 0, 0, "", "the first zone of the model (0 when none)", "zone", f_zone_head, nullptr},
+        {"z_next", 1, 1, "z", "the next zone: of the same block after b_zone, of the model after zone_head", "zone", f_z_next, nullptr},
+        {"z_id", 1, 1, "z", "the zone's number, as print zone shows it", "zone", f_z_id, nullptr},
+        {"z_sxx", 1, 1, "z", "stress xx, Pa, tension positive", "zone", f_z_sxx, nullptr},
+        {"z_syy", 1, 1, "z", "stress yy, Pa, tension positive", "zone", f_z_syy, nullptr},
+        {"z_szz", 1, 1, "z", "stress zz, Pa, tension positive", "zone", f_z_szz, nullptr},
+        {"z_sxy", 1, 1, "z", "stress xy, Pa", "zone", f_z_sxy, nullptr},
+        {"z_sxz", 1, 1, "z", "stress xz, Pa", "zone", f_z_sxz, nullptr},
+        {"z_syz", 1, 1, "z", "stress yz, Pa", "zone", f_z_syz, nullptr},
+        {"z_sig1", 1, 1, "z", "smallest (most compressive) principal stress, Pa, tension positive", "zone", f_z_sig1, nullptr},
+        {"z_sig2", 1, 1, "z", "intermediate principal stress, Pa", "zone", f_z_sig2, nullptr},
+        {"z_sig3", 1, 1, "z", "largest principal stress, Pa, tension positive", "zone", f_z_sig3, nullptr},
+        {"z_vol", 1, 1, "z", "volume of the zone, m^3", "zone", f_z_vol, nullptr},
+        {"z_pos", 1, 1, "z", "centroid of the zone (vector), m", "zone", f_z_pos, nullptr},
+        {"z_x", 1, 1, "z", "x of the zone's centroid, m", "zone", f_z_x, nullptr},
+        {"z_y", 1, 1, "z", "y of the zone's centroid, m", "zone", f_z_y, nullptr},
+        {"z_z", 1, 1, "z", "z of the zone's centroid, m", "zone", f_z_z, nullptr},
+        {"z_state", 1, 1, "z", "plastic state bits: 1 shear now, 2 tension now, 4 shear past, 8 tension past", "zone", f_z_state, nullptr},
+        {"z_model", 1, 1, "z", "zone model: 0 null, 1 elastic, 2 Mohr-Coulomb", "zone", f_z_model, nullptr},
+        {"z_block", 1, 1, "z", "the block the zone belongs to", "zone", f_z_block, nullptr},
+        {"z_gp", 2, 2, "z,i", "corner i (1 to 4) of the zone: a gridpoint", "zone", f_z_gp, nullptr},
+        {"z_near", 1, 3, "x,y,z | v", "the zone containing the point, or the nearest", "zone", f_z_near, nullptr},
+        {"z_extra", 1, 1, "z", "a value the script stored with the zone (assignable)", "zone", f_z_extra, s_z_extra},
+        {"time", 0, 0, "", "model time, s", "model", f_time, nullptr},
+        {"ncycle", 0, 0, "", "steps taken since 'new'", "model", f_ncycle, nullptr},
+        {"step", 0, 0, "", "steps taken since 'new' (as ncycle)", "model", f_ncycle, nullptr},
+        {"dt", 0, 0, "", "the timestep in use, s", "model", f_dt, nullptr},
+        {"unbal", 0, 0, "", "largest unbalanced force, N", "model", f_unbal, nullptr},
+        {"mech_ratio", 0, 0, "", "mean unbalanced-force ratio", "model", f_mech_ratio, nullptr},
+        {"nblock", 0, 0, "", "number of blocks", "model", f_nblock, nullptr},
+        {"ncontact", 0, 0, "", "number of contacts", "model", f_ncontact, nullptr},
+        {"nzone", 0, 0, "", "number of zones", "model", f_nzone, nullptr},
+        {"ngp", 0, 0, "", "number of gridpoints", "model", f_ngp, nullptr},
+        {"gravity", 0, 0, "", "gravity (vector), m/s^2", "model", f_gravity, nullptr},
+    };
+    return t;
+}
+
+} // namespace odec::fish
