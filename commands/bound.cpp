@@ -1,5 +1,9 @@
 #include "commands.h"
 #include "common.h"
+#include "engine/blocks.h"
+#include "engine/polyhedron.h"
+
+#include <cmath>
 #include "engine/zones.h"
 
 namespace odec {
@@ -15,7 +19,7 @@ const CommandSpec& bound_command() {
         c.keyword("yload", 2, "apply a force fy, N, to each block").real("fy");
         c.keyword("zload", 2, "apply a force fz, N, to each block").real("fz");
         c.keyword("stress", 3, "apply the traction of this stress tensor (Pa, tension positive) on the "
-                               "boundary faces of deformable blocks")
+                               "boundary faces (of rigid blocks: as a force at the centroid)")
             .real("sxx").real("syy").real("szz").real("sxy").real("sxz").real("syz");
         c.keyword("xgrad", 2, "with 'stress': its change per metre of x, Pa/m")
             .real("gxx").real("gyy").real("gzz").real("gxy").real("gxz").real("gyz");
@@ -54,11 +58,6 @@ const CommandSpec& bound_command() {
                     fail(a.find(gk)->loc, std::string("'") + gk + "' goes with 'stress'", {}, "boundary");
                 }
             }
-            if (a.has("stress") && m.zones.size() == 0) {
-                fail(a.find("stress")->loc, "'bound stress' acts on deformable blocks, and there are none",
-                     {"divide blocks into zones first with 'gen edge e'; rigid blocks take forces ('bound xload ...')"},
-                     "boundary");
-            }
             if (a.has("history") && !any_vel) {
                 fail(a.find("history")->loc, "'hist table n' goes with a velocity", {}, "boundary");
             }
@@ -96,8 +95,39 @@ const CommandSpec& bound_command() {
                     }
                     return s;
                 };
-                const int n = apply_boundary_stress(m, a.range, six("stress"), six("xgrad"), six("ygrad"), six("zgrad"));
-                if (n == 0) warn(ctx, a.find("stress")->loc, "the range selects no boundary face of a deformable block, nothing loaded");
+                const Sym6 st = six("stress"), gx = six("xgrad"), gy = six("ygrad"), gz = six("zgrad");
+                int n = m.zones.size() > 0 ? apply_boundary_stress(m, a.range, st, gx, gy, gz) : 0;
+                // Rigid blocks: the traction on each free face whose centroid the range contains,
+                // summed into a force at the block's centroid (as 'bound xload'; its moment about the
+                // centroid is not applied).
+                refresh_world_vertices(m);
+                for (int b = 0; b < s.size(); ++b) {
+                    if (s.flags[b] & (kDeformable | kExcavated)) continue;
+                    const Polyhedron w = world_shape(m, b);
+                    for (int f = 0; f < w.n_faces(); ++f) {
+                        Vec3 c = Vec3::Zero();
+                        for (int k = 0; k < w.face_size(f); ++k) c += w.vertices[w.face_vertex(f, k)];
+                        c /= w.face_size(f);
+                        if (!a.range.contains_point(m, c, b)) continue;
+                        const Vec3 nrm = w.face_normal(f);
+                        // A face against another block is no boundary.
+                        const Vec3 probe = c + nrm * 1e-6 * std::max(1e-3, std::cbrt(s.volume[b]));
+                        bool covered = false;
+                        for (int o = 0; o < s.size() && !covered; ++o) {
+                            if (o == b || (s.flags[o] & kExcavated)) continue;
+                            if ((s.centroid[o] - probe).norm() > 4 * std::cbrt(s.volume[o]) + 4 * std::cbrt(s.volume[b])) continue;
+                            covered = contains_point(world_shape(m, o), probe, 0);
+                        }
+                        if (covered) continue;
+                        Sym6 sg;
+                        for (int i = 0; i < 6; ++i) sg[i] = st[i] + gx[i] * c.x() + gy[i] * c.y() + gz[i] * c.z();
+                        Mat3 sig;
+                        sig << sg[0], sg[3], sg[4], sg[3], sg[1], sg[5], sg[4], sg[5], sg[2];
+                        s.applied_force[b] += sig * nrm * w.face_area(f);
+                        ++n;
+                    }
+                }
+                if (n == 0) warn(ctx, a.find("stress")->loc, "the range selects no boundary face, nothing loaded");
                 if (!ctx.interp.quiet) ctx.out << n << " boundary faces loaded\n";
             }
             if (!gps.empty()) m.geometry_changed = true;

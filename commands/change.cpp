@@ -29,7 +29,14 @@ const CommandSpec& change_command() {
                 fail(a.loc, "'change' needs 'mat=n', 'cons=c', 'jmat=n' or 'jcons=j'", {}, "change");
             }
             if (a.has("jmat") || a.has("jcons")) {
-                const int jmat = a.has("jmat") ? defined_joint_material(m, a, "change") : 0;
+                // As in 3DEC, a joint material may be assigned before its properties are given
+                // (they are read when the model cycles); say so, the command goes on.
+                const int jmat = a.has("jmat") ? a.integer("jmat") : 0;
+                if (a.has("jmat") && !(jmat < static_cast<int>(m.joint_materials.size()) && m.joint_materials[jmat].defined)) {
+                    warn(ctx, a.find("jmat")->loc, "joint material " + std::to_string(jmat) +
+                                                       " has no properties yet: give them ('prop jmat=" + std::to_string(jmat) +
+                                                       " jkn ... jks ...') before the model cycles");
+                }
                 const int jcons = a.has("jcons") ? a.integer("jcons") : 0;
                 // Contacts are found first when the model has not cycled since it changed.
                 refresh_world_vertices(m);

@@ -1,5 +1,6 @@
 #include "commands.h"
 #include "common.h"
+#include "fish/help.h"
 #include "lang/help.h"
 
 namespace odec {
@@ -21,6 +22,18 @@ const CommandSpec& help_command_spec() {
             for (char& ch : w) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
             if (w == "range") {
                 ctx.out << help_range();
+                return;
+            }
+            if (w == "fish") {
+                if (a.positional.size() == 1) {
+                    ctx.out << fish::help_overview();
+                    return;
+                }
+                std::string k = a.positional[1].text;
+                for (char& ch : k) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+                const std::string h = fish::help_intrinsic(k);
+                if (h.empty()) fail(a.positional[1].loc, "'" + a.positional[1].text + "' is no FISH intrinsic", {"'help fish' lists them"});
+                ctx.out << h;
                 return;
             }
             std::vector<std::string> cand;

@@ -21,6 +21,7 @@ struct BlockQuantity {
 const BlockQuantity kBlockQuantities[] = {
     {"xdisplacement", HistoryKind::XDis}, {"ydisplacement", HistoryKind::YDis}, {"zdisplacement", HistoryKind::ZDis},
     {"xvelocity", HistoryKind::XVel},     {"yvelocity", HistoryKind::YVel},     {"zvelocity", HistoryKind::ZVel},
+    {"xacceleration", HistoryKind::XAcc}, {"yacceleration", HistoryKind::YAcc}, {"zacceleration", HistoryKind::ZAcc},
 };
 
 
@@ -32,12 +33,13 @@ const CommandSpec& hist_command() {
         c.keyword("unbalanced", 2, "largest unbalanced force on a block, N").in_choice(1);
         c.keyword("ratio", 2, "mean unbalanced-force ratio").in_choice(1);
         c.keyword("time", 2, "model time, s").in_choice(1);
+        c.keyword("damp", 4, "mass-proportional damping coefficient in use ('damp auto' or 'damp ... mass'), 1/s; 0 with local damping or none").in_choice(1);
         c.keyword("step", 2, "step number").in_choice(1);
         for (const BlockQuantity& q : kBlockQuantities) {
             const std::string n = q.name;
-            const bool dis = n[1] == 'd';
-            c.keyword(n, 4, std::string(dis ? "displacement " : "velocity ") + n[0] +
-                                " component of the block containing or nearest the point, " + (dis ? "m" : "m/s"))
+            const bool dis = n[1] == 'd', acc = n[1] == 'a';
+            c.keyword(n, 4, std::string(dis ? "displacement " : acc ? "acceleration " : "velocity ") + n[0] +
+                                " component of the block containing or nearest the point, " + (dis ? "m" : acc ? "m/s^2" : "m/s"))
                 .vec("x,y,z")
                 .in_choice(1);
         }
@@ -55,6 +57,8 @@ const CommandSpec& hist_command() {
         c.keyword("sstress", 2, "shear stress of the contact nearest the point (or the one given by contact), Pa").vec("x,y,z").optional().in_choice(1);
         c.keyword("ndis", 2, "normal closure of the contact nearest the point (or the one given by contact), m").vec("x,y,z").optional().in_choice(1);
         c.keyword("sdis", 2, "shear displacement of the contact nearest the point (or the one given by contact), m").vec("x,y,z").optional().in_choice(1);
+        c.keyword("nf_sum", 4, "total normal force of the contact nearest the point (or the one given by contact), N (compression positive)").vec("x,y,z").optional().in_choice(1);
+        c.keyword("sf_sum", 4, "magnitude of the total shear force of the contact nearest the point (or the one given by contact), N").vec("x,y,z").optional().in_choice(1);
         c.keyword("fish", 4, "the value of a FISH variable or function (also written 'hist @name'), in its own unit")
             .word("name")
             .in_choice(1);
@@ -80,8 +84,9 @@ const CommandSpec& hist_command() {
             Model& m = ctx.model;
             HistorySet& hs = m.histories;
             const std::string what = a.chosen(1);
-            if (a.has("contact") && what != "nstress" && what != "sstress" && what != "ndis" && what != "sdis") {
-                fail(a.find("contact")->loc, "'contact' goes with a contact quantity: nstress, sstress, ndis or sdis", {}, "history");
+            if (a.has("contact") && what != "nstress" && what != "sstress" && what != "ndis" && what != "sdis" &&
+                what != "nf_sum" && what != "sf_sum") {
+                fail(a.find("contact")->loc, "'contact' goes with a contact quantity: nstress, sstress, ndis, sdis, nf_sum or sf_sum", {}, "history");
             }
             if ((a.has("vs") || a.has("file")) && what != "write") {
                 const KeywordUse* u = a.has("vs") ? a.find("vs") : a.find("file");
@@ -123,6 +128,7 @@ const CommandSpec& hist_command() {
             else if (what == "ratio") h.kind = HistoryKind::Ratio;
             else if (what == "time") h.kind = HistoryKind::Time;
             else if (what == "step") h.kind = HistoryKind::Step;
+            else if (what == "damp") h.kind = HistoryKind::Damp;
             else if (what == "fish") {
                 h.kind = HistoryKind::Fish;
                 const Value& v = a.find("fish")->values[0];
@@ -185,7 +191,8 @@ const CommandSpec& hist_command() {
             }
             const struct { const char* name; HistoryKind kind; } contact_quantities[] = {
                 {"nstress", HistoryKind::NStress}, {"sstress", HistoryKind::SStress},
-                {"ndis", HistoryKind::NDis}, {"sdis", HistoryKind::SDis}};
+                {"ndis", HistoryKind::NDis}, {"sdis", HistoryKind::SDis},
+                {"nf_sum", HistoryKind::NForce}, {"sf_sum", HistoryKind::SForce}};
             for (const auto& q : contact_quantities) {
                 if (what != q.name) continue;
                 h.kind = q.kind;

@@ -1,5 +1,7 @@
 #include "commands.h"
 #include "common.h"
+#include "engine/blocks.h"
+#include "engine/contact.h"
 #include "engine/contact.h"
 #include "engine/zones.h"
 
@@ -30,10 +32,6 @@ const CommandSpec& insitu_command() {
             if (!a.has("stress") && !a.has("xgrad") && !a.has("ygrad") && !a.has("zgrad")) {
                 fail(a.loc, "'insitu' needs 'stress sxx syy szz sxy sxz syz'", {}, "insitu");
             }
-            if (m.zones.size() == 0) {
-                fail(a.loc, "'insitu' sets zone stresses, and there are no zones: rigid blocks carry no stress",
-                     {"divide blocks into zones first with 'gen edge e'"}, "insitu");
-            }
             auto six = [&](const char* k) {
                 Sym6 s = {0, 0, 0, 0, 0, 0};
                 if (const KeywordUse* u = a.find(k)) {
@@ -41,7 +39,20 @@ const CommandSpec& insitu_command() {
                 }
                 return s;
             };
-            // Zones first: a range that selects no zone leaves the contacts alone too.
+            // Zones first: a range that selects no zone leaves the contacts alone too. A model of
+            // rigid blocks only takes the stress on its joints (3DEC does the same).
+            if (m.zones.size() == 0) {
+                refresh_world_vertices(m);
+                detect_contacts(m);
+                const int nc = set_insitu_contact_stress(m, a.range, six("stress"), six("xgrad"), six("ygrad"), six("zgrad"));
+                if (nc == 0) {
+                    fail(a.loc, "there are no zones and the range selects no contact: nothing would take the stress",
+                         {"rigid blocks carry stress only on their joints; divide blocks into zones with 'gen edge e'"},
+                         "insitu");
+                }
+                if (!ctx.interp.quiet) ctx.out << "0 zones (rigid blocks) and " << nc << " contacts set\n";
+                return;
+            }
             const int n = set_insitu_stress(m, a.range, six("stress"), six("xgrad"), six("ygrad"), six("zgrad"));
             if (n == 0) {
                 fail(a.loc, "the range selects no zone", {"zones are selected by their centroid; rigid blocks have none"},

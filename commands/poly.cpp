@@ -29,44 +29,60 @@ double tolerance_for(const std::vector<Vec3>& pts) {
     return 1e-6 * std::max(1e-3, (hi - lo).norm());
 }
 
+// A looser tolerance for coordinates written with few digits: scripts exported by other
+// programs round each coordinate to 5 to 7 significant digits, so a vertex may be off its
+// face's plane by a few units of the last digit of the largest coordinate.
+double rounding_tolerance_for(const std::vector<Vec3>& pts) {
+    double big = 0;
+    for (const Vec3& p : pts) big = std::max(big, p.cwiseAbs().maxCoeff());
+    return std::max(tolerance_for(pts), 2e-5 * big);
+}
+
 // Input that is convex only nearly (a voussoir whose curved face was given as a polygon,
 // coordinates rounded to a few digits) is taken as the convex hull of its vertices when no
 // vertex lies deeper inside that hull than this fraction of the block's size.
 constexpr double kHullDepthFraction = 0.02;
 
-// The convex hull of the points, and how far the deepest point lies inside its surface (m).
-bool hull_of(const std::vector<Vec3>& pts, double tol, Polyhedron& p, double& depth, std::string& error) {
-    if (!make_convex_hull(pts, tol, p, error)) return false;
-    depth = 0;
-    for (const Vec3& x : pts) {
-        double inside = std::numeric_limits<double>::infinity();
-        for (int f = 0; f < p.n_faces(); ++f) {
-            const Vec3 n = p.face_normal(f);
-            inside = std::min(inside, n.dot(p.vertices[p.face_vertex(f, 0)] - x));
+// The volume a solid given by its faces encloses (m^3): each face, turned to face away from
+// `centre`, adds the cone from the origin to it (the divergence theorem). Exact for a closed
+// solid that is star-shaped about `centre`, as nearly convex input is.
+double enclosed_volume(const std::vector<std::vector<Vec3>>& faces, const Vec3& centre) {
+    double v = 0;
+    for (const auto& f : faces) {
+        Vec3 area = Vec3::Zero(), mid = Vec3::Zero();
+        for (size_t k = 0; k < f.size(); ++k) {
+            area += 0.5 * f[k].cross(f[(k + 1) % f.size()]);
+            mid += f[k];
         }
-        depth = std::max(depth, inside);
+        mid /= static_cast<double>(f.size());
+        const double sign = area.dot(mid - centre) >= 0 ? 1.0 : -1.0;
+        v += sign * mid.dot(area) / 3.0;
     }
-    return true;
+    return v;
 }
 
-// Replace a failed build by the hull when the input is nearly convex; say so. False when the
-// input is too far from convex (the original error stands).
-bool accept_hull(CommandContext& ctx, const std::vector<Vec3>& all, const std::string& what, Polyhedron& p) {
+// Replace a build that failed on convexity by the convex hull of the vertices when the hull
+// adds little: at most this fraction of its volume (a voussoir whose curved face was given
+// as a polygon adds about 1 %). Says how much it added. False (the original error stands)
+// when the input is further from convex.
+constexpr double kHullAddedFraction = 0.05;
+
+bool accept_hull(CommandContext& ctx, const std::vector<std::vector<Vec3>>& faces, const std::vector<Vec3>& all,
+                 const std::string& what, Polyhedron& p) {
     Polyhedron hull;
-    double depth = 0;
     std::string error;
-    const double tol = tolerance_for(all);
-    if (!hull_of(all, tol, hull, depth, error)) return false;
-    Vec3 lo, hi;
-    hull.bounds(lo, hi);
-    const double size = (hi - lo).norm();
-    if (depth > kHullDepthFraction * size) return false;
+    if (!make_convex_hull(all, tolerance_for(all), hull, error)) return false;
+    const MassProperties mp = mass_properties(hull);
+    const double given = enclosed_volume(faces, mp.centroid);
+    const double added = mp.volume - given;
+    if (!(given > 0) || added > kHullAddedFraction * mp.volume) return false;
     p = std::move(hull);
-    if (!ctx.interp.quiet) {
-        char buf[200];
-        std::snprintf(buf, sizeof buf, "%.3g m (%.2g %% of the block's size)", depth, 100.0 * depth / size);
-        ctx.interp.err << "warning: " << what << ": taken as the convex hull of its vertices; the deepest vertex lies "
-                       << buf << " inside it\n";
+    {
+        char buf[240];
+        std::snprintf(buf, sizeof buf, "%.3g m^3 (%.2g %% of its volume)", std::max(added, 0.0),
+                      100.0 * std::max(added, 0.0) / mp.volume);
+        ctx.interp.err << "warning: " << what << ": the block is taken as the convex hull of its vertices, which adds "
+                       << buf << "\n";
     }
     return true;
 }
@@ -297,22 +313,26 @@ const CommandSpec& poly_command() {
                 std::vector<Vec3> all = pa;
                 all.insert(all.end(), pb.begin(), pb.end());
                 // Ends that are not translated copies (a tapered or skewed prism) make the convex
-                // hull of the two polygons, as 3DEC does.
-                if (!make_prism(pa, pb, tolerance_for(all), p, error)) {
+                // hull of the two polygons, as 3DEC does, when that hull has the two as faces.
+                if (!make_prism(pa, pb, tolerance_for(all), p, error) &&
+                    !make_prism(pa, pb, rounding_tolerance_for(all), p, error)) {
                     Polyhedron hull;
-                    double depth = 0;
                     std::string hull_error;
-                    if (!hull_of(all, tolerance_for(all), hull, depth, hull_error)) fail(a.find("a")->loc, error, {}, "poly");
-                    Vec3 lo, hi;
-                    hull.bounds(lo, hi);
-                    if (depth > tolerance_for(all) && depth > kHullDepthFraction * (hi - lo).norm()) {
-                        fail(a.find("a")->loc, "prism: the two polygons do not make a convex solid (a vertex lies " +
-                                                   num(depth) + " m inside the hull of the others)",
-                             {"polygon a and polygon b must be faces of one convex solid"}, "poly");
-                    }
-                    if (depth > tolerance_for(all) && !ctx.interp.quiet) {
-                        ctx.interp.err << "warning: prism: taken as the convex hull of its two polygons; the deepest "
-                                          "vertex lies " << num(depth) << " m inside it\n";
+                    if (!make_convex_hull(all, tolerance_for(all), hull, hull_error)) fail(a.find("a")->loc, error, {}, "poly");
+                    // Every vertex of both polygons must lie on the hull's surface (a vertex inside
+                    // it means the two polygons do not bound one convex solid).
+                    const double tol = rounding_tolerance_for(all);
+                    for (const Vec3& x : all) {
+                        double inside = std::numeric_limits<double>::infinity();
+                        for (int f = 0; f < hull.n_faces(); ++f) {
+                            inside = std::min(inside, hull.face_normal(f).dot(hull.vertices[hull.face_vertex(f, 0)] - x));
+                        }
+                        if (inside > tol) {
+                            fail(a.find("a")->loc, "prism: polygons a and b are not the two ends of a convex solid: "
+                                                   "the vertex " + vec_text(x) + " lies " + num(inside) +
+                                                   " m inside the hull of the others",
+                                 {"list each end's vertices in order around it; the two ends may differ in shape"}, "poly");
+                        }
                     }
                     p = std::move(hull);
                 }
@@ -329,7 +349,8 @@ const CommandSpec& poly_command() {
                     }
                 }
                 if (!make_from_faces(faces, tolerance_for(all), p, error) &&
-                    !(error.find("convex") != std::string::npos && accept_hull(ctx, all, "the faces given are not convex", p))) {
+                    !make_from_faces(faces, rounding_tolerance_for(all), p, error) &&
+                    !(error.find("convex") != std::string::npos && accept_hull(ctx, faces, all, "the faces given are not convex", p))) {
                     // The message names the face by its number; point at that 'face' keyword.
                     const auto uses = a.all("face");
                     SourceLoc loc = uses.front()->loc;

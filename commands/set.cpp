@@ -17,11 +17,21 @@ const CommandSpec& set_command() {
         c.keyword("jmat", 4, "joint material of contacts made from now on").integer("n", 1, 1000000).defaults("1");
         c.keyword("jcons", 4, "joint model of contacts made from now on").integer("j", 1, 2).defaults("1");
         c.keyword("plot", 2, "picture options kept between plots: the options of 'plot set'").forward_to("plot");
+        c.keyword("dynamic", 3, "(3DEC) 'off': a static solution, with local damping if none that solves statically is "
+                                "set; 'on': dynamic, with the damping 'damp' gives").one_of("state", {"on", "off"});
         c.keyword("large", 2, "large-strain mode (the default): zones follow their gridpoints' positions");
         c.keyword("small", 2, "small-strain mode: zone geometry stays as it was zoned (rigid blocks still move "
                               "by large displacements)");
         c.example("set dt 1e-4 echo off");
         c.handle([](CommandContext& ctx, const Args& a) {
+            if (a.has("dynamic") && a.text("dynamic") == "off") {
+                Damping& d = ctx.model.damping;
+                if (d.mode == DampingMode::Off || d.mode == DampingMode::Rayleigh) {
+                    d.mode = DampingMode::Local;
+                    d.local = 0.8;
+                    if (!ctx.interp.quiet) ctx.out << "static solution: local damping 0.8\n";
+                }
+            }
             Model& m = ctx.model;
             if (a.has("small") && a.has("large")) fail(a.find("small")->loc, "'small' and 'large' exclude each other", {}, "set");
             if (a.uses.empty()) fail(a.loc, "'set' needs a setting", {"type 'help set' for the settings"}, "set");

@@ -14,6 +14,8 @@ const CommandSpec& solve_command() {
         c.keyword("cycles", 2, "stop after n steps at most").integer("n", 1, 2e9).defaults("200000");
         c.keyword("time", 2, "run for model time t, s (with 'ratio' too: whichever comes first)")
             .real("t", 0, kInf, Limit::Open);
+        c.keyword("elastic", 3, "(3DEC) solve first with joints that cannot slip or open, then with their "
+                                "strengths: the start of a model whose joints would fail under the first jolt");
         c.describe("The mean unbalanced-force ratio is the sum over free blocks of the unbalanced force "
                    "divided by the sum of the magnitudes of all the forces acting on them. A long run prints "
                    "its progress every few seconds (step, time, ratio, and the time left when it runs to a "
@@ -45,12 +47,37 @@ const CommandSpec& solve_command() {
             ProgressReporter progress(o, ctx.interp.progress_seconds, m.step, known_end ? lim.max_steps : 0, m.time,
                                       known_end ? lim.max_time : 0);
             const bool lines = talk && ctx.interp.echo;
-            const CycleResult r =
-                cycle(m, lim, &ctx.interp.interrupt, lines ? ProgressFn(std::ref(progress)) : ProgressFn(), 100);
-            spend_step_budget(ctx, counted, r.steps);
-            if (r.reason == StopReason::Error) fail(a.loc, r.message, {}, "solve");
-            if (r.reason == StopReason::BlowUp) {
-                fail(a.loc, "stopped: " + r.message, {"the model is left as it was at that step, for inspection"}, "solve");
+            // 'solve elastic': a first stage whose joints keep their stiffness but cannot slip, open
+            // or fail (strengths made huge for it), then the joints as they are.
+            std::vector<JointMaterial> strengths = m.joint_materials;
+            struct Restore {
+                Model& m;
+                std::vector<JointMaterial>& saved;
+                bool active = false;
+                ~Restore() {
+                    if (active) m.joint_materials = saved;
+                }
+            } restore{m, strengths};
+            CycleResult r;
+            for (int stage = a.has("elastic") ? 0 : 1; stage < 2; ++stage) {
+                if (stage == 0) {
+                    for (JointMaterial& j : m.joint_materials) {
+                        j.cohesion = j.tension = 1e30;
+                        j.dilation = 0;
+                    }
+                    restore.active = true;
+                } else if (restore.active) {
+                    m.joint_materials = strengths;
+                    restore.active = false;
+                    if (talk) o << "solve elastic: equilibrium with elastic joints reached; now with their strengths\n";
+                }
+                r = cycle(m, lim, &ctx.interp.interrupt, lines ? ProgressFn(std::ref(progress)) : ProgressFn(), 100);
+                spend_step_budget(ctx, counted, r.steps);
+                if (r.reason == StopReason::Error) fail(a.loc, r.message, {}, "solve");
+                if (r.reason == StopReason::BlowUp) {
+                    fail(a.loc, "stopped: " + r.message, {"the model is left as it was at that step, for inspection"}, "solve");
+                }
+                if (r.reason == StopReason::Interrupted) break;
             }
             if (!talk) return;
             line(m);

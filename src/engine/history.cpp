@@ -21,6 +21,24 @@ double history_value(const Model& m, const History& h) {
         const double v = m.histories.external(h);
         return std::isfinite(v) ? v : 0.0;
     }
+    case HistoryKind::Damp:
+        if (m.damping.mode == DampingMode::Auto) return m.damping.auto_coefficient;
+        if (m.damping.mode == DampingMode::Rayleigh) return 2.0 * m.damping.rayleigh_fraction * 2.0 * M_PI * m.damping.rayleigh_frequency;
+        return 0.0;
+    case HistoryKind::NForce:
+    case HistoryKind::SForce: {
+        int c = contact_index(m, h.contact_id);
+        if (c < 0) c = find_contact_at(m, h.point);
+        if (c < 0) return 0.0;
+        const ContactSet& cs = m.contacts;
+        double fn = 0;
+        Vec3 fs = Vec3::Zero();
+        for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
+            fn += cs.sub_sn[k] * cs.sub_area[k];
+            fs += cs.sub_ss[k] * cs.sub_area[k];
+        }
+        return h.kind == HistoryKind::NForce ? fn : fs.norm();
+    }
     case HistoryKind::NStress:
     case HistoryKind::SStress:
     case HistoryKind::NDis:
@@ -73,6 +91,14 @@ double history_value(const Model& m, const History& h) {
         case HistoryKind::XVel: return gridpoint_velocity_at_t(m, h.gridpoint).x();
         case HistoryKind::YVel: return gridpoint_velocity_at_t(m, h.gridpoint).y();
         case HistoryKind::ZVel: return gridpoint_velocity_at_t(m, h.gridpoint).z();
+        case HistoryKind::XAcc:
+        case HistoryKind::YAcc:
+        case HistoryKind::ZAcc: {
+            // The gridpoint's acceleration in the last step: its unbalanced force over its mass.
+            const double mass = m.gridpoints.mass[h.gridpoint];
+            if (!(mass > 0)) return 0.0;
+            return m.gridpoints.force[h.gridpoint][static_cast<int>(h.kind) - static_cast<int>(HistoryKind::XAcc)] / mass;
+        }
         default: return 0.0;
         }
     }
@@ -84,6 +110,14 @@ double history_value(const Model& m, const History& h) {
     const BlockSet& s = m.blocks;
     const Eigen::Vector3d lever = s.orientation[b] * h.body_offset;
     switch (h.kind) {
+    case HistoryKind::XAcc:
+    case HistoryKind::YAcc:
+    case HistoryKind::ZAcc: {
+        // Translation plus the angular acceleration about the centroid (the spin's centripetal
+        // part is left out, as small as the spin squared).
+        const Vec3 a = s.accel[b] + s.ang_accel[b].cross(lever);
+        return a[static_cast<int>(h.kind) - static_cast<int>(HistoryKind::XAcc)];
+    }
     case HistoryKind::XDis: return (s.disp[b] + s.rotation[b].cross(lever)).x();
     case HistoryKind::YDis: return (s.disp[b] + s.rotation[b].cross(lever)).y();
     case HistoryKind::ZDis: return (s.disp[b] + s.rotation[b].cross(lever)).z();
@@ -119,6 +153,12 @@ static const char* kind_word(HistoryKind k) {
     case HistoryKind::XReaction: return "xreaction";
     case HistoryKind::YReaction: return "yreaction";
     case HistoryKind::ZReaction: return "zreaction";
+    case HistoryKind::NForce: return "nf_sum";
+    case HistoryKind::SForce: return "sf_sum";
+    case HistoryKind::XAcc: return "xacc";
+    case HistoryKind::YAcc: return "yacc";
+    case HistoryKind::ZAcc: return "zacc";
+    case HistoryKind::Damp: return "damp";
     case HistoryKind::Fish: return "fish";
     }
     return "?";

@@ -23,6 +23,9 @@ enum class HistoryKind {
     SXX, SYY, SZZ, SXY, SXZ, SYZ, // stress of the zone at a point, Pa (tension positive)
     XReaction, YReaction, ZReaction, // sum of the unbalanced forces of the held gridpoints (and fixed
                                      // blocks) of a range, N: what the model exerts on its supports
+    NForce, SForce,     // total normal force (compression positive) and shear force magnitude of a contact, N
+    XAcc, YAcc, ZAcc,   // acceleration of a material point of a block (or of a gridpoint), m/s^2
+    Damp,       // mass-proportional damping coefficient in use, 1/s (0 with local damping or none)
     Fish,       // the value of a FISH variable or function (`hist @name`), in its own unit
 };
 

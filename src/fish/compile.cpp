@@ -150,8 +150,35 @@ struct Unary final : Expr {
 
 struct Binary final : Expr {
     std::string op;
+    char code = 0; // the operator as one character, for the fast path of two floats or integers
     ExprP a, b;
-    Value eval(Frame& f) const override { return binary(op, a->eval(f), b->eval(f), loc); }
+    Value eval(Frame& f) const override {
+        Value x = a->eval(f);
+        const Value y = b->eval(f);
+        // Most arithmetic is on floats: done here, without the general dispatch.
+        if (x.type == Type::Float && (y.type == Type::Float || y.type == Type::Int)) {
+            const double q = y.type == Type::Float ? y.f : static_cast<double>(y.i);
+            switch (code) {
+            case '+': x.f += q; return x;
+            case '-': x.f -= q; return x;
+            case '*': x.f *= q; return x;
+            case '/':
+                if (q == 0) break;
+                x.f /= q;
+                return x;
+            default: break;
+            }
+        } else if (x.type == Type::Int && y.type == Type::Float) {
+            const double p = static_cast<double>(x.i);
+            switch (code) {
+            case '+': return Value::real(p + y.f);
+            case '-': return Value::real(p - y.f);
+            case '*': return Value::real(p * y.f);
+            default: break;
+            }
+        }
+        return binary(op, x, y, loc);
+    }
 };
 
 // `a & b`, `a | b`: the right side runs only when it decides.
@@ -312,10 +339,16 @@ public:
         fn_.local_names.push_back(lower_name);
     }
 
-    // Every `local` of the body is local from the function's first line (as in 3DEC).
+    // Every `local` of the body is local from the function's first line (as in 3DEC). A name
+    // the body assigns as a plain variable (`name = ...`) is the script's, even where a
+    // read-only intrinsic has the same name.
     void collect_locals() {
         for (const Line& l : lines_) {
             const auto& t = l.tokens;
+            if (t.size() > 2 && t[0].kind == Tok::Name && is_op(t[1], "=")) {
+                const Intrinsic* in = find_intrinsic(t[0].lower);
+                if (in && !in->set && in->min_args > 0) rt_.symbol(t[0].text).shadows_intrinsic = true;
+            }
             if (t.empty() || !is_word(t[0], "local")) continue;
             size_t i = 1;
             while (i < t.size() && t[i].kind == Tok::Name) {
@@ -411,6 +444,7 @@ private:
             const SourceLoc loc = take().loc;
             auto n = node<Binary>(loc);
             n->op = op;
+            n->code = op.size() == 1 ? op[0] : 0;
             n->a = std::move(a);
             n->b = additive();
             a = std::move(n);
@@ -424,6 +458,7 @@ private:
             const Token& t = take();
             auto n = node<Binary>(t.loc);
             n->op = t.text;
+            n->code = t.text.size() == 1 ? t.text[0] : 0;
             n->a = std::move(a);
             n->b = multiplicative();
             a = std::move(n);
@@ -437,6 +472,7 @@ private:
             const Token& t = take();
             auto n = node<Binary>(t.loc);
             n->op = t.text;
+            n->code = t.text.size() == 1 ? t.text[0] : 0;
             n->a = std::move(a);
             n->b = unary();
             a = std::move(n);
@@ -465,6 +501,7 @@ private:
             const SourceLoc loc = take().loc;
             auto n = node<Binary>(loc);
             n->op = "^";
+            n->code = '^';
             n->a = std::move(a);
             n->b = unary();
             return n;
@@ -548,7 +585,9 @@ private:
             n->name = name.text;
             return n;
         }
-        if (const Intrinsic* in = find_intrinsic(name.lower)) {
+        const Symbol* user = rt_.find(name.lower);
+        const Intrinsic* in = user && user->shadows_intrinsic ? nullptr : find_intrinsic(name.lower);
+        if (in) {
             auto n = node<IntrinsicCall>(name.loc);
             n->in = in;
             if (has_args) n->args = call_args();
@@ -584,7 +623,10 @@ private:
             n->name = name.text;
             return n;
         }
-        if (find_intrinsic(name.lower)) fish_fail(name.loc, "'" + name.text + "' is a FISH intrinsic, not a variable");
+        const Symbol* user = rt_.find(name.lower);
+        if (find_intrinsic(name.lower) && !(user && user->shadows_intrinsic)) {
+            fish_fail(name.loc, "'" + name.text + "' is a FISH intrinsic, not a variable");
+        }
         auto n = node<GlobalRef>(name.loc);
         n->sym = &rt_.symbol(name.text);
         return n;

@@ -52,6 +52,9 @@ struct Symbol {
     Value value;                      // 0 until assigned
     std::shared_ptr<Function> fn;     // set by `def name`
     std::shared_ptr<Array> array;     // set by `array name(n)`
+    // A script assigns to this name although an intrinsic has it: from then on the name is the
+    // script's variable (scripts written for older versions use such names freely).
+    bool shadows_intrinsic = false;
 };
 
 // A FISH error: where, what, and the chain of calls it happened in.

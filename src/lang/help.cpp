@@ -1,5 +1,7 @@
 #include "lang/help.h"
 
+#include "fish/help.h"
+
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -139,6 +141,7 @@ std::string manual_index(const CommandTable& table) {
         s += "| [`" + c->name + "`](" + c->name + ".md) | " + c->summary + " |\n";
     }
     s += "\nThe range phrase that selects blocks: [range-phrase](range-phrase.md).\n";
+    s += "\nThe FISH language and its intrinsics: [fish](fish.md).\n";
     return s;
 }
 
@@ -169,6 +172,7 @@ bool write_manual(const CommandTable& table, const std::string& dir, std::string
     };
     if (!write("index.md", manual_index(table))) return false;
     if (!write("range-phrase.md", range_page())) return false;
+    if (!write("fish.md", fish::manual_page())) return false;
     for (const CommandSpec* c : table.commands) {
         if (!write(c->name + ".md", manual_page(*c))) return false;
     }

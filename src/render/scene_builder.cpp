@@ -782,6 +782,12 @@ std::string history_axis_title(HistoryKind k) {
     case HistoryKind::XReaction: return "x reaction (N)";
     case HistoryKind::YReaction: return "y reaction (N)";
     case HistoryKind::ZReaction: return "z reaction (N)";
+    case HistoryKind::NForce: return "joint normal force, compression + (N)";
+    case HistoryKind::SForce: return "joint shear force (N)";
+    case HistoryKind::XAcc: return "x acceleration (m/s2)";
+    case HistoryKind::YAcc: return "y acceleration (m/s2)";
+    case HistoryKind::ZAcc: return "z acceleration (m/s2)";
+    case HistoryKind::Damp: return "damping coefficient (1/s)";
     case HistoryKind::Fish: return "FISH value";
     }
     return "value";

@@ -116,10 +116,13 @@ TEST(Zones, BadInputIsRefusedAndChangesNothing) {
     EXPECT_NE(s.error().find("'generate' needs one of: edge, model"), std::string::npos) << s.error();
     EXPECT_EQ(s.model.zones.size(), 0);
     EXPECT_FALSE(s.model.blocks.flags[0] & kDeformable);
+    // A lone rigid block has no joint to take an in-situ stress.
     EXPECT_FALSE(s.run("insitu stress -1e6 -1e6 -1e6 0 0 0"));
-    EXPECT_NE(s.error().find("there are no zones: rigid blocks carry no stress"), std::string::npos) << s.error();
-    EXPECT_FALSE(s.run("bound stress 0 0 -1e6 0 0 0"));
-    EXPECT_NE(s.error().find("'bound stress' acts on deformable blocks"), std::string::npos) << s.error();
+    EXPECT_NE(s.error().find("there are no zones and the range selects no contact"), std::string::npos) << s.error();
+    // 'bound stress' on a rigid block: the traction of its free faces in the range, as a force.
+    ASSERT_TRUE(s.run("bound stress 0 0 -1e6 0 0 0 range z 0.99 1.01")) << s.error();
+    EXPECT_NEAR(s.model.blocks.applied_force[0].z(), -1e6 * 1.0, 1e-6);
+    EXPECT_NEAR(s.model.blocks.applied_force[0].x(), 0, 1e-6);
     // A model whose zones lack elastic moduli, or a material, cannot cycle, and says which.
     Session t;
     ASSERT_TRUE(t.run("poly brick 0 1 0 1 0 1\nprop mat=1 dens=2500\ngen edge 0.5")) << t.error();
