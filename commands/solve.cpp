@@ -26,6 +26,7 @@ const CommandSpec& solve_command() {
         c.handle([](CommandContext& ctx, const Args& a) {
             Model& m = ctx.model;
             CycleLimits lim;
+            lim.each_step = ctx.interp.stepping_functions();
             // 'solve time t' runs for t seconds of model time; with 'ratio' too, whichever
             // comes first.
             lim.ratio = a.has("ratio") ? a.real("ratio") : (a.has("time") ? 0.0 : 1e-5);

@@ -18,6 +18,7 @@ const CommandSpec& step_command() {
         c.example("cycle time 0.5");
         c.handle([](CommandContext& ctx, const Args& a) {
             CycleLimits lim;
+            lim.each_step = ctx.interp.stepping_functions();
             if (!a.positional.empty() && a.has("time")) {
                 fail(a.find("time")->loc, "give either a number of steps or 'time', not both", {}, "step");
             }

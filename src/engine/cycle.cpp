@@ -574,6 +574,14 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
             res.reason = StopReason::Interrupted;
             break;
         }
+        if (lim.each_step) {
+            const std::string p = lim.each_step(m);
+            if (!p.empty()) {
+                res.reason = StopReason::Error;
+                res.message = p;
+                break;
+            }
+        }
         if (m.geometry_changed) {
             const std::string p = prepare_cycle_once(m);
             if (!p.empty()) {

@@ -34,6 +34,9 @@ struct CycleLimits {
     long max_steps = 0;       // > 0: stop after this many steps
     double max_time = 0;      // > 0: stop once this much model time has passed
     double ratio = 0;         // > 0: stop when the mean unbalanced-force ratio falls below it
+    // Called at the start of every step (FISH 'whilestepping' functions); an empty string goes
+    // on, anything else stops the cycle with that message (StopReason::Error).
+    std::function<std::string(Model&)> each_step;
 };
 
 struct CycleResult {

@@ -15,6 +15,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "fish/ast.h"
 #include "fish/runtime.h"
 
 namespace odec {
@@ -257,6 +258,24 @@ bool Interpreter::interrupted_here(const LexedCommand& cmd) {
     }
     err << "interrupted: the script stops before this command\n";
     return true;
+}
+
+std::function<std::string(Model&)> Interpreter::stepping_functions() {
+    const std::vector<fish::Symbol*> fns = fish_->stepping();
+    if (fns.empty()) return {};
+    fish::Runtime* rt = fish_.get();
+    return [rt, fns](Model&) -> std::string {
+        try {
+            for (fish::Symbol* s : fns) {
+                if (s->fn) rt->call(*s, s->fn->loc);
+            }
+        } catch (const CommandError& e) {
+            return "a 'whilestepping' function failed: " + format_diagnostic(e.diag);
+        } catch (const fish::FishError& e) {
+            return "a 'whilestepping' function failed: " + format_diagnostic(e.diag);
+        }
+        return "";
+    };
 }
 
 bool Interpreter::run_lexer(Lexer& lex, bool echo_commands) {

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cstddef>
 #include <fstream>
+#include <functional>
 #include <iosfwd>
 #include <memory>
 #include <ostream>
@@ -89,6 +90,9 @@ public:
     bool run_lines(const std::shared_ptr<const SourceFile>& file, int first, int last);
     // The FISH runtime of this session.
     fish::Runtime& fish() { return *fish_; }
+    // What a step must run first: the FISH 'whilestepping' functions (empty when none). It gives
+    // "" to go on, or the error that stops the cycle.
+    std::function<std::string(Model&)> stepping_functions();
     // True (and said) when Ctrl-C interrupted an earlier command: the script stops before cmd.
     bool interrupted_here(const LexedCommand& cmd);
 

@@ -9,6 +9,8 @@
 #include <sys/select.h>
 #include <unistd.h>
 
+#include "fish/runtime.h"
+
 #include <readline/history.h>
 #include <readline/readline.h>
 
@@ -39,6 +41,20 @@ char* completion_generator(const char* text, int state) {
     if (state == 0) {
         const std::string before = g_pending + std::string(rl_line_buffer, rl_point - std::strlen(text));
         words = complete_words(g_interp->table, before, text);
+        // FISH functions and variables, as @name (and by name where a command word is expected).
+        const std::string typed(text);
+        const bool typed_at = !typed.empty() && typed[0] == '@';
+        // Readline breaks words at '@' by default: the '@' is then just before the word.
+        const bool at = typed_at || (!before.empty() && before.back() == '@');
+        const std::string stem = typed_at ? typed.substr(1) : typed;
+        for (const std::string& n : g_interp->fish().names()) {
+            std::string lower = n, want = stem;
+            for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+            for (char& c : want) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+            if (lower.compare(0, want.size(), want) != 0) continue;
+            if (at) words.push_back(typed_at ? "@" + n : n);
+            else if (before.find_first_not_of(" \t") == std::string::npos && g_interp->fish().is_function(lower)) words.push_back(n);
+        }
         next = 0;
     }
     if (next < words.size()) return strdup(words[next++].c_str());

@@ -425,3 +425,17 @@ TEST(Fish, PointersOfAChangedModelAreRefused) {
     EXPECT_FALSE(s.run("poly brick 0 1 0 1 0 1\n@b = block_head\ndelete range z 0 1\n@v = b_vol(@b)"));
     EXPECT_NE(s.error().find("that block no longer exists"), std::string::npos) << s.error();
 }
+
+TEST(Fish, WhilesteppingFunctionsRunEveryStep) {
+    Session s;
+    ASSERT_TRUE(s.run("poly brick 0 1 0 1 0 1\nprop mat=1 dens=1000\nset dt 1e-3\n"
+                      "@count = 0\n"
+                      "def counter\n  whilestepping\n  count = count + 1\nend\n"
+                      "step 25"))
+        << s.error();
+    EXPECT_EQ(number(s, "count"), 25);
+    // An error inside stops the cycle and says where.
+    EXPECT_FALSE(s.run("def bad\n  whilestepping\n  x = 1 / 0\nend\nstep 5"));
+    EXPECT_NE(s.error().find("a 'whilestepping' function failed"), std::string::npos) << s.error();
+    EXPECT_NE(s.error().find("division by zero"), std::string::npos) << s.error();
+}

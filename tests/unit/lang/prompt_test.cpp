@@ -111,6 +111,29 @@ TEST(Prompt, CompletesCommandsAndKeywords) {
     EXPECT_EQ(t.wait_exit(), 0) << t.seen();
 }
 
+TEST(Prompt, FishDefinitionsSpanLinesAndNamesComplete) {
+    const std::string home = temp_home();
+    Terminal t(home);
+    ASSERT_TRUE(t.expect("odec> ")) << t.seen();
+    // Lines of a definition wait for its 'end' before anything runs.
+    t.type("def halfway(a, b)\n");
+    ASSERT_TRUE(t.expect("...> ")) << t.seen();
+    t.type("  halfway = (a + b) / 2.0\n");
+    ASSERT_TRUE(t.expect("...> ")) << t.seen();
+    t.type("end\n");
+    ASSERT_TRUE(t.expect("odec> ")) << t.seen();
+    t.type("@answer = halfway(1, 4)\n");
+    ASSERT_TRUE(t.expect("odec> ")) << t.seen();
+    // @ and the start of a FISH name complete to the name.
+    t.type("list @ans\t");
+    ASSERT_TRUE(t.expect("answer")) << t.seen();
+    t.type("\n");
+    ASSERT_TRUE(t.expect("answer = 2.5")) << t.seen();
+    ASSERT_TRUE(t.expect("odec> ")) << t.seen();
+    t.type("quit\n");
+    EXPECT_EQ(t.wait_exit(), 0) << t.seen();
+}
+
 TEST(Prompt, ContinuationPromptAfterAmpersand) {
     const std::string home = temp_home();
     Terminal t(home);
