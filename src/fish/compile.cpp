@@ -394,7 +394,26 @@ private:
         return n;
     }
 
-    ExprP expr() { return or_expr(); }
+    // Nesting (parentheses, signs, blocks) is bounded: each level takes C++ stack, when compiled
+    // and when run.
+    static constexpr int kMaxNesting = 100;
+    int depth_ = 0;
+    struct Deeper {
+        Compiler& c;
+        Deeper(Compiler& cc, const SourceLoc& at) : c(cc) {
+            if (++c.depth_ > kMaxNesting) {
+                --c.depth_;
+                fish_fail(at, "this nests more than " + std::to_string(kMaxNesting) + " levels deep",
+                          {"split it into smaller expressions or functions"});
+            }
+        }
+        ~Deeper() { --c.depth_; }
+    };
+
+    ExprP expr() {
+        Deeper d(*this, peek().loc);
+        return or_expr();
+    }
 
     ExprP or_expr() {
         ExprP a = and_expr();
@@ -422,6 +441,7 @@ private:
     }
 
     ExprP not_expr() {
+        Deeper d(*this, peek().loc);
         if (is_word(peek(), "not") || is_op(peek(), "!")) {
             const SourceLoc loc = take().loc;
             auto n = node<Unary>(loc);
@@ -481,6 +501,7 @@ private:
     }
 
     ExprP unary() {
+        Deeper d(*this, peek().loc);
         if (is_op(peek(), "-")) {
             const SourceLoc loc = take().loc;
             auto n = node<Unary>(loc);
@@ -681,6 +702,7 @@ private:
 
     StmtP statement(size_t& pos) {
         const Line& l = lines_[pos];
+        Deeper d(*this, l.loc);
         t_ = &l.tokens;
         i_ = 0;
         const Token& w = l.tokens[0];

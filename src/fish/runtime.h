@@ -108,7 +108,7 @@ public:
     const std::vector<std::vector<int>>& block_zones();
     void model_changed();
     // How deep FISH calls may nest (each takes C++ stack).
-    static constexpr int kMaxDepth = 200;
+    static constexpr int kMaxDepth = 100;
     // Where FISH is running now (for messages): innermost call last.
     struct Call {
         const Function* fn;

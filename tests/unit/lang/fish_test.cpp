@@ -439,3 +439,17 @@ TEST(Fish, WhilesteppingFunctionsRunEveryStep) {
     EXPECT_NE(s.error().find("a 'whilestepping' function failed"), std::string::npos) << s.error();
     EXPECT_NE(s.error().find("division by zero"), std::string::npos) << s.error();
 }
+
+TEST(Fish, DeepNestingIsRefusedNotACrash) {
+    Session s;
+    EXPECT_FALSE(s.run("def f\n  x = " + std::string(5000, '(') + "1" + std::string(5000, ')') + "\nend"));
+    EXPECT_NE(s.error().find("nests more than"), std::string::npos) << s.error();
+    EXPECT_FALSE(s.run("def g\n  x = " + std::string(5000, '-') + "1\nend"));
+    EXPECT_NE(s.error().find("nests more than"), std::string::npos) << s.error();
+    std::string deep = "def h\n";
+    for (int i = 0; i < 3000; ++i) deep += "if 1 = 1\n";
+    for (int i = 0; i < 3000; ++i) deep += "endif\n";
+    EXPECT_FALSE(s.run(deep + "end"));
+    EXPECT_NE(s.error().find("nests more than"), std::string::npos) << s.error();
+    EXPECT_TRUE(s.run("@ok = 1")) << s.error();
+}
