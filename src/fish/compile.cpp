@@ -224,6 +224,7 @@ struct LoopWhile final : Stmt {
     Block body;
     Flow exec(Frame& f) const override {
         while (truth(cond->eval(f), cond->loc)) {
+            if (f.rt.host.interrupted()) fish_fail(loc, "interrupted by Ctrl-C");
             const Flow fl = run_block(body, f);
             if (fl == Flow::ExitLoop) break;
             if (fl == Flow::ExitFunction || fl == Flow::ExitSection) return fl;
@@ -240,6 +241,7 @@ struct LoopRange final : Stmt {
         if (!a.is_number() || !b.is_number()) fish_fail(from->loc, "a loop runs between two numbers");
         if (a.type == Type::Int && b.type == Type::Int) {
             for (long long i = a.i; i <= b.i; ++i) {
+                if (f.rt.host.interrupted()) fish_fail(loc, "interrupted by Ctrl-C");
                 var->assign(f, Value::integer(i));
                 const Flow fl = run_block(body, f);
                 if (fl == Flow::ExitLoop) break;
@@ -249,6 +251,7 @@ struct LoopRange final : Stmt {
             const double lo = a.number(), hi = b.number();
             if (!std::isfinite(lo) || !std::isfinite(hi)) fish_fail(from->loc, "a loop's bounds must be finite");
             for (double x = lo; x <= hi; x += 1) {
+                if (f.rt.host.interrupted()) fish_fail(loc, "interrupted by Ctrl-C");
                 var->assign(f, Value::real(x));
                 const Flow fl = run_block(body, f);
                 if (fl == Flow::ExitLoop) break;

@@ -134,6 +134,23 @@ TEST(Prompt, FishDefinitionsSpanLinesAndNamesComplete) {
     EXPECT_EQ(t.wait_exit(), 0) << t.seen();
 }
 
+TEST(Prompt, CtrlCStopsARunawayFishLoop) {
+    const std::string home = temp_home();
+    Terminal t(home);
+    ASSERT_TRUE(t.expect("odec> ")) << t.seen();
+    t.type("def spin\n  loop while 1 = 1\n    x = 1\n  endloop\nend\n");
+    ASSERT_TRUE(t.expect("odec> ")) << t.seen();
+    t.type("@spin\n");
+    usleep(300000);
+    t.type("\x03");
+    ASSERT_TRUE(t.expect("interrupted by Ctrl-C")) << t.seen();
+    ASSERT_TRUE(t.expect("odec> ")) << t.seen();
+    t.type("@y = 2\nlist y\n");
+    ASSERT_TRUE(t.expect("y = 2")) << t.seen();
+    t.type("quit\n");
+    EXPECT_EQ(t.wait_exit(), 0) << t.seen();
+}
+
 TEST(Prompt, ContinuationPromptAfterAmpersand) {
     const std::string home = temp_home();
     Terminal t(home);
