@@ -53,6 +53,7 @@ struct GlobalRef final : Expr {
     void assign(Frame&, Value v) const override {
         if (sym->array) fish_fail(loc, "'" + sym->name + "' is an array: assign to one of its elements, as " + sym->name + "(1)");
         sym->value = std::move(v);
+        sym->assigned = true;
     }
     std::string describe() const override { return "'" + sym->name + "'"; }
 };

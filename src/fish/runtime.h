@@ -55,6 +55,7 @@ struct Symbol {
     // A script assigns to this name although an intrinsic has it: from then on the name is the
     // script's variable (scripts written for older versions use such names freely).
     bool shadows_intrinsic = false;
+    bool assigned = false;            // given a value by a script (not only named)
 };
 
 // A FISH error: where, what, and the chain of calls it happened in.

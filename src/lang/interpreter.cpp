@@ -383,22 +383,60 @@ void Interpreter::run_fish_statement(const LexedCommand& cmd) {
     fish_->run_statement(fish::lex_line(file, cmd.first_line, text, col0));
 }
 
+namespace {
+
+// Whether `lower` is a word the command itself knows: a keyword, a range filter or a choice.
+bool command_word(const CommandSpec& c, const std::string& lower) {
+    auto in = [&](const KeywordSpec& k) {
+        if (abbreviates(lower, k.name, k.min)) return true;
+        for (const ValueSpec& v : k.values) {
+            for (const std::string& w : v.choices) {
+                if (w == lower) return true;
+            }
+        }
+        return false;
+    };
+    if (in(c.positional)) return true;
+    for (const KeywordSpec& k : c.keywords) {
+        if (in(k)) return true;
+    }
+    for (const KeywordSpec& k : range_filters()) {
+        if (in(k)) return true;
+    }
+    return false;
+}
+
+} // namespace
+
 std::vector<Token> Interpreter::substitute(const std::vector<Token>& tokens) {
+    const CommandSpec* verb = table.match(tokens.front().lower, nullptr);
+    // A FISH variable or function named without '@' where the command expects a value takes
+    // its value too, as UDEC and 3DEC 4 scripts write it ('cycle time timeStep', 'save fName'):
+    // a word the command does not know itself, naming a function or an assigned variable.
+    auto bare = [&](const Token& t, size_t k) {
+        if (k == 0 || t.kind != TokenKind::Word || !verb || verb->name == "history" || verb->name == "list") return false;
+        const fish::Symbol* s = fish_->find(t.lower);
+        if (!s || !(s->fn || s->assigned) || s->array) return false;
+        return !command_word(*verb, t.lower);
+    };
     bool any = false;
-    for (const Token& t : tokens) any = any || (t.kind == TokenKind::Word && t.text.size() > 1 && t.text[0] == '@');
+    for (size_t k = 0; k < tokens.size(); ++k) {
+        const Token& t = tokens[k];
+        any = any || (t.kind == TokenKind::Word && t.text.size() > 1 && t.text[0] == '@') || bare(t, k);
+    }
     if (!any) return tokens;
     std::vector<Token> out;
     out.reserve(tokens.size() + 4);
-    const CommandSpec* verb = table.match(tokens.front().lower, nullptr);
     for (size_t k = 0; k < tokens.size(); ++k) {
         const Token& t = tokens[k];
-        if (!(t.kind == TokenKind::Word && t.text.size() > 1 && t.text[0] == '@')) {
+        const bool at = t.kind == TokenKind::Word && t.text.size() > 1 && t.text[0] == '@';
+        if (!at && !bare(t, k)) {
             out.push_back(t);
             continue;
         }
-        const std::string name = t.text.substr(1);
+        const std::string name = at ? t.text.substr(1) : t.text;
         // `list @x` names what it prints.
-        if (verb && verb->name == "list") {
+        if (at && verb && verb->name == "list") {
             out.push_back(t);
             continue;
         }

@@ -453,3 +453,15 @@ TEST(Fish, DeepNestingIsRefusedNotACrash) {
     EXPECT_NE(s.error().find("nests more than"), std::string::npos) << s.error();
     EXPECT_TRUE(s.run("@ok = 1")) << s.error();
 }
+
+TEST(Fish, BareNamesInCommandsTakeTheirValuesAsInUdec) {
+    Session s;
+    ASSERT_TRUE(s.run("def params\n  top = 2.0\n  fName = 'bare'\n  disp = 9\nend\n@params\n"
+                      "poly brick 0 1 0 1 0 top\nsave fName\nreset disp"))
+        << s.error();
+    EXPECT_NEAR(s.model.blocks.centroid[0].z(), 1.0, 1e-12);
+    std::ifstream saved("bare.sav");
+    EXPECT_TRUE(saved.good());
+    std::remove("bare.sav");
+    // A word the command knows ('disp' of 'reset') is never replaced.
+}
