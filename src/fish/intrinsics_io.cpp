@@ -124,10 +124,14 @@ Value f_array_size(Runtime&, A a, int n, L loc) {
     return Value::integer(arr.dims[static_cast<size_t>(d - 1)]);
 }
 
+Value f_error(Runtime&, A, int, L) { return Value::string(""); }
+void s_error(Runtime&, A, int, const Value& v, L loc) { fish_fail(loc, to_text(v)); }
+
 } // namespace
 
 const std::vector<Intrinsic>& io_intrinsics() {
     static const std::vector<Intrinsic> t = {
+        {"error", 0, 0, "", "assigned a string (error = 'text'), stops the function and the script with that message", "io", f_error, s_error},
         {"out", 1, 1, "s", "print s (any value) on a line of its own; gives 0", "io", f_out, nullptr},
         {"open", 1, 3, "name,mode,type", "open a file: mode 0 read, 1 write; type 1 text (0 is read as 1); gives 0 when open", "io", f_open, nullptr},
         {"write", 1, 2, "array,n", "write the first n elements of the array, one per line, to the open file; gives 0", "io", f_write, nullptr},

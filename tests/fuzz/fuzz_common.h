@@ -59,7 +59,7 @@ protected:
 // blocks from a joint set, and 400 block-steps of cycling in all.
 inline void bound_session(Interpreter& interp) {
     interp.limits.confine_files = true;
-    interp.limits.max_blocks = 300;
+    interp.limits.max_blocks = 150;
     interp.limits.max_zones = 500;
     interp.limits.block_steps = 400;
     interp.progress_seconds = 1e30; // progress lines depend on the clock: none

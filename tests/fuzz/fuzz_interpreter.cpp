@@ -59,7 +59,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         at = nl + 1;
         chunk += line;
         chunk += '\n';
-        if (continues(line) && at < text.size()) continue;
+        // A FISH definition is one piece, up to its 'end'.
+        if ((continues(line) || odec::definition_open(chunk)) && at < text.size()) continue;
         interp.run_text("fuzz.dat", chunk, true);
         chunk.clear();
         if (!consistent(model)) {
