@@ -220,12 +220,22 @@ struct If final : Stmt {
     }
 };
 
+// Each loop iteration: Ctrl-C, and the session's bound on FISH work.
+void tick(Frame& f, const SourceLoc& loc) {
+    if (f.rt.host.interrupted()) fish_fail(loc, "interrupted by Ctrl-C");
+    long long* b = f.rt.budget;
+    if (b && *b >= 0) {
+        if (*b == 0) fish_fail(loc, "this session's bound on FISH loop iterations is reached");
+        --*b;
+    }
+}
+
 struct LoopWhile final : Stmt {
     ExprP cond;
     Block body;
     Flow exec(Frame& f) const override {
         while (truth(cond->eval(f), cond->loc)) {
-            if (f.rt.host.interrupted()) fish_fail(loc, "interrupted by Ctrl-C");
+            tick(f, loc);
             const Flow fl = run_block(body, f);
             if (fl == Flow::ExitLoop) break;
             if (fl == Flow::ExitFunction || fl == Flow::ExitSection) return fl;
@@ -242,7 +252,7 @@ struct LoopRange final : Stmt {
         if (!a.is_number() || !b.is_number()) fish_fail(from->loc, "a loop runs between two numbers");
         if (a.type == Type::Int && b.type == Type::Int) {
             for (long long i = a.i; i <= b.i; ++i) {
-                if (f.rt.host.interrupted()) fish_fail(loc, "interrupted by Ctrl-C");
+                tick(f, loc);
                 var->assign(f, Value::integer(i));
                 const Flow fl = run_block(body, f);
                 if (fl == Flow::ExitLoop) break;
@@ -252,7 +262,7 @@ struct LoopRange final : Stmt {
             const double lo = a.number(), hi = b.number();
             if (!std::isfinite(lo) || !std::isfinite(hi)) fish_fail(from->loc, "a loop's bounds must be finite");
             for (double x = lo; x <= hi; x += 1) {
-                if (f.rt.host.interrupted()) fish_fail(loc, "interrupted by Ctrl-C");
+                tick(f, loc);
                 var->assign(f, Value::real(x));
                 const Flow fl = run_block(body, f);
                 if (fl == Flow::ExitLoop) break;
@@ -313,13 +323,13 @@ std::shared_ptr<Array> make_array(Frame& f, const Symbol& sym, const std::vector
             fish_fail(d->loc, "an array size must be a whole number (got " + to_text(v) + ")");
         }
         const long long n = v.type == Type::Int ? v.i : static_cast<long long>(v.f);
-        if (n < 1 || n > 100000000) {
+        if (n < 1 || n > 10000000) {
             fish_fail(d->loc, "array '" + sym.name + "' would have " + std::to_string(n) + " elements along a dimension",
-                      {"expected 1 to 100000000; an array is sized when its function is defined, from the values "
+                      {"expected 1 to 10000000; an array is sized when its function is defined, from the values "
                        "variables have then"});
         }
         total *= static_cast<size_t>(n);
-        if (total > 100000000) fish_fail(d->loc, "array '" + sym.name + "' would have more than 100000000 elements");
+        if (total > 10000000) fish_fail(d->loc, "array '" + sym.name + "' would have more than 10000000 elements");
         a->dims.push_back(static_cast<int>(n));
     }
     a->items.assign(total, Value::integer(0));

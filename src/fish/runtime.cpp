@@ -159,7 +159,12 @@ Value binary(const std::string& op, const Value& a, const Value& b, const Source
         bad_operands(op, a, b, loc);
     }
     if (a.type == Type::String && b.type == Type::String) {
-        if (op == "+") return Value::string(a.s + b.s);
+        if (op == "+") {
+            if (a.s.size() + b.s.size() > Runtime::kMaxString) {
+                fish_fail(loc, "a string of more than " + std::to_string(Runtime::kMaxString) + " characters");
+            }
+            return Value::string(a.s + b.s);
+        }
         if (op == "<") return Value::boolean(a.s < b.s);
         if (op == ">") return Value::boolean(a.s > b.s);
         if (op == "<=") return Value::boolean(a.s <= b.s);

@@ -108,6 +108,10 @@ public:
     const std::vector<std::vector<int>>& block_gridpoints();
     const std::vector<std::vector<int>>& block_zones();
     void model_changed();
+    // Loop iterations FISH may still run (the fuzzing sessions' bound); null or < 0: no limit.
+    long long* budget = nullptr;
+    // Longest string FISH builds, in characters.
+    static constexpr size_t kMaxString = size_t{1} << 20;
     // How deep FISH calls may nest (each takes C++ stack).
     static constexpr int kMaxDepth = 100;
     // Where FISH is running now (for messages): innermost call last.

@@ -148,7 +148,9 @@ int TeeBuffer::sync() {
 
 Interpreter::Interpreter(Model& m, const CommandTable& t, std::ostream& o, std::ostream& e)
     : model(m), table(t), out_tee_(o.rdbuf()), err_tee_(e.rdbuf()), out(&out_tee_), err(&err_tee_),
-      fish_host_(std::make_unique<SessionHost>(*this)), fish_(std::make_unique<fish::Runtime>(*fish_host_)) {}
+      fish_host_(std::make_unique<SessionHost>(*this)), fish_(std::make_unique<fish::Runtime>(*fish_host_)) {
+    fish_->budget = &limits.fish_steps;
+}
 
 Interpreter::~Interpreter() { close_log(); }
 

@@ -133,6 +133,8 @@ public:
         long max_blocks = 0;
         // Zones a `generate` may make at most; 0: the built-in limit.
         long max_zones = 0;
+        // FISH loop iterations that may still run in all; < 0: no limit.
+        long long fish_steps = -1;
     } limits;
 
     // How many files may run at once through `call` (each level takes C++ stack).

@@ -62,6 +62,7 @@ inline void bound_session(Interpreter& interp) {
     interp.limits.max_blocks = 150;
     interp.limits.max_zones = 500;
     interp.limits.block_steps = 400;
+    interp.limits.fish_steps = 200000;
     interp.progress_seconds = 1e30; // progress lines depend on the clock: none
 }
 

@@ -465,3 +465,15 @@ TEST(Fish, BareNamesInCommandsTakeTheirValuesAsInUdec) {
     std::remove("bare.sav");
     // A word the command knows ('disp' of 'reset') is never replaced.
 }
+
+TEST(Fish, WorkIsBoundedWhereTheSessionAsksAndStringsAreCapped) {
+    Session s;
+    s.interp.limits.fish_steps = 1000;
+    EXPECT_FALSE(s.run("def spin\n  loop while 1 = 1\n  endloop\nend\n@spin"));
+    EXPECT_NE(s.error().find("bound on FISH loop iterations"), std::string::npos) << s.error();
+    Session t;
+    EXPECT_FALSE(t.run("def grow\n  s = 'x'\n  loop i (1, 30)\n    s = s + s\n  endloop\nend\n@grow"));
+    EXPECT_NE(t.error().find("a string of more than 1048576 characters"), std::string::npos) << t.error();
+    EXPECT_FALSE(t.run("def big\n  array a(100000, 1000)\nend"));
+    EXPECT_NE(t.error().find("more than 10000000 elements"), std::string::npos) << t.error();
+}
