@@ -22,7 +22,11 @@ const CommandSpec& set_command() {
         c.keyword("large", 2, "large-strain mode (the default): zones follow their gridpoints' positions");
         c.keyword("small", 2, "small-strain mode: zone geometry stays as it was zoned (rigid blocks still move "
                               "by large displacements)");
+        c.describe("A word that is no setting names a FISH variable: 'set name = value ...' gives FISH "
+                   "variables values (numbers, 'strings', vectors (x,y,z) or the values of other FISH names), "
+                   "as classic scripts do before they call their functions. A new name needs the '='.");
         c.example("set dt 1e-4 echo off");
+        c.example("set kn = 1e10 name = 'run1'");
         c.handle([](CommandContext& ctx, const Args& a) {
             if (a.has("dynamic") && a.text("dynamic") == "off") {
                 Damping& d = ctx.model.damping;

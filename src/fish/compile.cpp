@@ -25,6 +25,43 @@ struct Const final : Expr {
     std::string describe() const override { return "a constant"; }
 };
 
+// `$KCFN`: a classic memory offset, read by imem()/fmem(). odec keeps no such memory, so the
+// offset stops the function with what to write instead.
+struct MemoryOffset final : Expr {
+    std::string name;
+    Value eval(Frame&) const override {
+        static const std::map<std::string, std::string> instead = {
+            {"$kcfn", "c_nforce(c)"}, {"$kcfs", "c_sforce(c)"}, {"$kcnx", "c_nx(c)"}, {"$kcny", "c_ny(c)"},
+            {"$kcnz", "c_nz(c)"},     {"$kxc", "c_x(c)"},       {"$kyc", "c_y(c)"},   {"$kzc", "c_z(c)"},
+            {"$kcl", "c_area(c) (a 3D contact has an area, not a length)"},
+            {"$kb1", "c_b1(c)"},      {"$kb2", "c_b2(c)"},      {"$kbx", "b_x(b)"},   {"$kby", "b_y(b)"},
+            {"$kbz", "b_z(b)"},       {"$kbvol", "b_vol(b)"},   {"$kbmass", "b_mass(b)"},
+            {"$kp", "b_gp(b)/gp_next(g) for the gridpoints of a deformable block (3D blocks have no corner "
+                    "list)"},
+            {"$kr", "b_gp(b)/gp_next(g) for the gridpoints of a deformable block (3D blocks have no corner "
+                    "list)"},
+            {"$kdx", "c_x(c) (odec has no flow domains; a contact's centroid is the nearest thing)"},
+            {"$kd1", "c_b1(c) (odec has no flow domains)"},
+            {"$kd2", "c_b2(c) (odec has no flow domains)"},
+            {"$kc1a", "cx_next(c)/cx_pos(x) for the sub-contacts of a contact (odec has no corners)"},
+            {"$kc2a", "cx_next(c)/cx_pos(x) for the sub-contacts of a contact (odec has no corners)"},
+        };
+        std::string l = name;
+        for (char& c : l) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        std::vector<std::string> notes;
+        auto it = instead.find(l);
+        if (it != instead.end()) {
+            notes.push_back("for " + name + " write " + it->second);
+        } else if (l == "$kcq" || l == "$kcap") {
+            notes.push_back("odec models no fluid flow: joint flow rates and apertures have no value here");
+        } else {
+            notes.push_back("read the quantity through its intrinsic: 'help fish' lists them");
+        }
+        fish_fail(loc, "'" + name + "' is a memory offset of the classic codes: odec has no memory offsets", notes);
+    }
+    std::string describe() const override { return "a memory offset"; }
+};
+
 struct LocalRef final : Expr {
     int slot = 0;
     std::string name;
@@ -608,6 +645,11 @@ private:
         if (name.lower == "true" || name.lower == "false") {
             auto n = node<Const>(name.loc);
             n->v = Value::boolean(name.lower == "true");
+            return n;
+        }
+        if (name.text[0] == '$') {
+            auto n = node<MemoryOffset>(name.loc);
+            n->name = name.text;
             return n;
         }
         const bool has_args = is_op(peek(), "(");

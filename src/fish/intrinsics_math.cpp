@@ -125,12 +125,11 @@ Value f_ycomp(Runtime&, A a, int, L loc) { return Value::real(vec0(a, "ycomp", l
 Value f_zcomp(Runtime&, A a, int, L loc) { return Value::real(vec0(a, "zcomp", loc).v.z()); }
 
 // Random numbers from a fixed seed, so that a script gives the same numbers every run.
-std::mt19937_64& rng() {
-    static std::mt19937_64 g(1);
-    return g;
+std::mt19937_64& rng(Runtime& rt) {
+    return rt.random;
 }
-Value f_urand(Runtime&, A, int, L) { return Value::real(std::uniform_real_distribution<double>(0, 1)(rng())); }
-Value f_grand(Runtime&, A, int, L) { return Value::real(std::normal_distribution<double>(0, 1)(rng())); }
+Value f_urand(Runtime& rt, A, int, L) { return Value::real(std::uniform_real_distribution<double>(0, 1)(rng(rt))); }
+Value f_grand(Runtime& rt, A, int, L) { return Value::real(std::normal_distribution<double>(0, 1)(rng(rt))); }
 
 } // namespace
 

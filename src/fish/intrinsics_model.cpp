@@ -121,11 +121,10 @@ void set_block_vel(Runtime& rt, A a, const Value& v, int k, const char* fn, L lo
     const int b = ptr(rt, a, 0, PtrKind::Block, fn, loc);
     Model& m = model(rt);
     const double x = checked(v, fn, loc);
-    // The velocity given is the velocity at t: keep the stored mid-step velocity consistent.
-    Vec3 now = velocity_at_t(m, b);
-    now[k] = x;
-    m.blocks.vel[b][k] = x;
-    (void)now;
+    // The velocity given is the velocity at t, as b_xvel reads it: the stored mid-step
+    // velocity differs from it by half a step of acceleration.
+    const double lead = velocity_at_t(m, b)[k] - m.blocks.vel[b][k];
+    m.blocks.vel[b][k] = (m.blocks.flags[b] & kFixed) ? x : x - lead;
 }
 void s_b_xvel(Runtime& rt, A a, int, const Value& v, L loc) { set_block_vel(rt, a, v, 0, "b_xvel", loc); }
 void s_b_yvel(Runtime& rt, A a, int, const Value& v, L loc) { set_block_vel(rt, a, v, 1, "b_yvel", loc); }
@@ -318,6 +317,11 @@ Value f_nzone(Runtime& rt, A, int, L) { return Value::integer(model(rt).zones.si
 Value f_ngp(Runtime& rt, A, int, L) { return Value::integer(model(rt).gridpoints.size()); }
 Value f_gravity(Runtime& rt, A, int, L) { return vec(model(rt).gravity); }
 
+Value f_memory(Runtime&, A, int, L loc) {
+    fish_fail(loc, "odec has no memory offsets: imem() and fmem() have nothing to read",
+              {"read the quantity through its intrinsic (c_nforce(c), b_x(b), gp_xdis(g), ...: 'help fish')"});
+}
+
 } // namespace
 
 const std::vector<Intrinsic>& model_intrinsics() {
@@ -441,6 +445,10 @@ const std::vector<Intrinsic>& model_intrinsics() {
         {"nzone", 0, 0, "", "number of zones", "model", f_nzone, nullptr},
         {"ngp", 0, 0, "", "number of gridpoints", "model", f_ngp, nullptr},
         {"gravity", 0, 0, "", "gravity (vector), m/s^2", "model", f_gravity, nullptr},
+        {"imem", 1, 1, "i", "(classic) integer memory at an offset: odec has none, the call stops with the "
+                            "intrinsic to use instead", "model", f_memory, nullptr},
+        {"fmem", 1, 1, "i", "(classic) real memory at an offset: odec has none, the call stops with the "
+                            "intrinsic to use instead", "model", f_memory, nullptr},
     };
     return t;
 }

@@ -303,6 +303,7 @@ void Runtime::clear() {
     symbols_.clear();
     order_.clear();
     for (auto& e : extras) e.clear();
+    random.seed(1);
     if (file) std::fclose(file);
     file = nullptr;
     model_changed();

@@ -10,6 +10,7 @@
 #include <map>
 #include <memory>
 #include <ostream>
+#include <random>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -108,6 +109,8 @@ public:
     const std::vector<std::vector<int>>& block_gridpoints();
     const std::vector<std::vector<int>>& block_zones();
     void model_changed();
+    // urand and grand: the same sequence in every session, from its start and after `new`.
+    std::mt19937_64 random{1};
     // Loop iterations FISH may still run (the fuzzing sessions' bound); null or < 0: no limit.
     long long* budget = nullptr;
     // Longest string FISH builds, in characters.

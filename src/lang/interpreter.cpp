@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <climits>
 #include <cstring>
 #include <cstdlib>
@@ -16,6 +17,7 @@
 #include <unistd.h>
 
 #include "fish/ast.h"
+#include "fish/intrinsics.h"
 #include "fish/runtime.h"
 
 namespace odec {
@@ -208,6 +210,11 @@ bool Interpreter::execute(const LexedCommand& cmd, bool echo_command) {
     try {
         if (is_fish_statement(cmd)) {
             run_fish_statement(cmd);
+            out.flush();
+            return true;
+        }
+        if (is_fish_set(cmd)) {
+            run_fish_set(cmd);
             out.flush();
             return true;
         }
@@ -408,7 +415,96 @@ bool command_word(const CommandSpec& c, const std::string& lower) {
     return false;
 }
 
+// Whether an '=' follows token t on its line (`set kp = 7`: the '=' is a separator to the lexer).
+bool equals_follows(const Token& t) {
+    if (!t.loc.file || t.loc.line < 1 || t.loc.line > static_cast<int>(t.loc.file->lines.size())) return false;
+    const std::string& line = t.loc.file->lines[static_cast<size_t>(t.loc.line - 1)];
+    size_t k = static_cast<size_t>(t.loc.col - 1) + t.text.size();
+    while (k < line.size() && (line[k] == ' ' || line[k] == '\t')) ++k;
+    return k < line.size() && line[k] == '=';
+}
+
 } // namespace
+
+bool Interpreter::is_fish_set(const LexedCommand& cmd) const {
+    if (cmd.tokens.size() < 2) return false;
+    const CommandSpec* verb = table.match(cmd.tokens[0].lower, nullptr);
+    if (!verb || verb->name != "set") return false;
+    const Token& t = cmd.tokens[1];
+    if (t.kind != TokenKind::Word) return false;
+    if (t.text.size() > 1 && t.text[0] == '@') return true;
+    if (command_word(*verb, t.lower)) return false;
+    // A variable FISH knows, or a new name given a value with '='.
+    const fish::Symbol* s = fish_->find(t.lower);
+    return s || (equals_follows(t) && !fish::find_intrinsic(t.lower));
+}
+
+void Interpreter::run_fish_set(const LexedCommand& cmd) {
+    // Pairs `name [=] value`; a value is a number, a string, a vector (x,y,z) or a FISH name.
+    // Every pair is checked before any is set: a failed command changes nothing.
+    const std::vector<Token>& t = cmd.tokens;
+    const CommandSpec* verb = table.match(t[0].lower, nullptr);
+    std::vector<std::pair<std::string, fish::Value>> sets;
+    size_t k = 1;
+    while (k < t.size()) {
+        const Token& n = t[k];
+        const bool at = n.kind == TokenKind::Word && n.text.size() > 1 && n.text[0] == '@';
+        const std::string name = at ? n.text.substr(1) : n.text;
+        std::string lname = name;
+        for (char& c : lname) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        if (n.kind != TokenKind::Word || (!at && command_word(*verb, n.lower))) {
+            fail(n.loc, "'" + n.text + "': expected the name of a FISH variable",
+                 {"'set name = value' sets FISH variables; a setting ('" + n.text +
+                  "') cannot be given on the same line"},
+                 "set");
+        }
+        const fish::Symbol* s = fish_->find(lname);
+        if (s && s->fn) fail(n.loc, "'" + name + "' is a FISH function: 'set' gives values to variables", {}, "set");
+        if (s && s->array) fail(n.loc, "'" + name + "' is a FISH array: 'set' gives one value", {}, "set");
+        if (!s && fish::find_intrinsic(lname)) {
+            fail(n.loc, "'" + name + "' is a FISH intrinsic: 'set' gives values to variables", {}, "set");
+        }
+        if (++k >= t.size()) fail(n.loc, "'" + name + "' needs a value: set " + name + " = value", {}, "set");
+        const Token& v = t[k];
+        fish::Value val;
+        if (v.kind == TokenKind::Number) {
+            const bool whole = v.text.find_first_of(".eE") == std::string::npos && std::fabs(v.number) < 9.2e18;
+            val = whole ? fish::Value::integer(static_cast<long long>(v.number)) : fish::Value::real(v.number);
+            ++k;
+        } else if (v.kind == TokenKind::String) {
+            val = fish::Value::string(v.text);
+            ++k;
+        } else if (v.kind == TokenKind::LParen) {
+            double x[3];
+            for (int i = 0; i < 3; ++i) {
+                if (k + 1 + i >= t.size() || t[k + 1 + i].kind != TokenKind::Number) {
+                    fail(v.loc, "a vector value is three numbers in parentheses: (x,y,z)", {}, "set");
+                }
+                x[i] = t[k + 1 + i].number;
+            }
+            if (k + 4 >= t.size() || t[k + 4].kind != TokenKind::RParen) {
+                fail(v.loc, "a vector value is three numbers in parentheses: (x,y,z)", {}, "set");
+            }
+            val = fish::Value::vector(Eigen::Vector3d(x[0], x[1], x[2]));
+            k += 5;
+        } else if (v.kind == TokenKind::Word) {
+            const bool vat = v.text.size() > 1 && v.text[0] == '@';
+            val = fish_->value_for_command(vat ? v.text.substr(1) : v.text, v.loc);
+            ++k;
+        } else {
+            fail(v.loc, "unexpected '" + v.text + "': expected the value of '" + name + "'", {}, "set");
+        }
+        if (val.is_number() && !std::isfinite(val.number())) {
+            fail(v.loc, "'" + v.text + "' is not a finite number", {}, "set");
+        }
+        sets.emplace_back(name, val);
+    }
+    for (auto& [name, val] : sets) {
+        fish::Symbol& s = fish_->symbol(name);
+        s.value = val;
+        s.assigned = true;
+    }
+}
 
 std::vector<Token> Interpreter::substitute(const std::vector<Token>& tokens) {
     const CommandSpec* verb = table.match(tokens.front().lower, nullptr);

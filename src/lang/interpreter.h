@@ -149,6 +149,9 @@ private:
     // `@f(...)`, `@x = 1`, or a FISH function named alone (UDEC): run it as FISH.
     bool is_fish_statement(const LexedCommand& cmd) const;
     void run_fish_statement(const LexedCommand& cmd);
+    // `set name = value ...` where name is no setting: FISH variables set from a command.
+    bool is_fish_set(const LexedCommand& cmd) const;
+    void run_fish_set(const LexedCommand& cmd);
     // The command's tokens with `@name` replaced by the values FISH has now.
     std::vector<Token> substitute(const std::vector<Token>& tokens);
 
