@@ -38,6 +38,14 @@ const CommandSpec& help_command_spec() {
             }
             std::vector<std::string> cand;
             const CommandSpec* c = table.match(w, &cand);
+            if (!c && cand.empty()) {
+                // `help c_nforce`: a FISH intrinsic named alone.
+                const std::string h = fish::help_intrinsic(w);
+                if (!h.empty()) {
+                    ctx.out << h;
+                    return;
+                }
+            }
             if (!c) {
                 std::vector<std::string> all;
                 for (const CommandSpec* s : table.commands) all.push_back(s->name);

@@ -396,3 +396,20 @@ TEST(FishIntrinsics, EveryIntrinsicHasACase) {
     }
     EXPECT_TRUE(missing.empty()) << "intrinsics without a case:" << missing;
 }
+
+TEST(FishIntrinsics, HelpDescribesEachIntrinsic) {
+    Session s;
+    ASSERT_TRUE(s.run("help fish")) << s.error();
+    for (const odec::fish::Intrinsic* in : odec::fish::all_intrinsics()) {
+        EXPECT_NE(s.out.str().find(in->name), std::string::npos) << in->name;
+    }
+    Session t;
+    ASSERT_TRUE(t.run("help fish c_nforce")) << t.error();
+    EXPECT_NE(t.out.str().find("normal force, compression positive, N"), std::string::npos) << t.out.str();
+    Session u; // the intrinsic named alone, as for a command
+    ASSERT_TRUE(u.run("help z_sig1")) << u.error();
+    EXPECT_NE(u.out.str().find("most compressive"), std::string::npos) << u.out.str();
+    Session v;
+    EXPECT_FALSE(v.run("help fish nosuch"));
+    EXPECT_NE(v.error().find("'nosuch' is no FISH intrinsic"), std::string::npos) << v.error();
+}
