@@ -22,7 +22,9 @@ const char* kStatements =
     "exit, return                     leave the function\n"
     "whilestepping                    (a line of the function) run it at every step\n"
     "operators: ^ (power), * /, + -, = # < > <= >= (# and != are 'not equal'), & (and), | (or), not\n"
-    "integer op integer stays an integer (7/2 = 3); a float makes a float\n";
+    "integer op integer stays an integer (7/2 = 3); a float makes a float\n"
+    "set name = value ...             (a command) give FISH variables values from outside a function\n"
+    "$KCFN, imem(i), fmem(i)          memory offsets of the classic codes: stop with the intrinsic to use\n";
 
 std::string line_of(const Intrinsic& in) {
     std::string head = std::string(in.name) + (in.max_args == 0 ? std::string() : "(" + std::string(in.args) + ")");
