@@ -477,3 +477,15 @@ TEST(Fish, WorkIsBoundedWhereTheSessionAsksAndStringsAreCapped) {
     EXPECT_FALSE(t.run("def big\n  array a(100000, 1000)\nend"));
     EXPECT_NE(t.error().find("more than 10000000 elements"), std::string::npos) << t.error();
 }
+
+TEST(Fish, DefineAndExitAsClassicScriptsWriteThem) {
+    // 'define' is 'def'; 'exit' leaves the function at once (3DEC 4); 'return' too.
+    Session s;
+    ASSERT_TRUE(s.run("define early(n)\n  early = 1\n  if n > 2 then\n    exit\n  endif\n  early = 2\nend\n"
+                      "def late\n  late = 10\n  return\n  late = 20\nend\n"
+                      "def both\n  a = early(5)\n  b = early(1)\n  c = late\nend\n@both"))
+        << s.error();
+    EXPECT_EQ(number(s, "a"), 1);
+    EXPECT_EQ(number(s, "b"), 2);
+    EXPECT_EQ(number(s, "c"), 10);
+}
