@@ -517,10 +517,17 @@ std::vector<Token> Interpreter::substitute(const std::vector<Token>& tokens) {
         if (!s || !(s->fn || s->assigned) || s->array) return false;
         return !command_word(*verb, t.lower);
     };
+    // `hist zz` with zz a FISH function or variable (as UDEC and 3DEC 4 write it): `hist @zz`.
+    auto bare_history = [&](const Token& t, size_t k) {
+        if (k != 1 || t.kind != TokenKind::Word || !verb || verb->name != "history") return false;
+        const fish::Symbol* s = fish_->find(t.lower);
+        return s && !s->array && !command_word(*verb, t.lower);
+    };
     bool any = false;
     for (size_t k = 0; k < tokens.size(); ++k) {
         const Token& t = tokens[k];
-        any = any || (t.kind == TokenKind::Word && t.text.size() > 1 && t.text[0] == '@') || bare(t, k);
+        any = any || (t.kind == TokenKind::Word && t.text.size() > 1 && t.text[0] == '@') || bare(t, k) ||
+              bare_history(t, k);
     }
     if (!any) return tokens;
     std::vector<Token> out;
@@ -528,7 +535,8 @@ std::vector<Token> Interpreter::substitute(const std::vector<Token>& tokens) {
     for (size_t k = 0; k < tokens.size(); ++k) {
         const Token& t = tokens[k];
         const bool at = t.kind == TokenKind::Word && t.text.size() > 1 && t.text[0] == '@';
-        if (!at && !bare(t, k)) {
+        const bool bare_hist = !at && bare_history(t, k);
+        if (!at && !bare_hist && !bare(t, k)) {
             out.push_back(t);
             continue;
         }
@@ -545,7 +553,7 @@ std::vector<Token> Interpreter::substitute(const std::vector<Token>& tokens) {
             out.push_back(w);
             Token n = t;
             n.text = name;
-            n.lower = t.lower.substr(1);
+            n.lower = at ? t.lower.substr(1) : t.lower;
             n.kind = TokenKind::String;
             out.push_back(n);
             continue;

@@ -489,3 +489,21 @@ TEST(Fish, DefineAndExitAsClassicScriptsWriteThem) {
     EXPECT_EQ(number(s, "b"), 2);
     EXPECT_EQ(number(s, "c"), 10);
 }
+
+TEST(Fish, HistoriesOfBareFishNames) {
+    // `hist zpos` and `hist kv` as UDEC and 3DEC 4 write them: a function, and a variable
+    // that a command set; a name that is a keyword of 'hist' keeps its meaning.
+    Session s;
+    ASSERT_TRUE(s.run("poly brick 0 1 0 1 0 1\nprop mat=1 dens=1000\ngrav 0 0 -10\nset dt 1e-3\ndamp off\n"
+                      "def zpos\n  zpos = b_z(block_head)\nend\nset kv = 3\n"
+                      "hist zpos\nhist kv\nhist ncyc 1\nstep 100"))
+        << s.error();
+    ASSERT_EQ(s.model.histories.items.size(), 2u);
+    const auto& h = s.model.histories.items.at(0);
+    ASSERT_EQ(h.values.size(), 100u);
+    const double t = 0.1;
+    EXPECT_NEAR(h.values.back(), 0.5 - 10 * t * t / 2, 10 * 1e-3 * t);
+    EXPECT_EQ(s.model.histories.items.at(1).values.back(), 3);
+    EXPECT_FALSE(s.run("hist nosuch"));
+    EXPECT_NE(s.error().find("unknown keyword 'nosuch'"), std::string::npos) << s.error();
+}
