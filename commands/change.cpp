@@ -38,8 +38,12 @@ const CommandSpec& change_command() {
                                                        " jkn ... jks ...') before the model cycles");
                 }
                 const int jcons = a.has("jcons") ? a.integer("jcons") : 0;
-                // Contacts are found first when the model has not cycled since it changed
-                // (assign_joint_material does it).
+                // Contacts are brought up to date first: after cycling, by the incremental
+                // update; when the model changed, assign_joint_material finds them all, once.
+                if (!m.geometry_changed) {
+                    refresh_world_vertices(m);
+                    detect_contacts(m);
+                }
                 const int n = assign_joint_material(m, a.range, jmat, jcons);
                 if (!ctx.interp.quiet) ctx.out << n << " contacts changed\n";
             }

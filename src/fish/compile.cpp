@@ -215,7 +215,11 @@ struct Binary final : Expr {
             default: break;
             }
         }
-        return binary(op, x, y, loc);
+        Value r = binary(op, x, y, loc);
+        if (r.type == Type::String && r.s.size() > f.rt.max_string) {
+            fish_fail(loc, "a string of more than " + std::to_string(f.rt.max_string) + " characters");
+        }
+        return r;
     }
 };
 
@@ -258,14 +262,7 @@ struct If final : Stmt {
 };
 
 // Each loop iteration: Ctrl-C, and the session's bound on FISH work.
-void tick(Frame& f, const SourceLoc& loc) {
-    if (f.rt.host.interrupted()) fish_fail(loc, "interrupted by Ctrl-C");
-    long long* b = f.rt.budget;
-    if (b && *b >= 0) {
-        if (*b == 0) fish_fail(loc, "this session's bound on FISH loop iterations is reached");
-        --*b;
-    }
-}
+void tick(Frame& f, const SourceLoc& loc) { f.rt.tick(loc); }
 
 struct LoopWhile final : Stmt {
     ExprP cond;
@@ -294,10 +291,13 @@ struct LoopRange final : Stmt {
                 const Flow fl = run_block(body, f);
                 if (fl == Flow::ExitLoop) break;
                 if (fl == Flow::ExitFunction || fl == Flow::ExitSection) return fl;
+                if (i == b.i) break; // ++i would overflow at the largest integer
             }
         } else {
             const double lo = a.number(), hi = b.number();
             if (!std::isfinite(lo) || !std::isfinite(hi)) fish_fail(from->loc, "a loop's bounds must be finite");
+            // Beyond 2^53 adding 1 changes nothing: the loop would never end.
+            if (std::fabs(lo) > 9e15 || std::fabs(hi) > 9e15) fish_fail(from->loc, "a loop's bounds must lie within +/-9e15");
             for (double x = lo; x <= hi; x += 1) {
                 tick(f, loc);
                 var->assign(f, Value::real(x));
@@ -359,15 +359,24 @@ std::shared_ptr<Array> make_array(Frame& f, const Symbol& sym, const std::vector
         if (v.type != Type::Int && !(v.type == Type::Float && v.f == std::floor(v.f) && std::isfinite(v.f))) {
             fish_fail(d->loc, "an array size must be a whole number (got " + to_text(v) + ")");
         }
-        const long long n = v.type == Type::Int ? v.i : static_cast<long long>(v.f);
-        if (n < 1 || n > 10000000) {
-            fish_fail(d->loc, "array '" + sym.name + "' would have " + std::to_string(n) + " elements along a dimension",
-                      {"expected 1 to 10000000; an array is sized when its function is defined, from the values "
-                       "variables have then"});
+        const double x = v.type == Type::Int ? static_cast<double>(v.i) : v.f;
+        const size_t cap = f.rt.max_array_items;
+        if (x < 1 || x > static_cast<double>(cap)) {
+            fish_fail(d->loc, "array '" + sym.name + "' would have " + to_text(v) + " elements along a dimension",
+                      {"expected 1 to " + std::to_string(cap) + "; an array is sized when its function is defined, "
+                       "from the values variables have then"});
         }
-        total *= static_cast<size_t>(n);
-        if (total > 10000000) fish_fail(d->loc, "array '" + sym.name + "' would have more than 10000000 elements");
+        const size_t n = static_cast<size_t>(x);
+        total *= n;
+        if (total > cap) fish_fail(d->loc, "array '" + sym.name + "' would have more than " + std::to_string(cap) + " elements");
         a->dims.push_back(static_cast<int>(n));
+    }
+    // All arrays together: each element takes about 100 bytes.
+    const size_t others = f.rt.array_items() - (sym.array ? sym.array->items.size() : 0);
+    if (others + total > f.rt.max_array_items) {
+        fish_fail(dims.front()->loc, "array '" + sym.name + "' would bring the elements of all arrays beyond " +
+                                         std::to_string(f.rt.max_array_items),
+                  {"lose_array(a) frees an array that is no longer needed"});
     }
     a->items.assign(total, Value::integer(0));
     return a;
@@ -426,6 +435,7 @@ private:
     const std::vector<Token>* t_ = nullptr;
     size_t i_ = 0;
     bool used_local_ = false; // a local was referred to since this was last cleared
+    bool in_memory_call_ = false; // compiling the arguments of imem()/fmem()
 
     // -- expressions -------------------------------------------------------------------------
     const Token& peek() const { return (*t_)[i_]; }
@@ -647,7 +657,7 @@ private:
             n->v = Value::boolean(name.lower == "true");
             return n;
         }
-        if (name.text[0] == '$') {
+        if (name.text[0] == '$' && in_memory_call_ && !locals_.count(name.lower)) {
             auto n = node<MemoryOffset>(name.loc);
             n->name = name.text;
             return n;
@@ -667,7 +677,13 @@ private:
         if (in) {
             auto n = node<IntrinsicCall>(name.loc);
             n->in = in;
-            if (has_args) n->args = call_args();
+            if (has_args) {
+                // `fmem(c + $KCFN)`: a `$` name there is a classic memory offset.
+                const bool outer = in_memory_call_;
+                in_memory_call_ = std::string(in->name) == "imem" || std::string(in->name) == "fmem";
+                n->args = call_args();
+                in_memory_call_ = outer;
+            }
             const int k = static_cast<int>(n->args.size());
             if (k < in->min_args || (in->max_args >= 0 && k > in->max_args) || k > 8) {
                 std::string want = in->min_args == in->max_args ? std::to_string(in->min_args)

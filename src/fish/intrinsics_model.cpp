@@ -123,7 +123,8 @@ void set_block_vel(Runtime& rt, A a, const Value& v, int k, const char* fn, L lo
     const double x = checked(v, fn, loc);
     // The velocity given is the velocity at t, as b_xvel reads it: the stored mid-step
     // velocity differs from it by half a step of acceleration.
-    const double lead = velocity_at_t(m, b)[k] - m.blocks.vel[b][k];
+    double lead = velocity_at_t(m, b)[k] - m.blocks.vel[b][k];
+    if (!std::isfinite(lead)) lead = 0;
     m.blocks.vel[b][k] = (m.blocks.flags[b] & kFixed) ? x : x - lead;
 }
 void s_b_xvel(Runtime& rt, A a, int, const Value& v, L loc) { set_block_vel(rt, a, v, 0, "b_xvel", loc); }

@@ -240,7 +240,7 @@ Value call_function(Runtime& rt, Symbol& s, std::vector<Value>& args, const Sour
                           ", given " + std::to_string(args.size()),
                   {"it is defined at " + where(fn->loc)});
     }
-    if (rt.host.interrupted()) fish_fail(at, "interrupted by Ctrl-C");
+    rt.tick(at);
     try {
         return run_function(rt, *fn, args, at);
     } catch (FishError& e) {
@@ -253,6 +253,22 @@ Value call_function(Runtime& rt, Symbol& s, std::vector<Value>& args, const Sour
 // Runtime
 
 Runtime::Runtime(Host& h) : host(h) {}
+
+void Runtime::tick(const SourceLoc& loc) {
+    if (host.interrupted()) fish_fail(loc, "interrupted by Ctrl-C");
+    if (budget && *budget >= 0) {
+        if (*budget == 0) fish_fail(loc, "this session's bound on FISH loop iterations and calls is reached");
+        --*budget;
+    }
+}
+
+size_t Runtime::array_items() const {
+    size_t n = 0;
+    for (const auto& [k, s] : symbols_) {
+        if (s->array) n += s->array->items.size();
+    }
+    return n;
+}
 
 Runtime::~Runtime() {
     if (file) std::fclose(file);

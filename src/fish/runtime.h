@@ -111,10 +111,17 @@ public:
     void model_changed();
     // urand and grand: the same sequence in every session, from its start and after `new`.
     std::mt19937_64 random{1};
-    // Loop iterations FISH may still run (the fuzzing sessions' bound); null or < 0: no limit.
+    // Loop iterations and calls FISH may still run (the fuzzing sessions' bound); null or < 0:
+    // no limit.
     long long* budget = nullptr;
-    // Longest string FISH builds, in characters.
+    // A loop iteration or a call: stops at Ctrl-C and at the end of the budget.
+    void tick(const SourceLoc& loc);
+    // Longest string FISH builds, in characters (no string is ever longer than kMaxString).
     static constexpr size_t kMaxString = size_t{1} << 20;
+    size_t max_string = kMaxString;
+    // Elements of all arrays together.
+    size_t max_array_items = 10000000;
+    size_t array_items() const;
     // How deep FISH calls may nest (each takes C++ stack).
     static constexpr int kMaxDepth = 100;
     // Where FISH is running now (for messages): innermost call last.

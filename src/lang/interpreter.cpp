@@ -426,37 +426,59 @@ bool equals_follows(const Token& t) {
 
 } // namespace
 
+namespace {
+
+// Whether `lower` is a keyword (or a choice) of the command itself, range filters aside.
+bool own_keyword(const CommandSpec& c, const std::string& lower) {
+    for (const KeywordSpec& k : c.keywords) {
+        if (abbreviates(lower, k.name, k.min)) return true;
+    }
+    return false;
+}
+
+bool at_word(const Token& t) { return t.kind == TokenKind::Word && t.text.size() > 1 && t.text[0] == '@'; }
+
+std::string lower_of(std::string s) {
+    for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+}
+
+} // namespace
+
 bool Interpreter::is_fish_set(const LexedCommand& cmd) const {
     if (cmd.tokens.size() < 2) return false;
     const CommandSpec* verb = table.match(cmd.tokens[0].lower, nullptr);
     if (!verb || verb->name != "set") return false;
     const Token& t = cmd.tokens[1];
     if (t.kind != TokenKind::Word) return false;
-    if (t.text.size() > 1 && t.text[0] == '@') return true;
-    if (command_word(*verb, t.lower)) return false;
-    // A variable FISH knows, or a new name given a value with '='.
-    const fish::Symbol* s = fish_->find(t.lower);
-    return s || (equals_follows(t) && !fish::find_intrinsic(t.lower));
+    if (at_word(t)) return true;
+    if (own_keyword(*verb, t.lower)) return false;
+    // A name FISH knows, or a new name given a value with '='.
+    return fish_->find(t.lower) || (equals_follows(t) && !fish::find_intrinsic(t.lower));
 }
 
 void Interpreter::run_fish_set(const LexedCommand& cmd) {
     // Pairs `name [=] value`; a value is a number, a string, a vector (x,y,z) or a FISH name.
-    // Every pair is checked before any is set: a failed command changes nothing.
+    // Every pair is checked first; then the values are taken and set in order (`set a = 1
+    // b = a` gives b 1). Only a FISH function named as a value, failing, stops part way.
     const std::vector<Token>& t = cmd.tokens;
     const CommandSpec* verb = table.match(t[0].lower, nullptr);
-    std::vector<std::pair<std::string, fish::Value>> sets;
+    struct Pair {
+        const Token* name;
+        std::string text;  // the variable's name as written
+        fish::Value value; // a literal value, or
+        const Token* word = nullptr; // a FISH name whose value is taken
+    };
+    std::vector<Pair> pairs;
     size_t k = 1;
     while (k < t.size()) {
         const Token& n = t[k];
-        const bool at = n.kind == TokenKind::Word && n.text.size() > 1 && n.text[0] == '@';
+        const bool at = at_word(n);
         const std::string name = at ? n.text.substr(1) : n.text;
-        std::string lname = name;
-        for (char& c : lname) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-        if (n.kind != TokenKind::Word || (!at && command_word(*verb, n.lower))) {
-            fail(n.loc, "'" + n.text + "': expected the name of a FISH variable",
-                 {"'set name = value' sets FISH variables; a setting ('" + n.text +
-                  "') cannot be given on the same line"},
-                 "set");
+        const std::string lname = lower_of(name);
+        if (n.kind != TokenKind::Word || (!at && own_keyword(*verb, n.lower))) {
+            fail(n.loc, "unexpected '" + n.text + "': expected the name of a FISH variable",
+                 {"'set name = value' sets FISH variables; give settings on a line of their own"}, "set");
         }
         const fish::Symbol* s = fish_->find(lname);
         if (s && s->fn) fail(n.loc, "'" + name + "' is a FISH function: 'set' gives values to variables", {}, "set");
@@ -465,43 +487,68 @@ void Interpreter::run_fish_set(const LexedCommand& cmd) {
             fail(n.loc, "'" + name + "' is a FISH intrinsic: 'set' gives values to variables", {}, "set");
         }
         if (++k >= t.size()) fail(n.loc, "'" + name + "' needs a value: set " + name + " = value", {}, "set");
+        Pair p{&n, name, fish::Value::null()};
         const Token& v = t[k];
-        fish::Value val;
         if (v.kind == TokenKind::Number) {
+            if (!std::isfinite(v.number)) fail(v.loc, "'" + v.text + "' is not a finite number", {}, "set");
             const bool whole = v.text.find_first_of(".eE") == std::string::npos && std::fabs(v.number) < 9.2e18;
-            val = whole ? fish::Value::integer(static_cast<long long>(v.number)) : fish::Value::real(v.number);
+            p.value = whole ? fish::Value::integer(static_cast<long long>(v.number)) : fish::Value::real(v.number);
             ++k;
         } else if (v.kind == TokenKind::String) {
-            val = fish::Value::string(v.text);
+            p.value = fish::Value::string(v.text);
             ++k;
         } else if (v.kind == TokenKind::LParen) {
-            double x[3];
+            Eigen::Vector3d x;
             for (int i = 0; i < 3; ++i) {
-                if (k + 1 + i >= t.size() || t[k + 1 + i].kind != TokenKind::Number) {
-                    fail(v.loc, "a vector value is three numbers in parentheses: (x,y,z)", {}, "set");
+                if (k + 1 + i >= t.size() || t[k + 1 + i].kind != TokenKind::Number || !std::isfinite(t[k + 1 + i].number)) {
+                    fail(v.loc, "a vector value is three finite numbers in parentheses: (x,y,z)", {}, "set");
                 }
                 x[i] = t[k + 1 + i].number;
             }
             if (k + 4 >= t.size() || t[k + 4].kind != TokenKind::RParen) {
-                fail(v.loc, "a vector value is three numbers in parentheses: (x,y,z)", {}, "set");
+                fail(v.loc, "a vector value is three finite numbers in parentheses: (x,y,z)", {}, "set");
             }
-            val = fish::Value::vector(Eigen::Vector3d(x[0], x[1], x[2]));
+            p.value = fish::Value::vector(x);
             k += 5;
         } else if (v.kind == TokenKind::Word) {
-            const bool vat = v.text.size() > 1 && v.text[0] == '@';
-            val = fish_->value_for_command(vat ? v.text.substr(1) : v.text, v.loc);
+            const std::string vname = lower_of(at_word(v) ? v.text.substr(1) : v.text);
+            const fish::Intrinsic* in = fish::find_intrinsic(vname);
+            bool earlier = false; // set by an earlier pair of this line
+            for (const Pair& q : pairs) earlier = earlier || lower_of(q.text) == vname;
+            if (!earlier && !fish_->find(vname) && !(in && in->min_args == 0)) {
+                fail(v.loc, "'" + v.text + "' is no FISH variable or function: expected the value of '" + name + "'",
+                     {"a string value is written in quotes: '" + v.text + "'"}, "set");
+            }
+            p.word = &v;
             ++k;
         } else {
             fail(v.loc, "unexpected '" + v.text + "': expected the value of '" + name + "'", {}, "set");
         }
-        if (val.is_number() && !std::isfinite(val.number())) {
-            fail(v.loc, "'" + v.text + "' is not a finite number", {}, "set");
-        }
-        sets.emplace_back(name, val);
+        pairs.push_back(p);
     }
-    for (auto& [name, val] : sets) {
-        fish::Symbol& s = fish_->symbol(name);
-        s.value = val;
+    for (Pair& p : pairs) {
+        if (p.word) {
+            const Token& v = *p.word;
+            p.value = fish_->value_for_command(at_word(v) ? v.text.substr(1) : v.text, v.loc);
+            if (p.value.is_number() && !std::isfinite(p.value.number())) {
+                fail(v.loc, "'" + v.text + "' is not a finite number", {}, "set");
+            }
+        }
+        const std::string lname = lower_of(p.text);
+        if (!fish_->find(lname)) {
+            // A mistyped setting would otherwise pass unnoticed as a new variable.
+            std::vector<std::string> names;
+            for (const KeywordSpec& kw : verb->keywords) names.push_back(kw.name);
+            const auto near = lname.size() >= 4 ? closest_words(lname, names, 1) : std::vector<std::string>{};
+            if (!near.empty()) {
+                const SourceLoc& l = p.name->loc;
+                err << (l.file ? l.file->name : std::string("<input>")) << ":" << l.line << ":" << l.col
+                    << ": warning: '" << p.text << "' is no setting of 'set' (did you mean '" << near.front()
+                    << "'?): it is now a FISH variable\n";
+            }
+        }
+        fish::Symbol& s = fish_->symbol(p.text);
+        s.value = p.value;
         s.assigned = true;
     }
 }

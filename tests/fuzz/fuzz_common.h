@@ -13,6 +13,7 @@
 #include <string>
 #include <system_error>
 
+#include "fish/runtime.h"
 #include "lang/interpreter.h"
 
 namespace odec::fuzz {
@@ -63,6 +64,8 @@ inline void bound_session(Interpreter& interp) {
     interp.limits.max_zones = 500;
     interp.limits.block_steps = 400;
     interp.limits.fish_steps = 200000;
+    interp.fish().max_string = 4096; // arrays of such strings stay below ~0.5 GB
+    interp.fish().max_array_items = 100000;
     interp.progress_seconds = 1e30; // progress lines depend on the clock: none
 }
 

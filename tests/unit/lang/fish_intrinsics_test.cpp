@@ -362,6 +362,10 @@ TEST(FishIntrinsics, MemoryOffsetsOfTheClassicCodesSayWhatToWrite) {
     Session t;
     EXPECT_FALSE(t.run("def g\n  x = imem(5)\nend\n@g"));
     EXPECT_NE(t.error().find("odec has no memory offsets"), std::string::npos) << t.error();
+    // Elsewhere a '$' name is an ordinary variable (classic scripts use them as private ones).
+    Session u;
+    ASSERT_TRUE(u.run("def h\n  $kp = 3\n  y = $kp * 2\nend\n@h")) << u.error();
+    EXPECT_EQ(u.interp.fish().find("y")->value.number(), 6);
 }
 
 TEST(FishIntrinsics, SetGivesFishVariablesValues) {
@@ -383,6 +387,20 @@ TEST(FishIntrinsics, SetGivesFishVariablesValues) {
     EXPECT_EQ(g("kn").number(), 7);
     EXPECT_FALSE(s.run("set show = 1"));
     EXPECT_NE(s.error().find("is a FISH function"), std::string::npos) << s.error();
+    // Names that are range filters elsewhere (x, id, z) are free here; values are taken in order.
+    Session t;
+    ASSERT_TRUE(t.run("set x = 1 id = 2 z = (1, 2, 3)\nset a = 4 b = a")) << t.error();
+    EXPECT_EQ(t.interp.fish().find("id")->value.number(), 2);
+    EXPECT_EQ(t.interp.fish().find("b")->value.number(), 4);
+    EXPECT_TRUE(t.error().empty()) << t.error();
+    // A mistyped setting becomes a variable, and says so.
+    ASSERT_TRUE(t.run("set dtfrax = 0.2")) << t.error();
+    EXPECT_NE(t.error().find("'dtfrax' is no setting of 'set' (did you mean 'dtfrac'?)"), std::string::npos) << t.error();
+    EXPECT_FALSE(t.run("set v = (1e400, 0, 0)"));
+    EXPECT_EQ(t.interp.fish().find("v"), nullptr);
+    EXPECT_FALSE(t.run("set w = 1 u = nosuch"));
+    EXPECT_NE(t.error().find("'nosuch' is no FISH variable or function"), std::string::npos) << t.error();
+    EXPECT_EQ(t.interp.fish().find("w"), nullptr); // checked before anything was set
 }
 
 TEST(FishIntrinsics, EveryIntrinsicHasACase) {

@@ -466,6 +466,34 @@ TEST(Fish, BareNamesInCommandsTakeTheirValuesAsInUdec) {
     // A word the command knows ('disp' of 'reset') is never replaced.
 }
 
+TEST(Fish, RecursionWithoutLoopsIsBoundedToo) {
+    // About 2^60 calls, never more than 61 deep: the budget counts calls as well as loops.
+    Session s;
+    s.interp.limits.fish_steps = 5000;
+    EXPECT_FALSE(s.run("def f(n)\n  if n > 0 then\n    a = f(n - 1) + f(n - 1)\n  endif\nend\n@f(60)"));
+    EXPECT_NE(s.error().find("bound on FISH loop iterations and calls"), std::string::npos) << s.error();
+}
+
+TEST(Fish, LoopsEndAtTheLargestIntegerAndRefuseUnendingFloatBounds) {
+    Session s;
+    ASSERT_TRUE(s.run("def f\n  n = 0\n  loop i (9223372036854775806, 9223372036854775807)\n    n = n + 1\n  endloop\nend\n@f"))
+        << s.error();
+    EXPECT_EQ(s.interp.fish().find("n")->value.number(), 2);
+    EXPECT_FALSE(s.run("def g\n  loop x (1e300, 2e300)\n  endloop\nend\n@g"));
+    EXPECT_NE(s.error().find("within +/-9e15"), std::string::npos) << s.error();
+}
+
+TEST(Fish, AllArraysTogetherAreBounded) {
+    Session s;
+    s.interp.fish().max_array_items = 1000;
+    ASSERT_TRUE(s.run("def a1\n  array one(600)\nend")) << s.error();
+    EXPECT_FALSE(s.run("def a2\n  array two(600)\nend"));
+    EXPECT_NE(s.error().find("beyond 1000"), std::string::npos) << s.error();
+    ASSERT_TRUE(s.run("def a3\n  array one(900)\nend")) << s.error(); // a redefinition replaces
+    EXPECT_FALSE(s.run("def a4\n  array big(1e300)\nend"));
+    EXPECT_NE(s.error().find("elements along a dimension"), std::string::npos) << s.error();
+}
+
 TEST(Fish, WorkIsBoundedWhereTheSessionAsksAndStringsAreCapped) {
     Session s;
     s.interp.limits.fish_steps = 1000;
