@@ -568,7 +568,8 @@ std::vector<Token> Interpreter::substitute(const std::vector<Token>& tokens) {
     auto bare_history = [&](const Token& t, size_t k) {
         if (k != 1 || t.kind != TokenKind::Word || !verb || verb->name != "history") return false;
         const fish::Symbol* s = fish_->find(t.lower);
-        return s && !s->array && !command_word(*verb, t.lower);
+        const fish::Intrinsic* in = s ? nullptr : fish::find_intrinsic(t.lower);
+        return ((s && !s->array) || (in && in->min_args == 0)) && !command_word(*verb, t.lower);
     };
     bool any = false;
     for (size_t k = 0; k < tokens.size(); ++k) {

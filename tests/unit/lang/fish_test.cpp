@@ -524,9 +524,10 @@ TEST(Fish, HistoriesOfBareFishNames) {
     Session s;
     ASSERT_TRUE(s.run("poly brick 0 1 0 1 0 1\nprop mat=1 dens=1000\ngrav 0 0 -10\nset dt 1e-3\ndamp off\n"
                       "def zpos\n  zpos = b_z(block_head)\nend\nset kv = 3\n"
-                      "hist zpos\nhist kv\nhist ncyc 1\nstep 100"))
+                      "hist zpos\nhist kv\nhist nblock\nhist ncyc 1\nstep 100"))
         << s.error();
-    ASSERT_EQ(s.model.histories.items.size(), 2u);
+    ASSERT_EQ(s.model.histories.items.size(), 3u);
+    EXPECT_EQ(s.model.histories.items.at(2).values.back(), 1); // an intrinsic, read each sample
     const auto& h = s.model.histories.items.at(0);
     ASSERT_EQ(h.values.size(), 100u);
     const double t = 0.1;
