@@ -17,7 +17,7 @@ const CommandSpec& change_command() {
         c.range();
         c.describe("Blocks in the range (every block when no range is given) take the material; their "
                    "mass and inertia follow its density. Contacts whose centroid is in the range take the "
-                   "joint material and joint model; contacts made later take those of the joint plane they "
+                   "joint material and joint model, except those of hidden blocks ('hide'); contacts made later take those of the joint plane they "
                    "lie on, or the defaults of 'set jmat' and 'set jcons'. 'cons' sets the zone model of the "
                    "zones whose centroid is in the range (0 null: the zone carries nothing; 1 elastic; 2 "
                    "Mohr-Coulomb, with 'prop coh fric ten dil'), and of the rigid blocks of the range for "

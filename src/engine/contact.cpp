@@ -124,6 +124,8 @@ int assign_joint_material(Model& m, const Range& r, int jmat, int jcons) {
     for (int c = 0; c < cs.size(); ++c) {
         const ContactInfo info = contact_info(m, c);
         if (!r.contains_contact(m, info.centroid, cs.block_a[c], cs.block_b[c])) continue;
+        // As for blocks: hidden ones are left alone (3DEC's hide ... show ... change jmat).
+        if ((m.blocks.flags[cs.block_a[c]] | m.blocks.flags[cs.block_b[c]]) & kHidden) continue;
         if (jmat > 0) cs.jmat[c] = jmat;
         if (jcons > 0) cs.jcons[c] = jcons;
         ++changed;

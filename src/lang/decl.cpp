@@ -248,6 +248,10 @@ const std::vector<KeywordSpec>& range_filters() {
         add("region", 3, "blocks created with this region number").integer("n", 0);
         add("group", 2, "blocks in the named group").word("name");
         add("id", 2, "the block with this id, or ids lo to hi").integer("lo", 1).integer("hi", 1).optional("lo");
+        add("bid", 3, "(3DEC) as 'id': the block with this id, or ids lo to hi").integer("lo", 1).integer("hi", 1).optional("lo");
+        add("xr", 2, "(3DEC) as 'x': centroid x between lo and hi").real("lo").real("hi");
+        add("yr", 2, "(3DEC) as 'y': centroid y between lo and hi").real("lo").real("hi");
+        add("zr", 2, "(3DEC) as 'z': centroid z between lo and hi").real("lo").real("hi");
         add("sphere", 2, "centroid within radius r of c").vec("c").real("r", 0, kInf, Limit::Open);
         add("cylinder", 2, "centroid within radius r of the segment a-b").vec("a").vec("b").real("r", 0, kInf, Limit::Open);
         add("plane", 2, "centroid above or below a plane: plane dip d dd a origin x,y,z above|below")

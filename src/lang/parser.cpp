@@ -515,7 +515,10 @@ private:
     Filter make_filter(const KeywordSpec& spec, const std::vector<Value>& v, bool negate, const Token& w) {
         Filter f;
         f.negate = negate;
-        const std::string& n = spec.name;
+        // 3DEC's names for the same filters: bid (id), xr, yr, zr (x, y, z).
+        const std::string n = spec.name == "bid" ? std::string("id")
+                              : (spec.name == "xr" || spec.name == "yr" || spec.name == "zr") ? spec.name.substr(0, 1)
+                                                                                                : spec.name;
         if (n == "x" || n == "y" || n == "z") {
             f.kind = n == "x" ? FilterKind::X : n == "y" ? FilterKind::Y : FilterKind::Z;
             f.lo = std::min(v[0].number, v[1].number);

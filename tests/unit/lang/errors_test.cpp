@@ -157,13 +157,13 @@ TEST(Errors, RangeFilters) {
               "t.dat:1:11: error: unknown range filter 'q'\n"
               "    fix range q 1\n"
               "              ^\n"
-              "  expected one of: x, y, z, region, group, id, sphere, cylinder, plane, nrange, union, not\n"
+              "  expected one of: x, y, z, region, group, id, bid, xr, yr, zr, sphere, cylinder, plane, nrange, union, not\n"
               "  see 'help range'\n");
     EXPECT_EQ(error_of("fix range"),
               "t.dat:1:10: error: missing range filter after 'range'\n"
               "    fix range\n"
               "             ^\n"
-              "  expected one of: x, y, z, region, group, id, sphere, cylinder, plane, nrange, union, not\n"
+              "  expected one of: x, y, z, region, group, id, bid, xr, yr, zr, sphere, cylinder, plane, nrange, union, not\n"
               "  see 'help range'\n");
 }
 

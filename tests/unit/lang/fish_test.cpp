@@ -536,3 +536,22 @@ TEST(Fish, HistoriesOfBareFishNames) {
     EXPECT_FALSE(s.run("hist nosuch"));
     EXPECT_NE(s.error().find("unknown keyword 'nosuch'"), std::string::npos) << s.error();
 }
+
+TEST(Fish, ClassicRangeNamesAndHiddenBlocksInChange) {
+    // rkn2's pattern: hide all, show two blocks by 'bid', change the joint material of the
+    // contact between them only; 'zr' is 3DEC's z range.
+    Session s;
+    ASSERT_TRUE(s.run("poly brick 0 1 0 1 0 1\npoly brick 0 1 1 2 0 1\npoly brick 0 1 0 2 -1 0\n"
+                      "prop mat=1 dens=2000\nprop jmat=1 jkn=1e10 jks=1e10 jfric=30\nprop jmat=2 jkn=1e10 jks=1e10 jfric=40\n"
+                      "def pick\n  b1 = 1\n  b2 = 2\n  command\n    hide\n    show range bid @b1\n    show range bid @b2\n"
+                      "    change jmat 2\n    show\n  endcommand\nend\n@pick\n"
+                      "def count\n  n2 = 0\n  c = contact_head\n  loop while c # 0\n"
+                      "    if c_jmat(c) = 2 then\n      n2 = n2 + 1\n      side = c_ny(c)\n    endif\n    c = c_next(c)\n  endloop\nend\n@count\n"
+                      "fix range zr -1 0"))
+        << s.error();
+    EXPECT_EQ(number(s, "n2"), 1);
+    EXPECT_NEAR(std::fabs(number(s, "side")), 1.0, 1e-12); // the contact between blocks 1 and 2
+    int fixed = 0;
+    for (int b = 0; b < s.model.blocks.size(); ++b) fixed += (s.model.blocks.flags[b] & odec::kFixed) ? 1 : 0;
+    EXPECT_EQ(fixed, 1);
+}
