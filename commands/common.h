@@ -62,6 +62,20 @@ inline void check_file_allowed(const CommandContext& ctx, const SourceLoc& loc, 
 
 // `step` and `solve` in a session with a budget of block-steps (Interpreter::Limits): at most
 // as many steps as the budget leaves for the blocks there are. Returns the blocks counted.
+// While alive, the model is cycling: commands FISH runs then are checked against their
+// declarations (CommandSpec::not_while_cycling).
+struct CyclingGuard {
+    Interpreter& interp;
+    explicit CyclingGuard(Interpreter& in) : interp(in) { ++interp.cycling; }
+    ~CyclingGuard() { --interp.cycling; }
+    CyclingGuard(const CyclingGuard&) = delete;
+    CyclingGuard& operator=(const CyclingGuard&) = delete;
+};
+
+// Why `step`, `solve` and their kind may not run from FISH during cycling.
+constexpr const char* kNoNestedCycling =
+    "a function called while the model cycles cannot cycle it again (it would run steps inside a step)";
+
 inline long long limit_steps_to_budget(CommandContext& ctx, const SourceLoc& loc, long& max_steps,
                                        const std::string& help_topic) {
     const long long budget = ctx.interp.limits.block_steps;

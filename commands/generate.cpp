@@ -177,7 +177,8 @@ const CommandSpec& generate_command() {
             solids.reserve(blocks.size());
             for (int b : blocks) solids.push_back(world_shape(m, b));
             TetMesh mesh;
-            const std::string why = mesh_solids(solids, edges, mesh);
+            const std::string why = mesh_solids(solids, edges, mesh, &ctx.interp.interrupt);
+            if (ctx.interp.interrupt.load()) fail(a.loc, "interrupted: the blocks were not zoned", {}, "generate");
             if (!why.empty()) fail(a.loc, why, {"try another edge length"}, "generate");
             std::vector<int> position(m.blocks.size(), -1);
             for (size_t k = 0; k < blocks.size(); ++k) position[blocks[k]] = static_cast<int>(k);

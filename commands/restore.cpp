@@ -13,8 +13,11 @@ const CommandSpec& restore_command() {
                    "the run that saved it would have. The extension '.sav' is added when the name has none; a "
                    "relative name is taken from the working directory. A file that is truncated, damaged (its "
                    "checksum does not match), not a save file at all, or written in a newer save format than "
-                   "this odec reads is refused with the reason, and the current model is kept.");
+                   "this odec reads is refused with the reason, and the current model is kept. FISH functions and "
+                   "variables are not part of a save file: they stay as they are, so a FISH function may "
+                   "restore a model in a 'command' block and go on.");
         c.example("restore gravity");
+        c.refuse_while_cycling("it would replace the model that is cycling");
         c.example("rest 'runs/settled.sav'");
         c.handle([](CommandContext& ctx, const Args& a) {
             const Value& file = a.positional[0];

@@ -23,6 +23,7 @@ const CommandSpec& solve_command() {
                    "Ctrl-C stops it at the prompt.");
         c.example("solve");
         c.example("solve ratio 1e-6 cycles 50000");
+        c.refuse_while_cycling(kNoNestedCycling);
         c.handle([](CommandContext& ctx, const Args& a) {
             Model& m = ctx.model;
             CycleLimits lim;
@@ -60,6 +61,7 @@ const CommandSpec& solve_command() {
                 }
             } restore{m, strengths};
             CycleResult r;
+            CyclingGuard cycling(ctx.interp);
             for (int stage = a.has("elastic") ? 0 : 1; stage < 2; ++stage) {
                 if (stage == 0) {
                     for (JointMaterial& j : m.joint_materials) {

@@ -16,6 +16,7 @@ const CommandSpec& step_command() {
                    "time, unbalanced ratio, time left), unless --quiet or 'set echo off'.");
         c.example("step 1000");
         c.example("cycle time 0.5");
+        c.refuse_while_cycling(kNoNestedCycling);
         c.handle([](CommandContext& ctx, const Args& a) {
             CycleLimits lim;
             lim.each_step = ctx.interp.stepping_functions();
@@ -34,6 +35,7 @@ const CommandSpec& step_command() {
             ctx.interp.interrupt = false;
             const bool talk = !ctx.interp.quiet && ctx.interp.echo;
             ProgressReporter progress(ctx.out, ctx.interp.progress_seconds, m.step, lim.max_steps, m.time, lim.max_time);
+            CyclingGuard cycling(ctx.interp);
             const CycleResult r =
                 cycle(m, lim, &ctx.interp.interrupt, talk ? ProgressFn(std::ref(progress)) : ProgressFn(), 100);
             spend_step_budget(ctx, counted, r.steps);

@@ -216,6 +216,9 @@ struct EnergyWatch {
     double floor = 0;          // J, noise level below which nothing is judged
     static constexpr double kMargin = 4.0;
 
+    // Whether the blocks changed in number since begin(): the arrays no longer match.
+    bool stale(const Model& m) const { return start.size() != static_cast<size_t>(m.blocks.size()); }
+
     void begin(const Model& m) {
         const BlockSet& s = m.blocks;
         start = s.centroid;
@@ -582,13 +585,17 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
                 break;
             }
         }
-        if (m.geometry_changed) {
+        // The functions may have changed the blocks (a 'jset', 'poly' or 'gen' in a command
+        // block): contacts, masses and timestep follow, and the run-away checks start afresh
+        // from the new blocks.
+        if (m.geometry_changed || watch.stale(m)) {
             const std::string p = prepare_cycle_once(m);
             if (!p.empty()) {
                 res.reason = StopReason::Error;
                 res.message = p;
                 break;
             }
+            watch.begin(m);
         }
         {
             StageTimer t{prof, Stage::ApplyLoads};
@@ -617,16 +624,23 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
         ++m.step;
         ++res.steps;
         ++prof.steps;
-        {
-            StageTimer t{prof, Stage::Record};
-            if (m.histories.ncyc > 0 && m.step % m.histories.ncyc == 0) m.histories.sample(m);
-        }
+        // Said before the histories are sampled: a FISH history may change the blocks.
         if (bad >= 0) {
             res.reason = StopReason::BlowUp;
             res.message = "the motion of block " + std::to_string(m.blocks.id[bad]) + " has run away (step " +
                           std::to_string(m.step) + "): its velocity is no longer a finite number; likely cause: " +
                           runaway_cause(m, bad);
-            break;
+        }
+        {
+            StageTimer t{prof, Stage::Record};
+            if (m.histories.ncyc > 0 && m.step % m.histories.ncyc == 0) m.histories.sample(m);
+        }
+        if (bad >= 0) break;
+        if (m.geometry_changed || watch.stale(m)) {
+            // A FISH history changed the blocks: the checks below wait for the next step, which
+            // prepares the model again first.
+            if (progress && progress_every > 0 && res.steps % progress_every == 0) progress(m);
+            continue;
         }
         double energy = 0, available = 0;
         int jumper = -1;

@@ -325,6 +325,11 @@ void Runtime::clear() {
     model_changed();
 }
 
+void Runtime::forget_model() {
+    for (auto& e : extras) e.clear();
+    model_changed();
+}
+
 void Runtime::define(const Line& header, const std::vector<Line>& body) {
     try {
         std::shared_ptr<Function> fn;

@@ -97,6 +97,9 @@ public:
 
     // Forget every symbol (`new`).
     void clear();
+    // Forget what FISH keeps of the model (per-object values, walks): `new` inside a running
+    // function, which keeps the functions and variables.
+    void forget_model();
 
     Host& host;
     // Per-object values that scripts store (`c_extra(c) = v`), by object id.

@@ -197,6 +197,11 @@ CommandSpec& CommandSpec::example(std::string text) {
     return *this;
 }
 
+CommandSpec& CommandSpec::refuse_while_cycling(std::string why) {
+    not_while_cycling = std::move(why);
+    return *this;
+}
+
 CommandSpec& CommandSpec::handle(Handler h) {
     handler = std::move(h);
     return *this;

@@ -99,6 +99,9 @@ struct CommandSpec {
     std::vector<int> required_choices; // choice groups of which one keyword must be given
     std::string description;     // a paragraph for the manual
     std::vector<std::string> examples;
+    // Why the command may not run while the model cycles (from a 'whilestepping' function or
+    // a FISH history); empty: it may. The interpreter refuses it there with this reason.
+    std::string not_while_cycling;
     Handler handler;
 
     CommandSpec(std::string n, int min_abbrev, std::string one_line);
@@ -109,6 +112,7 @@ struct CommandSpec {
     CommandSpec& require_one_of(int group);
     CommandSpec& describe(std::string text);
     CommandSpec& example(std::string text);
+    CommandSpec& refuse_while_cycling(std::string why);
     CommandSpec& handle(Handler h);
     // "prop mat n | jmat n  dens rho ..." one line
     std::string synopsis() const;

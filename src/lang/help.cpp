@@ -56,6 +56,7 @@ std::string help_command(const CommandSpec& c) {
     }
     s += "  shortest form: " + abbreviation(c.name, c.min) + "\n";
     if (!c.description.empty()) s += "\n" + c.description + "\n";
+    if (!c.not_while_cycling.empty()) s += "\nNot while the model cycles: " + c.not_while_cycling + "\n";
     if (!c.positional.values.empty()) {
         s += "\nValues:\n";
         for (const ValueSpec& v : c.positional.values) s += "  " + value_line(v) + "\n";
@@ -104,6 +105,7 @@ std::string manual_page(const CommandSpec& c) {
     }
     s += ".\n\n";
     if (!c.description.empty()) s += c.description + "\n\n";
+    if (!c.not_while_cycling.empty()) s += "Not while the model cycles: " + c.not_while_cycling + "\n\n";
     if (!c.positional.values.empty()) {
         s += "## Values\n\n";
         for (const ValueSpec& v : c.positional.values) s += "- " + value_line(v) + "\n";

@@ -30,7 +30,11 @@ public:
     explicit SessionHost(Interpreter& in) : in_(in) {}
     Model& model() override { return in_.model; }
     bool run_commands(const std::shared_ptr<const SourceFile>& file, int first, int last) override {
-        return in_.run_lines(file, first, last);
+        const bool ok = in_.run_lines(file, first, last);
+        // The commands may have replaced the model ('new', 'restore') or changed its blocks:
+        // what FISH derived from it is rebuilt when next asked.
+        in_.fish().model_changed();
+        return ok;
     }
     std::ostream& out() override { return in_.out; }
     std::ostream& err() override { return in_.err; }
@@ -156,6 +160,8 @@ Interpreter::Interpreter(Model& m, const CommandTable& t, std::ostream& o, std::
 
 Interpreter::~Interpreter() { close_log(); }
 
+bool Interpreter::fish_running() const { return !fish_->calls.empty(); }
+
 bool Interpreter::open_log(std::string& error) {
     close_log();
     log_file_.open(log_path, std::ios::app);
@@ -219,6 +225,13 @@ bool Interpreter::execute(const LexedCommand& cmd, bool echo_command) {
             return true;
         }
         const Args args = parse_command(table, substitute(cmd.tokens), &named_ranges);
+        if (cycling > 0 && !args.command->not_while_cycling.empty()) {
+            const std::string& name = args.command->name;
+            fail(cmd.tokens.front().loc, "'" + name + "' cannot run while the model cycles: " + args.command->not_while_cycling,
+                 {"FISH ran it during 'step' or 'solve' (a 'whilestepping' function or a FISH history): run it "
+                  "between the steps, from a function called outside them"},
+                 name);
+        }
         CommandContext ctx{model, *this, out};
         args.command->handler(ctx, args);
         out.flush();

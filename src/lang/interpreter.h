@@ -113,6 +113,13 @@ public:
     bool quit_requested = false;  // `quit`
     bool return_requested = false;// `return`: leave the current file
     std::atomic<bool> interrupt{false}; // raised by Ctrl-C; cycling stops between steps
+    // `step` or `solve` is cycling the model (> 0): commands that FISH runs then (whilestepping
+    // functions, FISH histories) may not replace the model or cycle it again (their
+    // declarations say which: CommandSpec::not_while_cycling).
+    int cycling = 0;
+    // A FISH function is running: `new` then keeps FISH's functions and variables.
+    bool fish_running() const;
+    bool new_in_fish_noted = false; // the note on `new` inside FISH is given once a session
     bool at_prompt = false;       // commands typed at the prompt are not echoed
     PlotSettings plot;            // kept between plots
     NamedRanges named_ranges;     // `range name X ...`, for `nrange X`

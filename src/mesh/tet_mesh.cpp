@@ -1,12 +1,21 @@
 #include "mesh/tet_mesh.h"
 
 #include <dlfcn.h>
+#include <fcntl.h>
 #include <gmshc.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <map>
 #include <mutex>
+#include <type_traits>
 #include <unordered_map>
 
 // Gmsh sets up its global state once and keeps it for the life of the process; the leak checker
@@ -334,9 +343,175 @@ void mesh_with(const Gmsh& g, const std::vector<Polyhedron>& solids, const std::
     g.clear(&ierr);
 }
 
+// ---- meshing in a child process ----
+//
+// The mesher runs in a child process forked for each call, and sends its mesh back through a
+// pipe. Gmsh has no way to stop a long meshing part way, and a large 'gen' can take a minute:
+// the parent waits for the child's bytes, looks at the interrupt flag (Ctrl-C) every tenth of
+// a second, and kills the child when it is raised. The child starts from a copy of this
+// process, Gmsh's state included, so the mesh is the same bits as meshing here would give;
+// and a mesher that crashes takes only the child with it.
+//
+// What the child writes: a status byte (0: a mesh follows; 1: an error message follows, as a
+// u64 length and its bytes), then the nodes (u64 n, 3 n doubles), the solids (u64 n), and for
+// each its tetrahedra (u64 n, 4 n int32), corner nodes and face surfaces (u64 n, n int32 each),
+// and last the worst and mean quality (2 doubles).
+
+bool write_bytes(int fd, const void* p, size_t n) {
+    const char* c = static_cast<const char*>(p);
+    while (n > 0) {
+        const ssize_t k = ::write(fd, c, n);
+        if (k < 0) {
+            if (errno == EINTR) continue;
+            return false;
+        }
+        c += k;
+        n -= static_cast<size_t>(k);
+    }
+    return true;
+}
+
+// Buffered writes of the child.
+struct ChildOut {
+    int fd;
+    std::vector<char> buf;
+    bool ok = true;
+    explicit ChildOut(int f) : fd(f) { buf.reserve(1 << 16); }
+    void bytes(const void* p, size_t n) {
+        const char* c = static_cast<const char*>(p);
+        while (n > 0) {
+            const size_t room = (1u << 16) - buf.size();
+            const size_t k = std::min(room, n);
+            buf.insert(buf.end(), c, c + k);
+            c += k;
+            n -= k;
+            if (buf.size() == (1u << 16)) flush();
+        }
+    }
+    template <class T>
+    void raw(T x) {
+        static_assert(std::is_trivially_copyable_v<T>);
+        bytes(&x, sizeof x);
+    }
+    void flush() {
+        if (ok && !buf.empty()) ok = write_bytes(fd, buf.data(), buf.size());
+        buf.clear();
+    }
+};
+
+void send_ints(ChildOut& o, const std::vector<int>& v) {
+    o.raw(static_cast<std::uint64_t>(v.size()));
+    for (int x : v) o.raw(static_cast<std::int32_t>(x));
+}
+
+[[noreturn]] void child_main(int fd, const Gmsh& g, const std::vector<Polyhedron>& solids,
+                             const std::vector<double>& edges, double tol) {
+    ChildOut o(fd);
+    TetMesh mesh;
+    std::string error;
+    try {
+        PointMerge merge(tol);
+        mesh_with(g, solids, edges, merge, mesh);
+    } catch (const MeshError& e) {
+        error = e.what.empty() ? std::string("the mesher failed") : e.what;
+    } catch (const std::bad_alloc&) {
+        error = "out of memory while meshing";
+    } catch (...) {
+        error = "the mesher failed";
+    }
+    if (!error.empty()) {
+        o.raw(std::uint8_t{1});
+        o.raw(static_cast<std::uint64_t>(error.size()));
+        o.bytes(error.data(), error.size());
+    } else {
+        o.raw(std::uint8_t{0});
+        o.raw(static_cast<std::uint64_t>(mesh.nodes.size()));
+        for (const Vec3& x : mesh.nodes) {
+            for (int i = 0; i < 3; ++i) o.raw(x[i]);
+        }
+        o.raw(static_cast<std::uint64_t>(mesh.tets.size()));
+        for (size_t s = 0; s < mesh.tets.size(); ++s) {
+            o.raw(static_cast<std::uint64_t>(mesh.tets[s].size()));
+            for (const auto& t : mesh.tets[s]) {
+                for (int k = 0; k < 4; ++k) o.raw(static_cast<std::int32_t>(t[k]));
+            }
+            send_ints(o, mesh.corner_node[s]);
+            send_ints(o, mesh.face_surface[s]);
+        }
+        o.raw(mesh.worst_quality);
+        o.raw(mesh.mean_quality);
+    }
+    o.flush();
+    ::close(fd);
+    // No destructors, no exit handlers: they belong to the parent.
+    ::_exit(o.ok ? 0 : 3);
+}
+
+struct Interrupted {};
+struct ChildFailed {};
+
+// Reads what the child sends, checking the interrupt flag while it waits.
+class ChildIn {
+public:
+    ChildIn(int fd, const std::atomic<bool>* interrupt) : fd_(fd), interrupt_(interrupt) {}
+    void bytes(void* p, size_t n) {
+        char* c = static_cast<char*>(p);
+        while (n > 0) {
+            if (pos_ == end_) fill();
+            const size_t k = std::min(n, end_ - pos_);
+            std::memcpy(c, buf_ + pos_, k);
+            pos_ += k;
+            c += k;
+            n -= k;
+        }
+    }
+    template <class T>
+    T raw() {
+        T x;
+        bytes(&x, sizeof x);
+        return x;
+    }
+    // A count of items of `item_bytes` each; no more than a child could have meshed.
+    size_t count(size_t item_bytes) {
+        const std::uint64_t n = raw<std::uint64_t>();
+        if (n > (std::uint64_t{1} << 40) / item_bytes) throw ChildFailed{};
+        return static_cast<size_t>(n);
+    }
+    std::vector<int> ints() {
+        std::vector<int> v(count(4));
+        for (int& x : v) x = raw<std::int32_t>();
+        return v;
+    }
+
+private:
+    void fill() {
+        for (;;) {
+            if (interrupt_ && interrupt_->load()) throw Interrupted{};
+            struct pollfd p{fd_, POLLIN, 0};
+            const int r = ::poll(&p, 1, 100);
+            if (r < 0 && errno != EINTR) throw ChildFailed{};
+            if (r <= 0) continue;
+            const ssize_t k = ::read(fd_, buf_, sizeof buf_);
+            if (k < 0) {
+                if (errno == EINTR || errno == EAGAIN) continue;
+                throw ChildFailed{};
+            }
+            if (k == 0) throw ChildFailed{}; // the child ended before its mesh did
+            pos_ = 0;
+            end_ = static_cast<size_t>(k);
+            return;
+        }
+    }
+    int fd_;
+    const std::atomic<bool>* interrupt_;
+    char buf_[1 << 16];
+    size_t pos_ = 0, end_ = 0;
+};
+
 } // namespace
 
-std::string mesh_solids(const std::vector<Polyhedron>& solids, const std::vector<double>& edges, TetMesh& out) {
+std::string mesh_solids(const std::vector<Polyhedron>& solids, const std::vector<double>& edges, TetMesh& out,
+                        const std::atomic<bool>* interrupt) {
     out = TetMesh();
     if (solids.empty()) return "";
     if (edges.size() != solids.size()) return "one zone size per block is needed";
@@ -352,19 +527,87 @@ std::string mesh_solids(const std::vector<Polyhedron>& solids, const std::vector
             hi = hi.cwiseMax(v);
         }
     }
-    PointMerge merge(1e-9 * std::max((hi - lo).norm(), edge));
+    const double tol = 1e-9 * std::max((hi - lo).norm(), edge);
     std::lock_guard<std::mutex> lock(gmsh_mutex);
     const Gmsh& g = gmsh_library();
     if (!g.loaded) return g.why;
-    try {
-        mesh_with(g, solids, edges, merge, out);
-    } catch (const MeshError& e) {
-        int ierr = 0;
-        g.clear(&ierr);
-        out = TetMesh();
-        return e.what;
+    if (interrupt && interrupt->load()) return "interrupted before meshing";
+    int fds[2];
+    if (::pipe2(fds, O_CLOEXEC) != 0) return std::string("the mesher cannot start: ") + std::strerror(errno);
+    const pid_t child = ::fork();
+    if (child < 0) {
+        const int e = errno;
+        ::close(fds[0]);
+        ::close(fds[1]);
+        return std::string("the mesher cannot start: ") + std::strerror(e);
     }
-    return "";
+    if (child == 0) {
+        ::close(fds[0]);
+        // Ctrl-C is the parent's to judge: it kills this process when it wants it stopped.
+        ::signal(SIGINT, SIG_IGN);
+        child_main(fds[1], g, solids, edges, tol);
+    }
+    ::close(fds[1]);
+    std::string why;
+    bool stop_child = false;
+    try {
+        ChildIn in(fds[0], interrupt);
+        const auto status = in.raw<std::uint8_t>();
+        if (status == 1) {
+            std::string text(std::min<size_t>(in.count(1), 4096), '\0');
+            in.bytes(text.data(), text.size());
+            why = text;
+        } else if (status != 0) {
+            throw ChildFailed{};
+        } else {
+            out.nodes.resize(in.count(24));
+            for (Vec3& x : out.nodes) {
+                for (int i = 0; i < 3; ++i) x[i] = in.raw<double>();
+            }
+            const size_t n_solids = in.count(8);
+            if (n_solids != solids.size()) throw ChildFailed{};
+            out.tets.resize(n_solids);
+            out.corner_node.resize(n_solids);
+            out.face_surface.resize(n_solids);
+            const auto n_nodes = static_cast<std::int64_t>(out.nodes.size());
+            for (size_t s = 0; s < n_solids; ++s) {
+                out.tets[s].resize(in.count(16));
+                for (auto& t : out.tets[s]) {
+                    for (int k = 0; k < 4; ++k) {
+                        t[k] = in.raw<std::int32_t>();
+                        if (t[k] < 0 || t[k] >= n_nodes) throw ChildFailed{};
+                    }
+                }
+                out.corner_node[s] = in.ints();
+                for (int q : out.corner_node[s]) {
+                    if (q < 0 || q >= n_nodes) throw ChildFailed{};
+                }
+                out.face_surface[s] = in.ints();
+            }
+            out.worst_quality = in.raw<double>();
+            out.mean_quality = in.raw<double>();
+        }
+    } catch (const Interrupted&) {
+        why = "interrupted: the blocks were not zoned";
+        stop_child = true;
+    } catch (const ChildFailed&) {
+        why = "the mesher failed";
+        stop_child = true;
+    } catch (const std::bad_alloc&) {
+        why = "out of memory while reading the mesh";
+        stop_child = true;
+    }
+    ::close(fds[0]);
+    if (stop_child) ::kill(child, SIGKILL);
+    int wstatus = 0;
+    while (::waitpid(child, &wstatus, 0) < 0 && errno == EINTR) {
+    }
+    if (why.empty() && !(WIFEXITED(wstatus) && WEXITSTATUS(wstatus) == 0)) why = "the mesher failed";
+    if (why == "the mesher failed" && WIFSIGNALED(wstatus) && WTERMSIG(wstatus) != SIGKILL) {
+        why = "the mesher crashed (signal " + std::to_string(WTERMSIG(wstatus)) + ", " + strsignal(WTERMSIG(wstatus)) + ")";
+    }
+    if (!why.empty()) out = TetMesh();
+    return why;
 }
 
 } // namespace odec

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <string>
 #include <vector>
 
@@ -32,8 +33,10 @@ struct TetMesh {
 // Mesh each convex solid into tetrahedra of mean edge length about edges[s] (m): a vertex
 // shared by solids takes the smallest, and sizes grade in between. Returns "" on success,
 // else why not (the mesher's own message). The same solids and edges give the same mesh, bit
-// for bit, whatever the session did before.
-std::string mesh_solids(const std::vector<Polyhedron>& solids, const std::vector<double>& edges, TetMesh& out);
+// for bit, whatever the session did before. The mesher runs in a child process: raising
+// *interrupt (Ctrl-C) stops it within a tenth of a second, with "interrupted: ..." returned.
+std::string mesh_solids(const std::vector<Polyhedron>& solids, const std::vector<double>& edges, TetMesh& out,
+                        const std::atomic<bool>* interrupt = nullptr);
 
 // Radius ratio of a tetrahedron: 3 r_in / r_circumscribed, 1 for a regular one, 0 when flat.
 double radius_ratio(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);

@@ -1,0 +1,217 @@
+// Commands that FISH runs: from a function's `command` block, from a file a function calls, from
+// a 'whilestepping' function and from a FISH history while the model cycles. Each command does
+// there what it does at the prompt, or is refused with a located error naming why; the running
+// function, the cycle and every index stay valid (these tests also run under the sanitizers).
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <string>
+
+#include "fish/runtime.h"
+#include "test_util.h"
+
+using odec::test::Session;
+
+namespace {
+
+double number(Session& s, const std::string& name) {
+    const odec::fish::Symbol* sym = s.interp.fish().find(name);
+    EXPECT_NE(sym, nullptr) << name;
+    return sym ? sym->value.number() : -1;
+}
+
+// A scratch directory, the working directory while it lives.
+struct ScratchDir {
+    std::string dir, old;
+    ScratchDir() {
+        char tmpl[] = "/tmp/odec-fish-commands-XXXXXX";
+        dir = mkdtemp(tmpl);
+        char buf[4096];
+        old = getcwd(buf, sizeof buf);
+        EXPECT_EQ(chdir(dir.c_str()), 0);
+    }
+    ~ScratchDir() {
+        EXPECT_EQ(chdir(old.c_str()), 0);
+        std::system(("rm -rf '" + dir + "'").c_str());
+    }
+};
+
+// Two half-metre blocks, the lower one fixed, on a joint, under gravity.
+const char* kTwoBlocks = "poly brick 0 1 0 1 0 0.5\n"
+                         "poly brick 0 1 0 1 0.5 1\n"
+                         "prop mat=1 dens=2000\n"
+                         "prop jmat=1 jkn=1e9 jks=1e9 jfric=30\n"
+                         "fix range z 0 0.5\n"
+                         "grav 0 0 -10\n";
+
+} // namespace
+
+// A parametric study: each case starts with 'new' inside the function's loop. The function,
+// its loop variable and the results it keeps survive every 'new'; the model is each case's own.
+TEST(FishCommands, NewInsideAFunctionKeepsTheRunningFunction) {
+    Session s;
+    ASSERT_TRUE(s.run("def study\n"
+                      "  total = 0\n"
+                      "  loop k (1,20)\n"
+                      "    command\n"
+                      "      new\n"
+                      "      prop mat=1 dens=2000\n"
+                      "      poly brick 0 1 0 1 0 @k\n"
+                      "    endcommand\n"
+                      "    total = total + nblock\n"
+                      "    last = b_vol(block_head)\n"
+                      "  endloop\n"
+                      "end\n"
+                      "@study\n"))
+        << s.error();
+    EXPECT_EQ(number(s, "total"), 20);    // one block in each case, never more
+    EXPECT_DOUBLE_EQ(number(s, "last"), 20.0); // the last case's 1 x 1 x 20 block
+    EXPECT_EQ(s.model.blocks.size(), 1);
+    // At the prompt 'new' forgets FISH as before.
+    ASSERT_TRUE(s.run("new\n")) << s.error();
+    EXPECT_EQ(s.interp.fish().find("study"), nullptr);
+}
+
+// The same through a file the function calls, and with 'restore' of a case saved before.
+TEST(FishCommands, NewAndRestoreFromACalledFile) {
+    ScratchDir d;
+    {
+        std::ofstream f("case.dat");
+        f << "new\nprop mat=1 dens=2000\npoly brick 0 1 0 1 0 @h\n";
+    }
+    Session s;
+    ASSERT_TRUE(s.run("poly brick 0 2 0 2 0 2\nprop mat=1 dens=1000\nsave 'base'\n"
+                      "def study\n"
+                      "  loop k (1,3)\n"
+                      "    h = k * 0.5\n"
+                      "    command\n"
+                      "      call 'case.dat'\n"
+                      "    endcommand\n"
+                      "    v = v + b_vol(block_head)\n"
+                      "  endloop\n"
+                      "  command\n"
+                      "    restore 'base'\n"
+                      "  endcommand\n"
+                      "  vb = b_vol(block_head)\n"
+                      "end\n"
+                      "@study\n"))
+        << s.error();
+    EXPECT_DOUBLE_EQ(number(s, "v"), 0.5 + 1.0 + 1.5);
+    EXPECT_DOUBLE_EQ(number(s, "vb"), 8.0);
+    EXPECT_EQ(s.model.blocks.size(), 1);
+}
+
+// A pointer taken before 'new' names a block that no longer exists: a FISH error, not a read
+// of freed memory.
+TEST(FishCommands, PointersTakenBeforeNewAreRefused) {
+    Session s;
+    EXPECT_FALSE(s.run("poly brick 0 1 0 1 0 1\nprop mat=1 dens=2000\n"
+                       "def f\n"
+                       "  b = block_head\n"
+                       "  command\n"
+                       "    new\n"
+                       "  endcommand\n"
+                       "  x = b_vol(b)\n"
+                       "end\n"
+                       "@f\n"));
+    EXPECT_NE(s.error().find("no longer exists"), std::string::npos) << s.error();
+}
+
+// Geometry commands run by a 'whilestepping' function change the blocks while the model
+// cycles: the cycle takes the new blocks at once (contacts, masses, timestep, checks), with no
+// false verdict and no read past an array.
+TEST(FishCommands, GeometryCommandsWhileStepping) {
+    Session s;
+    ASSERT_TRUE(s.run(std::string(kTwoBlocks) +
+                      "def cut\n"
+                      "  whilestepping\n"
+                      "  if step = 5 then\n"
+                      "    command\n"
+                      "      jset dip 45 dd 90 origin 0.5,0.5,0.75\n"
+                      "    endcommand\n"
+                      "  endif\n"
+                      "  if step = 10 then\n"
+                      "    command\n"
+                      "      poly brick 3 4 0 1 0 1\n"
+                      "    endcommand\n"
+                      "  endif\n"
+                      "end\n"
+                      "step 20\n"))
+        << s.error();
+    EXPECT_EQ(s.model.step, 20);
+    EXPECT_GE(s.model.blocks.size(), 5); // both bricks cut, and one more brick
+    for (const auto& v : s.model.blocks.vel) EXPECT_TRUE(v.allFinite());
+}
+
+// ... and a block deleted by a FISH history (sampled after each step) is not read afterwards.
+TEST(FishCommands, DeleteFromAFishHistory) {
+    Session s;
+    ASSERT_TRUE(s.run(std::string(kTwoBlocks) +
+                      "poly brick 3 4 0 1 0 1\n"
+                      "def h\n"
+                      "  h = nblock\n"
+                      "  if step = 6 then\n"
+                      "    command\n"
+                      "      delete range x 3 4\n"
+                      "    endcommand\n"
+                      "  endif\n"
+                      "end\n"
+                      "hist ncyc 2\n"
+                      "hist @h\n"
+                      "step 12\n"))
+        << s.error();
+    EXPECT_EQ(s.model.blocks.size(), 2);
+    EXPECT_EQ(s.model.step, 12);
+}
+
+// What would replace the model that cycles, or cycle it again, is refused where FISH runs it,
+// with the reason; the step stops there and the model is the one that was cycling.
+TEST(FishCommands, NewRestoreAndStepRefusedWhileCycling) {
+    for (const std::string cmd : {"new", "restore 'x'", "step 5", "solve", "cycle 3"}) {
+        Session s;
+        const bool ok = s.run(std::string(kTwoBlocks) +
+                              "def f\n"
+                              "  whilestepping\n"
+                              "  command\n"
+                              "    " + cmd + "\n"
+                              "  endcommand\n"
+                              "end\n"
+                              "step 10\n");
+        EXPECT_FALSE(ok) << cmd;
+        EXPECT_NE(s.error().find("t.dat:10:5: error: '"), std::string::npos) << s.error();
+        EXPECT_NE(s.error().find("cannot run while the model cycles"), std::string::npos) << s.error();
+        EXPECT_EQ(s.model.blocks.size(), 2) << cmd;
+        EXPECT_EQ(s.model.step, 0) << cmd; // refused in the first step, before it moved
+    }
+}
+
+// The same commands are refused from a FISH history during cycling (the history records, the
+// model is kept).
+TEST(FishCommands, NewRefusedFromAFishHistory) {
+    Session s;
+    ASSERT_TRUE(s.run(std::string(kTwoBlocks) +
+                      "def h\n"
+                      "  h = nblock\n"
+                      "  command\n"
+                      "    new\n"
+                      "  endcommand\n"
+                      "end\n"
+                      "hist @h\n"
+                      "step 20\n"));
+    EXPECT_NE(s.error().find("'new' cannot run while the model cycles"), std::string::npos) << s.error();
+    EXPECT_EQ(s.model.blocks.size(), 2);
+    EXPECT_EQ(s.model.step, 20);
+}
+
+// The reason is in 'help' (and so in the manual): the declaration drives both.
+TEST(FishCommands, HelpSaysWhatIsRefusedWhileCycling) {
+    Session s;
+    s.interp.quiet = false;
+    ASSERT_TRUE(s.run("help new\n")) << s.error();
+    EXPECT_NE(s.out.str().find("Not while the model cycles: it would clear the model"), std::string::npos)
+        << s.out.str();
+}
