@@ -249,3 +249,29 @@ TEST(Prompt, CtrlCStopsAScriptGivenOnTheCommandLine) {
     ASSERT_TRUE(WIFEXITED(status)) << "odec did not end by itself after Ctrl-C";
     EXPECT_EQ(WEXITSTATUS(status), 130);
 }
+
+TEST(Prompt, CtrlCStopsMeshing) {
+    // A million-zone 'gen' meshes for a minute: Ctrl-C stops it within moments, the block stays
+    // rigid and unzoned, and the session goes on.
+    const std::string home = temp_home();
+    Terminal t(home);
+    ASSERT_TRUE(t.expect("odec> "));
+    t.type("poly brick 0 1 0 1 0 1\n");
+    ASSERT_TRUE(t.expect("odec> ")) << t.seen();
+    t.type("gen edge 0.012\n");
+    usleep(1500000);
+    const auto start = std::chrono::steady_clock::now();
+    t.type("\x03");
+    ASSERT_TRUE(t.expect("interrupted: the blocks were not zoned")) << t.seen();
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_LT(seconds, 5.0);
+    ASSERT_TRUE(t.expect("odec> ")) << t.seen();
+    t.type("print info\n");
+    ASSERT_TRUE(t.expect("blocks:     1")) << t.seen();
+    ASSERT_TRUE(t.expect("odec> ")) << t.seen();
+    t.type("print zone\n");
+    ASSERT_TRUE(t.expect("odec> ")) << t.seen();
+    EXPECT_EQ(t.seen().find("zone 1 "), std::string::npos) << t.seen();
+    t.type("quit\n");
+    EXPECT_EQ(t.wait_exit(), 0) << t.seen();
+}
