@@ -21,6 +21,9 @@
 namespace odec {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// Largest magnitude a command takes for a number without limits of its own on both sides:
+// squares and products of larger ones (a velocity squared, a load times a stiffness) overflow.
+constexpr double kMaxMagnitude = 1e100;
 
 enum class ValueType {
     Int,     // a whole number

@@ -303,6 +303,13 @@ private:
     }
 
     void check_limits(const std::string& owner, const KeywordSpec& spec, const ValueSpec& v, const Token& t, double x) {
+        // Beyond kMaxMagnitude what odec derives from a number (a square, a product with a
+        // stiffness or an area) overflows to inf: such numbers are refused where they are typed.
+        if (std::isfinite(x) && std::abs(x) > kMaxMagnitude && !(std::isfinite(v.lo) && std::isfinite(v.hi))) {
+            fail(t.loc, owner_phrase(owner, spec, v) + " must be a number of magnitude at most 1e100 (got " + t.text +
+                            "): what odec computes from larger ones overflows",
+                 {}, cmd_->name);
+        }
         bool ok = std::isfinite(x);
         if (std::isfinite(v.lo)) ok = ok && (v.lo_kind == Limit::Open ? x > v.lo : x >= v.lo);
         if (std::isfinite(v.hi)) ok = ok && (v.hi_kind == Limit::Open ? x < v.hi : x <= v.hi);
@@ -374,6 +381,11 @@ private:
                 const Token& c = t_[pos_++];
                 if (!std::isfinite(c.number)) {
                     fail(c.loc, owner_phrase(owner, spec, v) + " components must be finite numbers (got " + c.text + ")",
+                         {}, cmd_->name);
+                }
+                if (std::abs(c.number) > kMaxMagnitude) {
+                    fail(c.loc, owner_phrase(owner, spec, v) + " components must be numbers of magnitude at most 1e100 (got " +
+                                    c.text + "): what odec computes from larger ones overflows",
                          {}, cmd_->name);
                 }
                 out.vec[i] = c.number;
