@@ -216,6 +216,20 @@ struct EnergyWatch {
     double floor = 0;          // J, noise level below which nothing is judged
     static constexpr double kMargin = 4.0;
 
+    // Kinetic energy of the free blocks, J.
+    double kinetic(const Model& m) const {
+        const BlockSet& s = m.blocks;
+        double e = 0;
+        for (int b = 0; b < s.size(); ++b) {
+            if ((s.flags[b] & (kExcavated | kFixed)) || !(s.mass[b] > 0)) continue;
+            e += kinetic_energy(s, b);
+        }
+        return e;
+    }
+    // Energy given to the blocks from outside the cycle (by FISH between steps).
+    void given(double energy) {
+        if (energy > 0 && std::isfinite(energy)) initial += energy;
+    }
     // Whether the blocks changed in number since begin(): the arrays no longer match.
     bool stale(const Model& m) const { return start.size() != static_cast<size_t>(m.blocks.size()); }
 
@@ -578,12 +592,16 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
             break;
         }
         if (lim.each_step) {
+            // What the functions give the blocks ('ini xvel', 'b_xvel(b) = ...') is energy the
+            // run-away check must allow for, as it allows for what the loads give.
+            const double ke_before = watch.kinetic(m);
             const std::string p = lim.each_step(m);
             if (!p.empty()) {
                 res.reason = StopReason::Error;
                 res.message = p;
                 break;
             }
+            if (!watch.stale(m)) watch.given(watch.kinetic(m) - ke_before);
         }
         // The functions may have changed the blocks (a 'jset', 'poly' or 'gen' in a command
         // block): contacts, masses and timestep follow, and the run-away checks start afresh
@@ -633,7 +651,14 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
         }
         {
             StageTimer t{prof, Stage::Record};
-            if (m.histories.ncyc > 0 && m.step % m.histories.ncyc == 0) m.histories.sample(m);
+            if (m.histories.ncyc > 0 && m.step % m.histories.ncyc == 0) {
+                // A FISH history may give the blocks energy too.
+                bool fish = false;
+                for (const History& h : m.histories.items) fish = fish || h.kind == HistoryKind::Fish;
+                const double ke_before = fish ? watch.kinetic(m) : 0.0;
+                m.histories.sample(m);
+                if (fish && !watch.stale(m)) watch.given(watch.kinetic(m) - ke_before);
+            }
         }
         if (bad >= 0) break;
         if (m.geometry_changed || watch.stale(m)) {

@@ -215,3 +215,31 @@ TEST(FishCommands, HelpSaysWhatIsRefusedWhileCycling) {
     EXPECT_NE(s.out.str().find("Not while the model cycles: it would clear the model"), std::string::npos)
         << s.out.str();
 }
+
+// Energy that a 'whilestepping' function gives a block ('ini') is not taken for a run-away.
+TEST(FishCommands, VelocityGivenWhileSteppingIsNoRunAway) {
+    Session s;
+    ASSERT_TRUE(s.run("poly brick 0 1 0 1 0 1\nprop mat=1 dens=2000\nset dt 1e-3\ndamp off\n"
+                      "poly brick 5 6 0 1 0 1\n"
+                      "def kick\n"
+                      "  whilestepping\n"
+                      "  if step = 50 then\n"
+                      "    command\n"
+                      "      ini xvel 20 range x 0 1\n"
+                      "    endcommand\n"
+                      "  endif\n"
+                      "end\n"
+                      "step 100\n"))
+        << s.error();
+    EXPECT_EQ(s.model.step, 100);
+    EXPECT_DOUBLE_EQ(s.model.blocks.vel[0].x(), 20.0);
+}
+
+// 'quit' from a function that runs while the model cycles is refused: it would leave in the
+// middle of a step.
+TEST(FishCommands, QuitRefusedWhileCycling) {
+    Session s;
+    EXPECT_FALSE(s.run(std::string(kTwoBlocks) + "def f\n  whilestepping\n  command\n    quit\n  endcommand\nend\nstep 3\n"));
+    EXPECT_NE(s.error().find("'quit' cannot run while the model cycles"), std::string::npos) << s.error();
+    EXPECT_FALSE(s.interp.quit_requested);
+}
