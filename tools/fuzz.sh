@@ -5,10 +5,12 @@
 # UBSan; installs clang through tools/setup.sh), seeds their corpora and runs each target for
 # SECONDS (default 60) in turn: `interpreter` (scripts) and `restore` (save files), both by
 # default. Corpora grow in build-fuzz/corpus/TARGET/; an input that crashes, trips a sanitizer
-# or runs over 10 s is written to build-fuzz/crashes/TARGET/ and the script fails. Put such an
+# or runs over 10 s (times ODEC_TEST_TIME_SCALE: tools/setup.sh) is written to
+# build-fuzz/crashes/TARGET/ and the script fails. Put such an
 # input, once fixed, into tests/fuzz/regressions/TARGET/: CTest replays that directory.
 # FUZZ_JOBS=N runs N processes per target (libFuzzer's -fork). Extra libFuzzer flags: FUZZ_FLAGS.
 set -euo pipefail
+# shellcheck source-path=SCRIPTDIR
 source "$(dirname "${BASH_SOURCE[0]}")/setup.sh"
 
 seconds="${1:-60}"
@@ -70,6 +72,7 @@ save 'zoned'" >/dev/null 2>&1 || true
     )
 fi
 
+input_limit=$(odec_time_limit 10)
 status=0
 for t in "${targets[@]}"; do
     mkdir -p "$fuzz/corpus/$t" "$fuzz/crashes/$t"
@@ -82,7 +85,7 @@ for t in "${targets[@]}"; do
     echo "fuzz: $t for $seconds s" >&2
     # shellcheck disable=SC2086
     if ! (cd "$fuzz" && "./fuzz_$t" "$fuzz/corpus/$t" "$fuzz/seeds/$t" "$src/regressions/$t" \
-            -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2560 -max_len=$max_len \
+            -max_total_time="$seconds" -timeout="$input_limit" -rss_limit_mb=2560 -max_len=$max_len \
             -artifact_prefix="$fuzz/crashes/$t/" -print_final_stats=1 "${dict[@]}" "${fork[@]}" \
             ${FUZZ_FLAGS:-} 2>&1 | tee "$fuzz/fuzz-$t.log" | grep -E '^(#[0-9]+ *(INITED|DONE)|==[0-9]+==ERROR|SUMMARY|stat::|Done )' >&2;
             exit "${PIPESTATUS[0]}"); then

@@ -51,6 +51,29 @@ odec_setup() {
     odec_build "$ODEC_BUILD" "-DCMAKE_BUILD_TYPE=Release" "$@"
 }
 
+# The factor of every time limit of the tests (CTest's limits set by ./run-tests, the waits of
+# the tests themselves, libFuzzer's limit of one input): ODEC_TEST_TIME_SCALE, a positive
+# number, by default 1, or 3 under CI (CI set, and neither false nor 0), whose machines are
+# shared and loaded. Prints it; fails on anything but a positive number.
+odec_time_scale() {
+    local s="${ODEC_TEST_TIME_SCALE:-}"
+    if [ -z "$s" ]; then
+        case "${CI:-}" in "" | false | 0) s=1 ;; *) s=3 ;; esac
+    fi
+    if ! [[ $s =~ ^[0-9]*\.?[0-9]+$ ]] || ! awk -v s="$s" 'BEGIN { exit !(s > 0) }'; then
+        echo "odec: ODEC_TEST_TIME_SCALE must be a positive number, not '$s'" >&2
+        return 1
+    fi
+    echo "$s"
+}
+
+# odec_time_limit SECONDS: a limit of SECONDS on an idle machine, times the scale, in whole seconds.
+odec_time_limit() {
+    local s
+    s=$(odec_time_scale) || return 1
+    awk -v b="$1" -v s="$s" 'BEGIN { t = b * s; printf "%d\n", (t == int(t)) ? t : int(t) + 1 }'
+}
+
 # Whether clang can link a libFuzzer program here.
 odec_have_libfuzzer() {
     command -v clang++ >/dev/null 2>&1 &&

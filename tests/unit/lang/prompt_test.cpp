@@ -12,7 +12,15 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "../time_scale.h"
+
 namespace {
+
+// A time limit of the tests, `seconds` on an idle machine (tests/unit/time_scale.h).
+std::chrono::steady_clock::duration limit(double seconds) {
+    return std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+        std::chrono::duration<double>(seconds * odec::test::time_scale()));
+}
 
 class Terminal {
 public:
@@ -34,9 +42,10 @@ public:
         if (fd_ >= 0) close(fd_);
     }
     void type(const std::string& s) { ASSERT_EQ(write(fd_, s.data(), s.size()), static_cast<ssize_t>(s.size())); }
-    // Reads until `what` has appeared in the output since the last call, or 10 s pass.
+    // Reads until `what` has appeared in the output since the last call, or 10 s pass (times
+    // the time scale, as every wait below).
     bool expect(const std::string& what) {
-        const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+        const auto end = std::chrono::steady_clock::now() + limit(10);
         while (std::chrono::steady_clock::now() < end) {
             const size_t at = seen_.find(what, from_);
             if (at != std::string::npos) {
@@ -56,7 +65,7 @@ public:
     // Exit status of the program, or -1 when it has not ended within 10 s (it is then killed).
     int wait_exit() {
         int status = 0;
-        const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+        const auto end = std::chrono::steady_clock::now() + limit(10);
         while (std::chrono::steady_clock::now() < end) {
             // Keep draining output so that the program never blocks writing to the terminal.
             pollfd p{fd_, POLLIN, 0};
@@ -242,11 +251,18 @@ TEST(Prompt, CtrlCStopsAScriptGivenOnTheCommandLine) {
         execl(ODEC_BINARY, ODEC_BINARY, (home + "/long.dat").c_str(), static_cast<char*>(nullptr));
         _exit(127);
     }
-    usleep(500000);
+    // Time for odec to start and take Ctrl-C as its own, then 10 s to end.
+    usleep(static_cast<useconds_t>(500000 * odec::test::time_scale()));
     kill(pid, SIGINT);
     int status = 0;
-    for (int i = 0; i < 100 && waitpid(pid, &status, WNOHANG) == 0; ++i) usleep(100000);
-    ASSERT_TRUE(WIFEXITED(status)) << "odec did not end by itself after Ctrl-C";
+    const auto end = std::chrono::steady_clock::now() + limit(10);
+    bool ended = false;
+    while (!(ended = waitpid(pid, &status, WNOHANG) == pid) && std::chrono::steady_clock::now() < end) usleep(100000);
+    if (!ended) {
+        kill(pid, SIGKILL); // not left stepping after the test
+        waitpid(pid, nullptr, 0);
+    }
+    ASSERT_TRUE(ended && WIFEXITED(status)) << "odec did not end by itself after Ctrl-C";
     EXPECT_EQ(WEXITSTATUS(status), 130);
 }
 

@@ -10,6 +10,7 @@
 #include "render/scene_builder.h"
 #include "render/vtk_backend.h"
 #include "render_test_util.h"
+#include "../time_scale.h"
 
 using namespace odec;
 using namespace odec::render;
@@ -382,7 +383,8 @@ TEST(Render, TenThousandBlocksUnderOneSecond) {
                 "warm %.0f ms (build %.0f, draw %.0f, png %.0f)\n  %s\n",
                 s.width, s.height, build_ms, first.total_ms, first.context_ms, first.draw_ms, first.write_ms,
                 warm.total_ms, warm.build_ms, warm.draw_ms, warm.write_ms, renderer_description().c_str());
-    EXPECT_LT(build_ms + warm.total_ms, 1000.0);
+    // One second on an idle machine: the limit scales as every time limit of the tests.
+    EXPECT_LT(build_ms + warm.total_ms, 1000.0 * test::time_scale());
     Picture pic;
     ASSERT_TRUE(test::read_png(out_path("ten-thousand-2.png"), pic));
     EXPECT_EQ(pic.width, 1024);
