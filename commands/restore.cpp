@@ -13,7 +13,11 @@ const CommandSpec& restore_command() {
                    "the run that saved it would have. The extension '.sav' is added when the name has none; a "
                    "relative name is taken from the working directory. A file that is truncated, damaged (its "
                    "checksum does not match), not a save file at all, or written in a newer save format than "
-                   "this odec reads is refused with the reason, and the current model is kept.");
+                   "this odec reads is refused with the reason, and the current model is kept; so is one whose "
+                   "numbers are not finite or out of range, or whose arrays disagree, however it was made. "
+                   "Only a regular file is read: a directory, a named pipe or a device is refused without "
+                   "waiting on it, and a file longer or shorter than its header says is refused before the "
+                   "rest of it is read.");
         c.example("restore gravity");
         c.example("rest 'runs/settled.sav'");
         c.handle([](CommandContext& ctx, const Args& a) {
