@@ -24,6 +24,15 @@
 //
 // Each struct's fields are listed once, in a `fields` function that both the writer and the
 // reader walk, so the two cannot drift apart.
+//
+// Every file odec writes can be read back: save runs the checks restore runs on what it read
+// (check_consistent, check_values) and writes nothing when they fail. Neither holds the file
+// in memory. save walks the fields twice: once counting, for the lengths that precede each
+// section and the payload, and once writing through a 64 KiB buffer that hashes as it goes;
+// so saving needs no memory that grows with the model, and works after memory ran out.
+// restore compares the file's size with the one its header gives, reads it once through a
+// buffer for the checksum and then again to parse it, so it holds the model and no copy of
+// the file.
 #include "io/save.h"
 
 #include <dirent.h>

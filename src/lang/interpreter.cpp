@@ -69,15 +69,13 @@ bool LogBuf::open(const std::string& path, std::string& error) {
 }
 
 void LogBuf::close() {
-    if (fd_ < 0) return;
-    if (!flush_buffer()) return; // closed and reported
-    if (::close(fd_) != 0) {
+    if (fd_ >= 0 && flush_buffer()) {
+        const int fd = fd_;
         fd_ = -1; // the descriptor is released whatever close() says
-        fail(errno);
-        return;
+        setp(nullptr, nullptr);
+        if (::close(fd) != 0) fail(errno);
     }
-    fd_ = -1;
-    setp(nullptr, nullptr);
+    report_failure();
 }
 
 bool LogBuf::flush_buffer() {
@@ -95,12 +93,16 @@ void LogBuf::fail(int error_number) {
     if (fd_ >= 0) ::close(fd_);
     fd_ = -1;
     setp(nullptr, nullptr);
+    failure_ = "the log '" + path_ + "' cannot be written: " + std::strerror(error_number) + "; the log is closed\n";
+}
+
+void LogBuf::report_failure() {
+    if (failure_.empty()) return;
     if (report_) {
-        const std::string line = "the log '" + path_ + "' cannot be written: " + std::strerror(error_number) +
-                                 "; the log is closed\n";
-        report_->sputn(line.data(), static_cast<std::streamsize>(line.size()));
+        report_->sputn(failure_.data(), static_cast<std::streamsize>(failure_.size()));
         report_->pubsync();
     }
+    failure_.clear();
 }
 
 int LogBuf::overflow(int c) {
@@ -133,6 +135,7 @@ int TeeBuffer::sync() {
     // comes after what was shown before it.
     const bool shown = main_->pubsync() == 0;
     const bool logged = logging() && log_->pubsync() == 0;
+    if (log_) log_->report_failure();
     return logged || shown ? 0 : -1;
 }
 

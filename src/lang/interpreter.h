@@ -49,8 +49,9 @@ struct CommandContext {
 };
 
 // The log file (`set log on`): what is written is buffered and written to the file; the first
-// write that fails (a full disk) closes it and says so, once, on `report` (the screen's error
-// stream), so that a log never ends silently.
+// write that fails (a full disk) closes it, and report_failure() then says so, once, on
+// `report` (the screen's error stream), so that a log never ends silently. The saying waits
+// for report_failure() (at the next flush) so that it never cuts a line being shown.
 class LogBuf : public std::streambuf {
 public:
     LogBuf() = default;
@@ -63,6 +64,8 @@ public:
     void close();
     bool is_open() const { return fd_ >= 0; }
     void set_report(std::streambuf* report) { report_ = report; }
+    // Say that a write failed and the log was closed, if one did since last said.
+    void report_failure();
 
 protected:
     int overflow(int c) override;
@@ -75,6 +78,7 @@ private:
     int fd_ = -1;
     std::string path_;
     std::streambuf* report_ = nullptr;
+    std::string failure_; // the line not yet said
     char buf_[4096];
 };
 
