@@ -175,7 +175,7 @@ const std::vector<Intrinsic>& io_intrinsics() {
     static const std::vector<Intrinsic> t = {
         {"error", 0, 0, "", "assigned a string (error = 'text'), stops the function and the script with that message", "io", f_error, s_error},
         {"out", 1, 1, "s", "print s (any value) on a line of its own; gives 0", "io", f_out, nullptr},
-        {"open", 1, 3, "name,mode,type", "open a file: mode 0 read, 1 write; type 1 text (0 is read as 1); gives 0 when open", "io", f_open, nullptr},
+        {"open", 1, 3, "name,mode,type", "open a file: mode 0 read, 1 write; type 1 text (0 is read as 1); gives 0 when open, 1 when not (a named pipe or a directory is refused, and for reading a device or a file above 64 MiB)", "io", f_open, nullptr},
         {"write", 1, 2, "array,n", "write the first n elements of the array, one per line, to the open file; gives 0, or 1 when they could not be written (a full disk)", "io", f_write, nullptr},
         {"read", 1, 2, "array,n", "read n lines of the open file into the array as strings; gives 0, or -1 at the file's end", "io", f_read, nullptr},
         {"close", 0, 0, "", "close the open file; gives 0", "io", f_close, nullptr},

@@ -511,7 +511,7 @@ public:
     void operator()(T& x) {
         if constexpr (std::is_same_v<T, bool>) {
             const std::uint8_t b = raw<std::uint8_t>();
-            check(b <= 1, "a flag holds " + std::to_string(b));
+            if (b > 1) fail("a flag holds " + std::to_string(b));
             x = b != 0;
         } else if constexpr (sizeof(T) == 1) {
             x = static_cast<T>(raw<std::uint8_t>());
@@ -519,8 +519,9 @@ public:
             x = raw<std::int32_t>();
         } else {
             const std::int64_t v = raw<std::int64_t>();
-            check(v >= std::numeric_limits<T>::min() && v <= std::numeric_limits<T>::max(),
-                  "the number " + std::to_string(v) + " does not fit");
+            if (v < std::numeric_limits<T>::min() || v > std::numeric_limits<T>::max()) {
+                fail("the number " + std::to_string(v) + " does not fit");
+            }
             x = static_cast<T>(v);
         }
     }
@@ -555,7 +556,7 @@ public:
         for (size_t i = 0; i < n; ++i) {
             K k{};
             (*this)(k);
-            check(mp.find(k) == mp.end(), "a key is repeated");
+            if (mp.find(k) != mp.end()) fail("a key is repeated");
             (*this)(mp[k]);
         }
     }
@@ -565,13 +566,17 @@ public:
     template <class E>
     void enumeration(E& e, int n_values) {
         const std::int32_t v = raw<std::int32_t>();
-        check(v >= 0 && v < n_values, "an enumeration holds " + std::to_string(v) + " (0 to " +
-                                          std::to_string(n_values - 1) + " allowed)");
+        if (v < 0 || v >= n_values) {
+            fail("an enumeration holds " + std::to_string(v) + " (0 to " + std::to_string(n_values - 1) + " allowed)");
+        }
         e = static_cast<E>(v);
     }
     void check(bool ok, const std::string& what) {
-        if (!ok) throw ReadError{in_section() + what};
+        if (!ok) fail(what);
     }
+    // The messages of the checks made for every element are built only when one fails: a
+    // string for each of millions of numbers would cost more than reading them.
+    [[noreturn]] void fail(const std::string& what) { throw ReadError{in_section() + what}; }
     void world_vertices(std::vector<int>& offsets, std::vector<Vec3>& vertices) {
         (*this)(offsets);
         (*this)(vertices);
@@ -591,7 +596,7 @@ public:
         end_ = pos_ + len;
         tag_ = tag;
         body();
-        check(pos_ == end_, std::to_string(end_ - pos_) + " bytes are left over at its end");
+        if (pos_ != end_) fail(std::to_string(end_ - pos_) + " bytes are left over at its end");
         end_ = outer_end;
         tag_.clear();
     }
@@ -862,6 +867,15 @@ std::string check_consistent(const Model& m) {
 // limits the commands that set it would enforce, and indices, counts and ids consistent. A
 // file edited and its checksum recomputed must not bring inf, NaN or a dangling index into a
 // model that then cycles on. Returns what is wrong, or "".
+// Where a number is, as the start of a message ("block 3: "): kept as a kind and a number, and
+// made text only when a check fails. Checks run on every number of the model before each save;
+// a string for each would cost more than the checks (and memory when it is short).
+struct Where {
+    const char* kind = nullptr;
+    long long n = 0;
+    std::string text() const { return kind ? std::string(kind) + " " + std::to_string(n) + ": " : std::string(); }
+};
+
 class ValueCheck {
 public:
     std::string problem;
@@ -870,28 +884,41 @@ public:
         if (problem.empty()) problem = what;
         return false;
     }
-    bool finite(double x, const std::string& what) {
-        return std::isfinite(x) || fail(what + " is not a finite number");
+    bool fail(const Where& w, const std::string& what) { return problem.empty() ? fail(w.text() + what) : false; }
+    bool finite(double x, const char* what) { return finite(x, Where{}, what); }
+    bool finite(double x, const Where& w, const char* what) {
+        return std::isfinite(x) || fail(w, std::string(what) + " is not a finite number");
     }
-    bool at_least(double x, double lo, const std::string& what) {
-        return (finite(x, what) && x >= lo) || fail(what + " is " + num(x) + ", below " + num(lo));
+    bool at_least(double x, double lo, const char* what) { return at_least(x, lo, Where{}, what); }
+    bool at_least(double x, double lo, const Where& w, const char* what) {
+        return (finite(x, w, what) && x >= lo) || fail(w, std::string(what) + " is " + num(x) + ", below " + num(lo));
     }
-    bool between(double x, double lo, double hi, const std::string& what) {
+    bool between(double x, double lo, double hi, const char* what) {
         return (finite(x, what) && x >= lo && x <= hi) ||
-               fail(what + " is " + num(x) + ", outside " + num(lo) + " to " + num(hi));
+               fail(std::string(what) + " is " + num(x) + ", outside " + num(lo) + " to " + num(hi));
     }
-    bool angle(double x, const std::string& what) {
-        return (finite(x, what) && x >= 0 && x < 90) || fail(what + " is " + num(x) + " degrees, outside 0 to 90");
+    bool angle(double x, const Where& w, const char* what) {
+        return (finite(x, w, what) && x >= 0 && x < 90) ||
+               fail(w, std::string(what) + " is " + num(x) + " degrees, outside 0 to 90");
     }
-    bool vec(const Vec3& v, const std::string& what) { return v.allFinite() || fail(what + " is not a finite number"); }
-    bool mat(const Mat3& a, const std::string& what) { return a.allFinite() || fail(what + " is not a finite number"); }
-    bool quat(const Quat& q, const std::string& what) {
-        return (q.coeffs().allFinite() && std::abs(q.norm() - 1) < 1e-6) || fail(what + " is not a unit quaternion");
+    bool vec(const Vec3& v, const char* what) { return vec(v, Where{}, what); }
+    bool vec(const Vec3& v, const Where& w, const char* what) {
+        return v.allFinite() || fail(w, std::string(what) + " is not a finite number");
+    }
+    bool mat(const Mat3& a, const Where& w, const char* what) {
+        return a.allFinite() || fail(w, std::string(what) + " is not a finite number");
+    }
+    bool quat(const Quat& q, const char* what) { return quat(q, Where{}, what); }
+    bool quat(const Quat& q, const Where& w, const char* what) {
+        return (q.coeffs().allFinite() && std::abs(q.norm() - 1) < 1e-6) ||
+               fail(w, std::string(what) + " is not a unit quaternion");
     }
     template <class T>
-    bool all_vec(const std::vector<T>& v, const std::string& what) {
+    bool all_vec(const std::vector<T>& v, const char* what) { return all_vec(v, Where{}, what); }
+    template <class T>
+    bool all_vec(const std::vector<T>& v, const Where& w, const char* what) {
         for (size_t i = 0; i < v.size(); ++i) {
-            if (!v[i].allFinite()) return fail(what + " " + std::to_string(i + 1) + " is not a finite number");
+            if (!v[i].allFinite()) return fail(w, std::string(what) + " " + std::to_string(i + 1) + " is not a finite number");
         }
         return true;
     }
@@ -930,26 +957,26 @@ std::string check_values(const Model& m) {
     // Materials, as 'prop' limits them (a material given only other properties has density 0).
     for (size_t k = 0; k < m.materials.size(); ++k) {
         const Material& x = m.materials[k];
-        const std::string w = "material " + std::to_string(k) + ": ";
-        c.at_least(x.density, 0, w + "the density");
-        c.at_least(x.bulk, 0, w + "the bulk modulus");
-        c.at_least(x.shear, 0, w + "the shear modulus");
-        c.at_least(x.cohesion, 0, w + "the cohesion");
-        c.at_least(x.tension, 0, w + "the tension");
-        c.angle(x.friction, w + "the friction angle");
-        c.angle(x.dilation, w + "the dilation angle");
+        const Where w{"material", static_cast<long long>(k)};
+        c.at_least(x.density, 0, w, "the density");
+        c.at_least(x.bulk, 0, w, "the bulk modulus");
+        c.at_least(x.shear, 0, w, "the shear modulus");
+        c.at_least(x.cohesion, 0, w, "the cohesion");
+        c.at_least(x.tension, 0, w, "the tension");
+        c.angle(x.friction, w, "the friction angle");
+        c.angle(x.dilation, w, "the dilation angle");
     }
     for (size_t k = 0; k < m.joint_materials.size(); ++k) {
         const JointMaterial& x = m.joint_materials[k];
-        const std::string w = "joint material " + std::to_string(k) + ": ";
-        c.at_least(x.kn, 0, w + "the normal stiffness");
-        c.at_least(x.ks, 0, w + "the shear stiffness");
-        c.at_least(x.cohesion, 0, w + "the cohesion");
-        c.at_least(x.tension, 0, w + "the tension");
-        c.at_least(x.zdilation, 0, w + "the dilation limit");
-        c.angle(x.friction, w + "the friction angle");
-        c.angle(x.dilation, w + "the dilation angle");
-        c.angle(x.res_friction, w + "the residual friction angle");
+        const Where w{"joint material", static_cast<long long>(k)};
+        c.at_least(x.kn, 0, w, "the normal stiffness");
+        c.at_least(x.ks, 0, w, "the shear stiffness");
+        c.at_least(x.cohesion, 0, w, "the cohesion");
+        c.at_least(x.tension, 0, w, "the tension");
+        c.at_least(x.zdilation, 0, w, "the dilation limit");
+        c.angle(x.friction, w, "the friction angle");
+        c.angle(x.dilation, w, "the dilation angle");
+        c.angle(x.res_friction, w, "the residual friction angle");
     }
     for (const JointPlane& p : m.joint_planes) {
         if (p.set < 1 || p.jmat < 0 || p.jmat > 1000000) c.fail("a joint plane is out of range");
@@ -958,49 +985,49 @@ std::string check_values(const Model& m) {
     const BlockSet& s = m.blocks;
     const int n = s.size();
     for (int b = 0; b < n && c.ok(); ++b) {
-        const std::string w = "block " + std::to_string(s.id[b]) + ": ";
+        const Where w{"block", s.id[b]};
         if (s.id[b] < 1 || (b > 0 && s.id[b] <= s.id[b - 1]) || s.id[b] >= m.next_block_id) {
             c.fail("the block ids are not unique, increasing and below the next id");
             break;
         }
         const Polyhedron& p = s.shape[b];
-        if (p.n_vertices() < 4 || p.n_faces() < 4) c.fail(w + "its shape has too few vertices or faces");
-        c.all_vec(p.vertices, w + "vertex");
+        if (p.n_vertices() < 4 || p.n_faces() < 4) c.fail(w, "its shape has too few vertices or faces");
+        c.all_vec(p.vertices, w, "vertex");
         for (int f = 0; f < p.n_faces(); ++f) {
-            if (p.face_size(f) < 3) c.fail(w + "a face has fewer than 3 vertices");
+            if (p.face_size(f) < 3) c.fail(w, "a face has fewer than 3 vertices");
         }
         for (int j : p.face_joint) {
-            if (j < 0 || j > static_cast<int>(m.joint_planes.size())) c.fail(w + "a face refers to a joint plane that does not exist");
+            if (j < 0 || j > static_cast<int>(m.joint_planes.size())) c.fail(w, "a face refers to a joint plane that does not exist");
         }
-        c.vec(s.centroid[b], w + "the centroid");
-        c.quat(s.orientation[b], w + "the orientation");
-        c.vec(s.vel[b], w + "the velocity");
-        c.vec(s.ang_vel[b], w + "the angular velocity");
-        c.vec(s.accel[b], w + "the acceleration");
-        c.vec(s.ang_accel[b], w + "the angular acceleration");
-        c.vec(s.force[b], w + "the force");
-        c.vec(s.moment[b], w + "the moment");
-        c.vec(s.applied_force[b], w + "the applied force");
-        c.at_least(s.force_scale[b], 0, w + "the force scale");
-        c.vec(s.disp[b], w + "the displacement");
-        c.vec(s.rotation[b], w + "the rotation");
-        if (c.finite(s.volume[b], w + "the volume") && !(s.volume[b] > 0)) c.fail(w + "the volume is not positive");
-        c.at_least(s.mass[b], 0, w + "the mass");
-        c.mat(s.inertia_body[b], w + "the inertia");
-        c.mat(s.inertia_unit[b], w + "the unit inertia");
-        if (s.material[b] < 1 || s.material[b] > 1000000) c.fail(w + "the material number is out of range");
-        if (s.region[b] < 0) c.fail(w + "the region number is negative");
+        c.vec(s.centroid[b], w, "the centroid");
+        c.quat(s.orientation[b], w, "the orientation");
+        c.vec(s.vel[b], w, "the velocity");
+        c.vec(s.ang_vel[b], w, "the angular velocity");
+        c.vec(s.accel[b], w, "the acceleration");
+        c.vec(s.ang_accel[b], w, "the angular acceleration");
+        c.vec(s.force[b], w, "the force");
+        c.vec(s.moment[b], w, "the moment");
+        c.vec(s.applied_force[b], w, "the applied force");
+        c.at_least(s.force_scale[b], 0, w, "the force scale");
+        c.vec(s.disp[b], w, "the displacement");
+        c.vec(s.rotation[b], w, "the rotation");
+        if (c.finite(s.volume[b], w, "the volume") && !(s.volume[b] > 0)) c.fail(w, "the volume is not positive");
+        c.at_least(s.mass[b], 0, w, "the mass");
+        c.mat(s.inertia_body[b], w, "the inertia");
+        c.mat(s.inertia_unit[b], w, "the unit inertia");
+        if (s.material[b] < 1 || s.material[b] > 1000000) c.fail(w, "the material number is out of range");
+        if (s.region[b] < 0) c.fail(w, "the region number is negative");
         if (s.flags[b] > (kFixed | kHidden | kExcavated | kDeformable) || s.vel_bc[b] > 7 || s.half_kick[b] > 1) {
-            c.fail(w + "a flag is out of range");
+            c.fail(w, "a flag is out of range");
         }
-        if (s.cons[b] > kZoneMohrCoulomb) c.fail(w + "its zone model is " + std::to_string(s.cons[b]) + " (0 to 2 allowed)");
+        if (s.cons[b] > kZoneMohrCoulomb) c.fail(w, "its zone model is " + std::to_string(s.cons[b]) + " (0 to 2 allowed)");
         // 'gen' zones a block again with the edge it was zoned with (0: none yet).
-        c.at_least(s.zone_edge[b], 0, w + "its zone edge");
+        c.at_least(s.zone_edge[b], 0, w, "its zone edge");
         // Zoning numbers new continua from the largest one there is, plus one.
-        if (s.body[b] > 1000000000) c.fail(w + "its continuum number is out of range");
-        c.vec(s.vel_bc_value[b], w + "the boundary velocity");
+        if (s.body[b] > 1000000000) c.fail(w, "its continuum number is out of range");
+        c.vec(s.vel_bc_value[b], w, "the boundary velocity");
         if (s.vel_bc_table[b] < 0 || s.vel_bc_table[b] > 1000000) {
-            c.fail(w + "the boundary velocity table is out of range");
+            c.fail(w, "the boundary velocity table is out of range");
         }
     }
     if (!c.ok()) return c.problem;
@@ -1008,37 +1035,37 @@ std::string check_values(const Model& m) {
     // Zones, as 'change cons', 'insitu' and the cycle leave them.
     const ZoneSet& z = m.zones;
     for (int i = 0; i < z.size() && c.ok(); ++i) {
-        const std::string w = "zone " + std::to_string(i + 1) + ": ";
-        if (z.model[i] > kZoneMohrCoulomb) c.fail(w + "its model is " + std::to_string(z.model[i]) + " (0 to 2 allowed)");
-        if (z.state[i] > (kShearNow | kTensionNow | kShearPast | kTensionPast)) c.fail(w + "its state is out of range");
+        const Where w{"zone", i + 1};
+        if (z.model[i] > kZoneMohrCoulomb) c.fail(w, "its model is " + std::to_string(z.model[i]) + " (0 to 2 allowed)");
+        if (z.state[i] > (kShearNow | kTensionNow | kShearPast | kTensionPast)) c.fail(w, "its state is out of range");
         for (double x : z.stress[i]) {
-            if (!c.finite(x, w + "the stress")) break;
+            if (!c.finite(x, w, "the stress")) break;
         }
-        c.finite(z.volume[i], w + "the volume");
+        c.finite(z.volume[i], w, "the volume");
     }
     for (size_t i = 0; i < z.grad.size() && c.ok(); ++i) {
         for (double x : z.grad[i]) {
-            if (!c.finite(x, "zone " + std::to_string(i + 1) + ": a shape-function gradient")) break;
+            if (!c.finite(x, Where{"zone", static_cast<long long>(i) + 1}, "a shape-function gradient")) break;
         }
     }
     const GridpointSet& g = m.gridpoints;
     for (int i = 0; i < g.size() && c.ok(); ++i) {
-        const std::string w = "gridpoint " + std::to_string(i + 1) + ": ";
-        c.vec(g.pos[i], w + "the position");
-        c.vec(g.ref[i], w + "the reference position");
-        c.vec(g.vel[i], w + "the velocity");
-        c.vec(g.disp[i], w + "the displacement");
-        c.vec(g.force[i], w + "the force");
-        c.vec(g.applied[i], w + "the applied force");
-        c.vec(g.traction[i], w + "the traction");
-        c.at_least(g.mass[i], 0, w + "the mass");
-        c.at_least(g.stiffness[i], 0, w + "the stiffness");
-        c.at_least(g.force_scale[i], 0, w + "the force scale");
-        c.at_least(g.nmd_volume[i], 0, w + "the volume around it");
-        c.finite(g.nmd_rate[i], w + "the volumetric rate around it");
-        if (g.vel_bc[i] > 7 || g.half_kick[i] > 1) c.fail(w + "a flag is out of range");
-        c.vec(g.vel_bc_value[i], w + "the boundary velocity");
-        if (g.vel_bc_table[i] < 0 || g.vel_bc_table[i] > 1000000) c.fail(w + "the boundary velocity table is out of range");
+        const Where w{"gridpoint", i + 1};
+        c.vec(g.pos[i], w, "the position");
+        c.vec(g.ref[i], w, "the reference position");
+        c.vec(g.vel[i], w, "the velocity");
+        c.vec(g.disp[i], w, "the displacement");
+        c.vec(g.force[i], w, "the force");
+        c.vec(g.applied[i], w, "the applied force");
+        c.vec(g.traction[i], w, "the traction");
+        c.at_least(g.mass[i], 0, w, "the mass");
+        c.at_least(g.stiffness[i], 0, w, "the stiffness");
+        c.at_least(g.force_scale[i], 0, w, "the force scale");
+        c.at_least(g.nmd_volume[i], 0, w, "the volume around it");
+        c.finite(g.nmd_rate[i], w, "the volumetric rate around it");
+        if (g.vel_bc[i] > 7 || g.half_kick[i] > 1) c.fail(w, "a flag is out of range");
+        c.vec(g.vel_bc_value[i], w, "the boundary velocity");
+        if (g.vel_bc_table[i] < 0 || g.vel_bc_table[i] > 1000000) c.fail(w, "the boundary velocity table is out of range");
     }
     for (const BoundaryFace& f : m.stress_boundary.faces) {
         if (!c.vec(f.force, "the force on a face loaded by 'bound stress'")) break;
@@ -1046,50 +1073,50 @@ std::string check_values(const Model& m) {
     // Contacts.
     const ContactSet& cs = m.contacts;
     for (int k = 0; k < cs.size() && c.ok(); ++k) {
-        const std::string w = "contact " + std::to_string(cs.id[k]) + ": ";
-        if (cs.id[k] < 1 || cs.id[k] >= cs.next_id) c.fail(w + "its id is out of range");
-        if (!(cs.block_a[k] < cs.block_b[k])) c.fail(w + "its blocks are not in order (a < b)");
-        if (c.vec(cs.normal[k], w + "the normal") && std::abs(cs.normal[k].norm() - 1) > 1e-6) c.fail(w + "the normal is not a unit vector");
-        c.vec(cs.point[k], w + "the point");
-        c.finite(cs.gap[k], w + "the gap");
-        if (cs.jmat[k] < 0 || cs.jmat[k] > 1000000) c.fail(w + "the joint material is out of range");
-        if (cs.jcons[k] < 1 || cs.jcons[k] > 2) c.fail(w + "the joint model is out of range");
-        if (cs.joined[k] > 1) c.fail(w + "a flag is out of range");
+        const Where w{"contact", cs.id[k]};
+        if (cs.id[k] < 1 || cs.id[k] >= cs.next_id) c.fail(w, "its id is out of range");
+        if (!(cs.block_a[k] < cs.block_b[k])) c.fail(w, "its blocks are not in order (a < b)");
+        if (c.vec(cs.normal[k], w, "the normal") && std::abs(cs.normal[k].norm() - 1) > 1e-6) c.fail(w, "the normal is not a unit vector");
+        c.vec(cs.point[k], w, "the point");
+        c.finite(cs.gap[k], w, "the gap");
+        if (cs.jmat[k] < 0 || cs.jmat[k] > 1000000) c.fail(w, "the joint material is out of range");
+        if (cs.jcons[k] < 1 || cs.jcons[k] > 2) c.fail(w, "the joint model is out of range");
+        if (cs.joined[k] > 1) c.fail(w, "a flag is out of range");
         for (int i = cs.sub_offset[k]; i < cs.sub_offset[k + 1] && c.ok(); ++i) {
-            if (cs.sub_contact[i] != k) c.fail(w + "a sub-contact belongs to another contact");
+            if (cs.sub_contact[i] != k) c.fail(w, "a sub-contact belongs to another contact");
             const int side = cs.sub_side[i];
             const int a = cs.block_a[k], b = cs.block_b[k];
             const bool deformable_pair = ((s.flags[a] | s.flags[b]) & kDeformable) != 0;
-            if (side > 4 || (side >= 3) != deformable_pair) c.fail(w + "a sub-contact side is out of range");
+            if (side > 4 || (side >= 3) != deformable_pair) c.fail(w, "a sub-contact side is out of range");
             if (side >= 3 && c.ok()) {
                 // A gridpoint of its own block against the other's surface.
                 const int own = side == 3 ? a : b, other = side == 3 ? b : a;
                 const int ng = static_cast<int>(m.gridpoints.pos.size());
                 if (!(s.flags[own] & kDeformable) || cs.sub_vertex[i] < 0 || cs.sub_vertex[i] >= ng) {
-                    c.fail(w + "a sub-contact gridpoint is out of range");
+                    c.fail(w, "a sub-contact gridpoint is out of range");
                 }
                 const auto& t = cs.sub_tri[i];
                 const bool on_triangle = (s.flags[other] & kDeformable) != 0;
                 for (int q : t) {
-                    if (on_triangle ? (q < 0 || q >= ng) : q != -1) c.fail(w + "a sub-contact triangle is out of range");
+                    if (on_triangle ? (q < 0 || q >= ng) : q != -1) c.fail(w, "a sub-contact triangle is out of range");
                 }
             } else if (c.ok()) {
                 const int owner = side == 1 ? b : a;
                 if (cs.sub_vertex[i] < -1 || cs.sub_vertex[i] >= s.shape[owner].n_vertices()) {
-                    c.fail(w + "a sub-contact vertex is out of range");
+                    c.fail(w, "a sub-contact vertex is out of range");
                 }
                 for (int q : cs.sub_tri[i]) {
-                    if (q != -1) c.fail(w + "a sub-contact triangle is out of range");
+                    if (q != -1) c.fail(w, "a sub-contact triangle is out of range");
                 }
             }
-            c.at_least(cs.sub_area[i], 0, w + "a sub-contact area");
-            c.vec(cs.sub_local[i], w + "a sub-contact point");
-            c.finite(cs.sub_un[i], w + "a normal closure");
-            c.finite(cs.sub_udil[i], w + "a dilation");
-            c.finite(cs.sub_sn[i], w + "a normal stress");
-            c.vec(cs.sub_us[i], w + "a shear displacement");
-            c.vec(cs.sub_ss[i], w + "a shear stress");
-            if (cs.sub_flags[i] > (kSubSlip | kSubOpen | kSubFailed | kSubNew)) c.fail(w + "a sub-contact flag is out of range");
+            c.at_least(cs.sub_area[i], 0, w, "a sub-contact area");
+            c.vec(cs.sub_local[i], w, "a sub-contact point");
+            c.finite(cs.sub_un[i], w, "a normal closure");
+            c.finite(cs.sub_udil[i], w, "a dilation");
+            c.finite(cs.sub_sn[i], w, "a normal stress");
+            c.vec(cs.sub_us[i], w, "a shear displacement");
+            c.vec(cs.sub_ss[i], w, "a shear stress");
+            if (cs.sub_flags[i] > (kSubSlip | kSubOpen | kSubFailed | kSubNew)) c.fail(w, "a sub-contact flag is out of range");
         }
     }
     if (!c.ok()) return c.problem;
@@ -1118,30 +1145,30 @@ std::string check_values(const Model& m) {
     }
     for (size_t k = 0; k < h.items.size() && c.ok(); ++k) {
         const History& x = h.items[k];
-        const std::string w = "history " + std::to_string(k + 1) + ": ";
-        c.vec(x.point, w + "the point");
-        c.vec(x.body_offset, w + "the material point");
-        if (x.block_id < 0 || x.contact_id < 0) c.fail(w + "it refers to a negative id");
+        const Where w{"history", static_cast<long long>(k) + 1};
+        c.vec(x.point, w, "the point");
+        c.vec(x.body_offset, w, "the material point");
+        if (x.block_id < 0 || x.contact_id < 0) c.fail(w, "it refers to a negative id");
         // The samples taken before the history was added are NaN ('hist' during a run): a
         // leading run of them, then finite values only.
         size_t i = 0;
         while (i < x.values.size() && std::isnan(x.values[i])) ++i;
         for (; i < x.values.size(); ++i) {
             if (!std::isfinite(x.values[i])) {
-                c.fail(w + "a value is not a finite number");
+                c.fail(w, "a value is not a finite number");
                 break;
             }
         }
     }
     // Tables, as 'table' limits them.
     for (const auto& [number, t] : m.tables.tables) {
-        const std::string w = "table " + std::to_string(number) + ": ";
+        const Where w{"table", number};
         if (number < 1 || number > 1000000) c.fail("a table number is out of range");
-        if (t.points.empty()) c.fail(w + "it has no points");
+        if (t.points.empty()) c.fail(w, "it has no points");
         for (size_t k = 0; k < t.points.size(); ++k) {
-            c.finite(t.points[k].first, w + "an x");
-            c.finite(t.points[k].second, w + "a y");
-            if (k > 0 && !(t.points[k].first > t.points[k - 1].first)) c.fail(w + "its x values do not increase");
+            c.finite(t.points[k].first, w, "an x");
+            c.finite(t.points[k].second, w, "a y");
+            if (k > 0 && !(t.points[k].first > t.points[k - 1].first)) c.fail(w, "its x values do not increase");
         }
     }
     return c.problem;
