@@ -2,8 +2,9 @@
 // damage; what it holds must then be checked as carefully as typed input. Chosen edits
 // (inf, NaN, negative densities, dangling indices, inconsistent counts, non-unit quaternions,
 // repeated ids, tables whose x does not increase) are each refused with a clear message and
-// the model kept; a thousand random edits each either are refused or restore a model whose
-// every number is finite and whose arrays agree.
+// the model kept, and save refuses such a model with the same message; a thousand random edits
+// each either are refused or restore a model whose every number is finite, whose arrays agree,
+// and which saves and round-trips bit for bit.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -399,6 +400,8 @@ TEST_F(SaveValues, RandomEditsAreRefusedOrGiveAFiniteConsistentModel) {
         const std::string problem = model_problem(m);
         EXPECT_EQ(problem, "") << "edit " << i << " at byte " << pos;
         if (!problem.empty()) continue;
+        // What restore took, save takes, and it round-trips bit for bit.
+        EXPECT_TRUE(odec::check_save_round_trip(m, dir, error)) << "edit " << i << " at byte " << pos << ": " << error;
         // What was accepted can be stepped on: it cycles or stops with a named reason.
         odec::CycleLimits lim;
         lim.max_steps = 3;
@@ -536,6 +539,8 @@ TEST_F(SaveValues, RandomEditsOfAZonedFileAreRefusedOrGiveAFiniteConsistentModel
         const std::string problem = model_problem(m);
         EXPECT_EQ(problem, "") << "edit " << i << " at byte " << pos;
         if (!problem.empty()) continue;
+        // What restore took, save takes, and it round-trips bit for bit.
+        EXPECT_TRUE(odec::check_save_round_trip(m, dir, error)) << "edit " << i << " at byte " << pos << ": " << error;
         odec::CycleLimits lim;
         lim.max_steps = 3;
         odec::cycle(m, lim);
