@@ -13,9 +13,12 @@ const CommandSpec& restore_command() {
                    "the run that saved it would have. The extension '.sav' is added when the name has none; a "
                    "relative name is taken from the working directory. A file that is truncated, damaged (its "
                    "checksum does not match), not a save file at all, or written in a newer save format than "
-                   "this odec reads is refused with the reason, and the current model is kept. FISH functions and "
-                   "variables are not part of a save file: they stay as they are, so a FISH function may "
-                   "restore a model in a 'command' block and go on.");
+                   "this odec reads is refused with the reason, and the current model is kept; so is one whose "
+                   "numbers are not finite or out of range, or whose arrays disagree, however it was made. "
+                   "Only a regular file is read: a directory, a named pipe or a device is refused without "
+                   "waiting on it, and a file longer or shorter than its header says is refused before the "
+                   "rest of it is read. FISH functions and variables are not part of a save file: they stay "
+                   "as they are, so a FISH function may restore a model in a 'command' block and go on.");
         c.example("restore gravity");
         c.refuse_while_cycling("it would replace the model that is cycling");
         c.example("rest 'runs/settled.sav'");

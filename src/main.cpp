@@ -1,5 +1,7 @@
 // odec: the command-line program. Runs scripts and command-line commands, or opens the prompt.
+#include <cerrno>
 #include <csignal>
+#include <cstdlib>
 #include <cstring>
 #include <iostream>
 #include <string>
@@ -7,6 +9,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "io/save.h"
 #include "lang/help.h"
 #include "lang/interpreter.h"
 #include "lang/prompt.h"
@@ -47,6 +50,9 @@ int main(int argc, char** argv) {
     };
     std::vector<Item> items;
     bool quiet = false;
+    // --check-save (for the tests of the examples; not in the usage): after the scripts ran,
+    // the model must save, restore into a fresh model and save again to the same bytes.
+    bool check_save = false;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "-h" || a == "--help") {
@@ -57,6 +63,8 @@ int main(int argc, char** argv) {
             return 0;
         } else if (a == "-q" || a == "--quiet") {
             quiet = true;
+        } else if (a == "--check-save") {
+            check_save = true;
         } else if (a == "-c" || a == "--command") {
             if (i + 1 >= argc) {
                 std::cerr << "odec: " << a << " needs the commands to run\n" << kUsage;
@@ -81,6 +89,9 @@ int main(int argc, char** argv) {
             items.push_back({false, a});
         }
     }
+    // Temporary files of saves killed part way in an earlier run, here in the working directory.
+    const std::string note = stale_temporaries_note(remove_stale_save_temporaries("."));
+    if (!note.empty()) std::cerr << "odec: note: " << note << "\n";
     RendererGuard renderer_guard;
     Model model;
     Interpreter interp(model, command_table(), std::cout, std::cerr);
@@ -107,6 +118,22 @@ int main(int argc, char** argv) {
         if (interp.interrupt.load()) return 130;
         if (!ok) return 1;
         if (interp.quit_requested) break;
+    }
+    if (check_save) {
+        const char* tmp = std::getenv("TMPDIR");
+        std::string dir = std::string(tmp && *tmp ? tmp : "/tmp") + "/odec-check-save-XXXXXX";
+        if (!mkdtemp(&dir[0])) {
+            std::cerr << "odec: --check-save: cannot make a directory '" << dir << "': " << std::strerror(errno) << "\n";
+            return 1;
+        }
+        std::string error;
+        const bool same = check_save_round_trip(model, dir, error);
+        rmdir(dir.c_str());
+        if (!same) {
+            std::cerr << "odec: --check-save: the model at step " << model.step << " does not round-trip: " << error
+                      << "\n";
+            return 1;
+        }
     }
     return 0;
 }

@@ -557,6 +557,16 @@ std::string prepare_cycle_once(Model& m) {
 CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* interrupt,
                   const ProgressFn& progress, long progress_every) {
     CycleResult res;
+    // The step counter stops at kMaxStep rather than overflow (a model restored at a step
+    // near it could otherwise count past what a long holds).
+    auto step_limit_reached = [&] {
+        if (m.step < kMaxStep && m.profile.steps < kMaxStep) return false;
+        res.reason = StopReason::Error;
+        res.message = "the step number has reached " + std::to_string(std::max(m.step, m.profile.steps)) +
+                      ", the most odec counts (1e18): the model cannot cycle further";
+        return true;
+    };
+    if (step_limit_reached()) return res;
     PrepareUndo undo(m);
     const std::string problem = prepare_cycle_once(m);
     if (!problem.empty()) {
@@ -589,6 +599,13 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
         }
         if (interrupt && interrupt->load(std::memory_order_relaxed)) {
             res.reason = StopReason::Interrupted;
+            break;
+        }
+        if (step_limit_reached()) break;
+        if (!std::isfinite(m.time + m.dt)) {
+            res.reason = StopReason::Error;
+            res.message = "the model time, " + num_text(m.time) + " s, would pass the largest number odec holds "
+                          "with a step of " + num_text(m.dt) + " s: the model cannot cycle further";
             break;
         }
         if (lim.each_step) {

@@ -139,6 +139,10 @@ struct Settings {
     bool large_strain = true; // rigid blocks always move by large displacements
 };
 
+// The largest step number: cycling stops there with an error rather than count past what a
+// long holds (about 9.2e18), and a save file holding more is refused.
+constexpr long kMaxStep = 1000000000000000000L; // 1e18
+
 struct Model {
     std::string title;
     BlockSet blocks;

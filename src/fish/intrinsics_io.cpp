@@ -2,7 +2,15 @@
 // type) opens one file (mode 0 read, 1 write; type 1 text, 0 FISH values written as text too),
 // write(array, n) writes the first n elements one per line, read(array, n) reads n lines into
 // strings, close closes it. Each returns 0 on success and an error code otherwise, except that
-// a misuse (no file open, a bad array) stops the function with a message.
+// a misuse (no file open, a bad array) stops the function with a message. A file that cannot be
+// opened or written is also said on the error stream, so that a full disk is never silent.
+//
+// open() takes what `call` and `table read` take: reading, a regular file of at most 64 MiB;
+// writing, a regular file or a character device (/dev/null); never a named pipe, which would
+// wait for ever for its other end.
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -10,6 +18,7 @@
 
 #include "fish/intrinsics.h"
 #include "fish/runtime.h"
+#include "io/files.h"
 
 namespace odec::fish {
 
@@ -48,13 +57,42 @@ Value f_open(Runtime& rt, A a, int n, L loc) {
         std::fclose(rt.file);
         rt.file = nullptr;
     }
-    rt.file = std::fopen(name.c_str(), mode == 1 ? "w" : "r");
+    std::string why;
+    int fd = -1;
+    if (mode == 1) {
+        fd = open_for_writing(name, O_TRUNC, why);
+    } else {
+        unsigned long long size = 0;
+        fd = open_regular_for_reading(name, size, why);
+        if (fd >= 0 && size > kMaxTextFileBytes) {
+            ::close(fd);
+            fd = -1;
+            why = "the file is larger than " + std::to_string(kMaxTextFileBytes >> 20) + " MiB (" +
+                  std::to_string(size) + " bytes)";
+        }
+    }
+    if (fd >= 0) {
+        rt.file = ::fdopen(fd, mode == 1 ? "w" : "r");
+        if (!rt.file) {
+            why = std::strerror(errno);
+            ::close(fd);
+        }
+    }
     if (!rt.file) {
-        rt.host.err() << "warning: FISH open('" << name << "'): " << std::strerror(errno) << "\n";
+        rt.host.err() << "warning: FISH open('" << name << "'): " << why << "\n";
         return Value::integer(1);
     }
     rt.file_writing = mode == 1;
+    rt.file_name = name;
     return Value::integer(0);
+}
+
+// Say that the open file could not be written (a full disk): the function gives 1.
+Value write_failed(Runtime& rt, int error_number) {
+    std::clearerr(rt.file);
+    rt.host.err() << "warning: FISH write to '" << rt.file_name << "': " << std::strerror(error_number)
+                  << "; what was written may be incomplete\n";
+    return Value::integer(1);
 }
 
 Array& array_arg(A a, const char* fn, L loc) {
@@ -76,9 +114,11 @@ Value f_write(Runtime& rt, A a, int n, L loc) {
     const long long k = count_arg(a, n, arr, "write", loc);
     if (!rt.file || !rt.file_writing) fish_fail(loc, "'write' with no file open for writing: open(name, 1, 1) first");
     for (long long i = 0; i < k; ++i) {
-        const std::string s = to_text(arr.items[static_cast<size_t>(i)]);
-        if (std::fprintf(rt.file, "%s\n", s.c_str()) < 0) return Value::integer(1);
+        const std::string s = to_text(arr.items[static_cast<size_t>(i)]) + "\n";
+        if (std::fwrite(s.data(), 1, s.size(), rt.file) != s.size()) return write_failed(rt, errno);
     }
+    // Written through to the file now, so that a full disk shows here and not at close.
+    if (std::fflush(rt.file) != 0) return write_failed(rt, errno);
     return Value::integer(0);
 }
 
@@ -105,7 +145,9 @@ Value f_read(Runtime& rt, A a, int n, L loc) {
 Value f_close(Runtime& rt, A, int, L) {
     if (!rt.file) return Value::integer(1);
     const int r = std::fclose(rt.file);
+    const int e = errno;
     rt.file = nullptr;
+    if (r != 0) rt.host.err() << "warning: FISH close of '" << rt.file_name << "': " << std::strerror(e) << "\n";
     return Value::integer(r == 0 ? 0 : 1);
 }
 
@@ -133,8 +175,8 @@ const std::vector<Intrinsic>& io_intrinsics() {
     static const std::vector<Intrinsic> t = {
         {"error", 0, 0, "", "assigned a string (error = 'text'), stops the function and the script with that message", "io", f_error, s_error},
         {"out", 1, 1, "s", "print s (any value) on a line of its own; gives 0", "io", f_out, nullptr},
-        {"open", 1, 3, "name,mode,type", "open a file: mode 0 read, 1 write; type 1 text (0 is read as 1); gives 0 when open", "io", f_open, nullptr},
-        {"write", 1, 2, "array,n", "write the first n elements of the array, one per line, to the open file; gives 0", "io", f_write, nullptr},
+        {"open", 1, 3, "name,mode,type", "open a file: mode 0 read, 1 write; type 1 text (0 is read as 1); gives 0 when open, 1 when not (a named pipe or a directory is refused, and for reading a device or a file above 64 MiB)", "io", f_open, nullptr},
+        {"write", 1, 2, "array,n", "write the first n elements of the array, one per line, to the open file; gives 0, or 1 when they could not be written (a full disk)", "io", f_write, nullptr},
         {"read", 1, 2, "array,n", "read n lines of the open file into the array as strings; gives 0, or -1 at the file's end", "io", f_read, nullptr},
         {"close", 0, 0, "", "close the open file; gives 0", "io", f_close, nullptr},
         {"lose_array", 1, 1, "array", "free the memory of an array (its name remains, with no elements)", "io", f_lose_array, nullptr},

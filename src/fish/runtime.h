@@ -107,6 +107,7 @@ public:
     // The file of open()/write()/read()/close(): one at a time, as in the classic dialect.
     std::FILE* file = nullptr;
     bool file_writing = false;
+    std::string file_name; // as open() was given it, for messages
     // Lists of gridpoints and zones of each block, for b_gp/gp_next and b_zone/z_next: built
     // when first asked, forgotten whenever the model may have changed.
     const std::vector<std::vector<int>>& block_gridpoints();

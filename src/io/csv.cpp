@@ -35,8 +35,9 @@ bool write_histories_csv(const HistorySet& h, const std::vector<int>& numbers, i
         for (int n : numbers) std::fprintf(f, ",%.17g", h.items[n - 1].values[k]);
         std::fprintf(f, "\n");
     }
-    const bool ok = std::fflush(f) == 0 && !std::ferror(f);
-    std::fclose(f);
+    // A full disk shows at the flush, or only at the close on some file systems.
+    bool ok = std::fflush(f) == 0 && !std::ferror(f);
+    ok = std::fclose(f) == 0 && ok;
     if (!ok || std::rename(tmp.c_str(), path.c_str()) != 0) {
         error = "cannot write '" + path + "': " + std::strerror(errno);
         std::remove(tmp.c_str());

@@ -24,9 +24,20 @@
 //
 // Each struct's fields are listed once, in a `fields` function that both the writer and the
 // reader walk, so the two cannot drift apart.
+//
+// Every file odec writes can be read back: save runs the checks restore runs on what it read
+// (check_consistent, check_values) and writes nothing when they fail. Neither holds the file
+// in memory. save walks the fields twice: once counting, for the lengths that precede each
+// section and the payload, and once writing through a 64 KiB buffer that hashes as it goes;
+// so saving needs no memory that grows with the model, and works after memory ran out.
+// restore compares the file's size with the one its header gives, reads it once through a
+// buffer for the checksum and then again to parse it, so it holds the model and no copy of
+// the file.
 #include "io/save.h"
 
+#include <dirent.h>
 #include <fcntl.h>
+#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -37,10 +48,15 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <ctime>
+#include <functional>
 #include <limits>
 #include <map>
+#include <memory>
 #include <type_traits>
 #include <utility>
+
+#include "io/files.h"
 
 #ifndef ODEC_VERSION
 #define ODEC_VERSION "0.1.0"
@@ -70,15 +86,6 @@ constexpr char kMagic[12] = {'O', 'D', 'E', 'C', '-', 'S', 'A', 'V', 'E', '\r', 
 constexpr size_t kMagicSize = sizeof kMagic;
 constexpr size_t kChecksumSize = 8;
 constexpr std::uint64_t kMaxVersionText = 256;
-
-std::uint64_t fnv1a64(const char* p, size_t n) {
-    std::uint64_t h = 0xcbf29ce484222325ull;
-    for (size_t i = 0; i < n; ++i) {
-        h ^= static_cast<unsigned char>(p[i]);
-        h *= 0x100000001b3ull;
-    }
-    return h;
-}
 
 std::string hex(std::uint64_t x) {
     char buf[24];
@@ -185,8 +192,9 @@ auto fields(IO& io, M& x) -> If<M, BlockSet> {
     if (io.format >= 3) {
         io(x.cons); io(x.corner_gp); io(x.zone_edge); io(x.body);
     }
-    // Derived from the above, but written as they are so nothing is recomputed differently.
-    io(x.vertex_offset); io(x.world_vertices);
+    // Derived from the above, but written as they are so nothing is recomputed differently
+    // (unless stale: see world_vertices_stale).
+    io.world_vertices(x.vertex_offset, x.world_vertices);
 }
 
 // Zones and gridpoints: every array, the derived and scratch ones too. Some are read before
@@ -259,12 +267,89 @@ void model_sections(IO& io, M& m) {
 
 // ---- writing ----
 
+// Types whose bytes in memory are their bytes on file (see Writer: doubles as they are, int as
+// four bytes, one-byte integers as one, Eigen's vectors, matrices and quaternions as their
+// coefficients in storage order), so that arrays of them are written and read in one go.
+template <class T>
+struct Bulk : std::false_type {};
+template <> struct Bulk<double> : std::true_type {};
+template <> struct Bulk<int> : std::true_type {};
+template <> struct Bulk<std::uint8_t> : std::true_type {};
+template <> struct Bulk<Vec3> : std::true_type {};
+template <> struct Bulk<Mat3> : std::true_type {};
+template <> struct Bulk<Quat> : std::true_type {};
+template <class T, size_t N>
+struct Bulk<std::array<T, N>> : Bulk<T> {};
+static_assert(sizeof(int) == 4 && sizeof(Vec3) == 24 && sizeof(Mat3) == 72 && sizeof(Quat) == 32 &&
+                  sizeof(std::array<int, 4>) == 16 && sizeof(std::array<double, 6>) == 48,
+              "the bulk types have no padding");
+
+constexpr std::uint64_t kFnvOffset = 0xcbf29ce484222325ull;
+constexpr std::uint64_t kFnvPrime = 0x100000001b3ull;
+// The buffer a save is written and a restore read through: the whole file is never in memory.
+constexpr size_t kBufferBytes = size_t{64} << 10;
+
+// A write to the save file failed (errno).
+struct WriteFailure {
+    int error_number;
+};
+
+// The save file, written through a small buffer; every byte put is added to the checksum.
+class Sink {
+public:
+    explicit Sink(int fd) : fd_(fd), buf_(new char[kBufferBytes]) {}
+    std::uint64_t hash = kFnvOffset;
+
+    void put(const void* p, size_t n) {
+        const auto* c = static_cast<const unsigned char*>(p);
+        std::uint64_t h = hash;
+        for (size_t i = 0; i < n; ++i) {
+            h ^= c[i];
+            h *= kFnvPrime;
+        }
+        hash = h;
+        while (n > 0) {
+            const size_t k = std::min(n, kBufferBytes - used_);
+            std::memcpy(buf_.get() + used_, c, k);
+            used_ += k;
+            c += k;
+            n -= k;
+            if (used_ == kBufferBytes) flush();
+        }
+    }
+    // Throws WriteFailure.
+    void flush() {
+        if (used_ > 0 && !write_all(fd_, buf_.get(), used_)) throw WriteFailure{errno};
+        used_ = 0;
+    }
+
+private:
+    int fd_;
+    std::unique_ptr<char[]> buf_;
+    size_t used_ = 0;
+};
+
+// The lengths of the sections, counted by a first pass so that each can be written before its
+// body in the second.
+struct SectionLengths {
+    static constexpr size_t kMax = 32;
+    std::array<std::uint64_t, kMax> length{};
+    size_t count = 0;
+};
+
+// Walks the model's fields, either counting their bytes (no sink) or writing them.
 class Writer {
 public:
-    std::string buf;
+    Writer(Sink* sink, SectionLengths& lengths) : sink_(sink), lengths_(lengths) {}
     std::uint32_t format = kSaveFormatVersion; // the format being written
+    std::uint64_t written = 0;                 // bytes so far
+    bool drop_world_vertices = false;          // stale: written as none (restore drops them)
+    bool lengths_differ = false;               // the writing pass disagreed with the counting one
 
-    void bytes(const void* p, size_t n) { buf.append(static_cast<const char*>(p), n); }
+    void bytes(const void* p, size_t n) {
+        written += n;
+        if (sink_) sink_->put(p, n);
+    }
     template <class U>
     void raw(U x) {
         static_assert(std::is_trivially_copyable_v<U>);
@@ -299,7 +384,11 @@ public:
     template <class T>
     void operator()(const std::vector<T>& v) {
         raw(static_cast<std::uint64_t>(v.size()));
-        for (const T& x : v) (*this)(x);
+        if constexpr (Bulk<T>::value) {
+            if (!v.empty()) bytes(v.data(), v.size() * sizeof(T));
+        } else {
+            for (const T& x : v) (*this)(x);
+        }
     }
     template <class K, class V>
     void operator()(const std::map<K, V>& mp) {
@@ -312,73 +401,36 @@ public:
     template <class E>
     void enumeration(const E& e, int) { raw(static_cast<std::int32_t>(e)); }
     void check(bool, const std::string&) {}
+    void world_vertices(const std::vector<int>& offsets, const std::vector<Vec3>& vertices) {
+        if (drop_world_vertices) {
+            (*this)(std::vector<int>());
+            (*this)(std::vector<Vec3>());
+        } else {
+            (*this)(offsets);
+            (*this)(vertices);
+        }
+    }
 
     template <class F>
     void section(const char* tag, F&& body) {
         bytes(tag, 4);
-        const size_t at = buf.size();
-        raw(std::uint64_t{0});
-        body();
-        const std::uint64_t len = buf.size() - at - 8;
-        std::memcpy(&buf[at], &len, 8);
-    }
-};
-
-// Write all of `data` to fd, through short writes and interrupted calls.
-bool write_all(int fd, const std::string& data) {
-    size_t done = 0;
-    while (done < data.size()) {
-        const ssize_t n = ::write(fd, data.data() + done, data.size() - done);
-        if (n < 0) {
-            if (errno == EINTR) continue;
-            return false;
+        const size_t k = lengths_.count++;
+        if (k >= SectionLengths::kMax) {
+            lengths_differ = true;
+            return;
         }
-        done += static_cast<size_t>(n);
+        raw(sink_ ? lengths_.length[k] : std::uint64_t{0});
+        const std::uint64_t start = written;
+        body();
+        const std::uint64_t len = written - start;
+        if (!sink_) lengths_.length[k] = len;
+        else if (len != lengths_.length[k]) lengths_differ = true;
     }
-    return true;
-}
 
-// Write `data` to `path` so that `path` holds either its old bytes or all the new ones,
-// never a part: a temporary file beside it, flushed to disk, then renamed over it.
-bool write_file_atomically(const std::string& path, const std::string& data, std::string& error) {
-    static std::atomic<unsigned> counter{0};
-    const std::string tmp =
-        path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter.fetch_add(1));
-    const std::string where = "cannot save to '" + path + "': ";
-    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    if (fd < 0) {
-        error = where + "cannot create the temporary file '" + tmp + "': " + std::strerror(errno);
-        return false;
-    }
-    if (!write_all(fd, data) || ::fsync(fd) != 0) {
-        const int e = errno;
-        ::close(fd);
-        ::unlink(tmp.c_str());
-        error = where + "writing '" + tmp + "' failed: " + std::strerror(e) + " (the old file, if any, is unchanged)";
-        return false;
-    }
-    if (::close(fd) != 0) {
-        const int e = errno;
-        ::unlink(tmp.c_str());
-        error = where + "writing '" + tmp + "' failed: " + std::strerror(e) + " (the old file, if any, is unchanged)";
-        return false;
-    }
-    if (::rename(tmp.c_str(), path.c_str()) != 0) {
-        const int e = errno;
-        ::unlink(tmp.c_str());
-        error = where + std::strerror(e) + " (the old file, if any, is unchanged)";
-        return false;
-    }
-    // Make the rename itself durable; a failure here loses nothing already written.
-    const size_t slash = path.find_last_of('/');
-    const std::string dir = slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
-    const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-    if (dfd >= 0) {
-        ::fsync(dfd);
-        ::close(dfd);
-    }
-    return true;
-}
+private:
+    Sink* sink_;
+    SectionLengths& lengths_;
+};
 
 // ---- reading ----
 
@@ -386,18 +438,71 @@ struct ReadError {
     std::string what;
 };
 
+// A read of the save file failed (errno).
+struct ReadFailure {
+    int error_number;
+};
+
+// The save file, read through a small buffer from its start; every byte handed out is added
+// to the checksum.
+class Source {
+public:
+    explicit Source(int fd) : fd_(fd), buf_(new char[kBufferBytes]) {}
+    std::uint64_t hash = kFnvOffset;
+
+    // The next n bytes into p, or skipped when p is null. Throws ReadFailure, or ReadError
+    // when the file ends first (it was cut while being read: its size was known).
+    void get(void* p, size_t n) {
+        auto* out = static_cast<unsigned char*>(p);
+        std::uint64_t h = hash;
+        while (n > 0) {
+            if (at_ == have_) fill();
+            const size_t k = std::min(n, have_ - at_);
+            const auto* c = reinterpret_cast<const unsigned char*>(buf_.get() + at_);
+            for (size_t i = 0; i < k; ++i) {
+                h ^= c[i];
+                h *= kFnvPrime;
+            }
+            if (out) {
+                std::memcpy(out, c, k);
+                out += k;
+            }
+            at_ += k;
+            n -= k;
+        }
+        hash = h;
+    }
+
+private:
+    void fill() {
+        for (;;) {
+            const ssize_t k = ::read(fd_, buf_.get(), kBufferBytes);
+            if (k < 0 && errno == EINTR) continue;
+            if (k < 0) throw ReadFailure{errno};
+            if (k == 0) throw ReadError{"the file became shorter while it was read"};
+            have_ = static_cast<size_t>(k);
+            at_ = 0;
+            return;
+        }
+    }
+    int fd_;
+    std::unique_ptr<char[]> buf_;
+    size_t have_ = 0, at_ = 0;
+};
+
+// Reads fields from bytes in memory (the header) or from a Source (the payload), never past
+// `end`: every length is checked against the bytes left before anything is allocated.
 class Reader {
 public:
-    Reader(const char* begin, const char* end) : p_(begin), end_(end) {}
+    Reader(const char* begin, const char* end) : mem_(begin), pos_(0), end_(static_cast<std::uint64_t>(end - begin)) {}
+    Reader(Source& src, std::uint64_t begin, std::uint64_t end) : src_(&src), pos_(begin), end_(end) {}
     std::uint32_t format = kSaveFormatVersion; // the format of the file being read
 
     template <class U>
     U raw() {
         static_assert(std::is_trivially_copyable_v<U>);
-        need(sizeof(U));
         U x;
-        std::memcpy(&x, p_, sizeof x);
-        p_ += sizeof x;
+        get(&x, sizeof x);
         return x;
     }
 
@@ -406,7 +511,7 @@ public:
     void operator()(T& x) {
         if constexpr (std::is_same_v<T, bool>) {
             const std::uint8_t b = raw<std::uint8_t>();
-            check(b <= 1, "a flag holds " + std::to_string(b));
+            if (b > 1) fail("a flag holds " + std::to_string(b));
             x = b != 0;
         } else if constexpr (sizeof(T) == 1) {
             x = static_cast<T>(raw<std::uint8_t>());
@@ -414,15 +519,16 @@ public:
             x = raw<std::int32_t>();
         } else {
             const std::int64_t v = raw<std::int64_t>();
-            check(v >= std::numeric_limits<T>::min() && v <= std::numeric_limits<T>::max(),
-                  "the number " + std::to_string(v) + " does not fit");
+            if (v < std::numeric_limits<T>::min() || v > std::numeric_limits<T>::max()) {
+                fail("the number " + std::to_string(v) + " does not fit");
+            }
             x = static_cast<T>(v);
         }
     }
     void operator()(std::string& s) {
         const size_t n = count(1);
-        s.assign(p_, n);
-        p_ += n;
+        s.resize(n);
+        if (n > 0) get(&s[0], n);
     }
     void operator()(Vec3& v) { for (int i = 0; i < 3; ++i) v[i] = raw<double>(); }
     void operator()(Quat& q) { for (int i = 0; i < 4; ++i) q.coeffs()[i] = raw<double>(); }
@@ -435,8 +541,13 @@ public:
     void operator()(std::vector<T>& v) {
         // Every element takes at least a byte, so a length beyond the bytes left is damage,
         // caught before it can ask for a huge allocation.
-        v.resize(count(1));
-        for (T& x : v) (*this)(x);
+        if constexpr (Bulk<T>::value) {
+            v.resize(count(sizeof(T)));
+            if (!v.empty()) get(v.data(), v.size() * sizeof(T));
+        } else {
+            v.resize(count(1));
+            for (T& x : v) (*this)(x);
+        }
     }
     template <class K, class V>
     void operator()(std::map<K, V>& mp) {
@@ -445,7 +556,7 @@ public:
         for (size_t i = 0; i < n; ++i) {
             K k{};
             (*this)(k);
-            check(mp.find(k) == mp.end(), "a key is repeated");
+            if (mp.find(k) != mp.end()) fail("a key is repeated");
             (*this)(mp[k]);
         }
     }
@@ -455,39 +566,56 @@ public:
     template <class E>
     void enumeration(E& e, int n_values) {
         const std::int32_t v = raw<std::int32_t>();
-        check(v >= 0 && v < n_values, "an enumeration holds " + std::to_string(v) + " (0 to " +
-                                          std::to_string(n_values - 1) + " allowed)");
+        if (v < 0 || v >= n_values) {
+            fail("an enumeration holds " + std::to_string(v) + " (0 to " + std::to_string(n_values - 1) + " allowed)");
+        }
         e = static_cast<E>(v);
     }
     void check(bool ok, const std::string& what) {
-        if (!ok) throw ReadError{in_section() + what};
+        if (!ok) fail(what);
+    }
+    // The messages of the checks made for every element are built only when one fails: a
+    // string for each of millions of numbers would cost more than reading them.
+    [[noreturn]] void fail(const std::string& what) { throw ReadError{in_section() + what}; }
+    void world_vertices(std::vector<int>& offsets, std::vector<Vec3>& vertices) {
+        (*this)(offsets);
+        (*this)(vertices);
     }
 
     template <class F>
     void section(const char* tag, F&& body) {
         need(4);
-        if (std::memcmp(p_, tag, 4) != 0) {
-            throw ReadError{"section '" + std::string(tag, 4) + "' expected, found '" + printable(p_, 4) + "'"};
+        char found[4];
+        get(found, 4);
+        if (std::memcmp(found, tag, 4) != 0) {
+            throw ReadError{"section '" + std::string(tag, 4) + "' expected, found '" + printable(found, 4) + "'"};
         }
-        p_ += 4;
         const std::uint64_t len = raw<std::uint64_t>();
         need(len);
-        const char* const outer_end = end_;
-        end_ = p_ + len;
+        const std::uint64_t outer_end = end_;
+        end_ = pos_ + len;
         tag_ = tag;
         body();
-        check(p_ == end_, std::to_string(end_ - p_) + " bytes are left over at its end");
+        if (pos_ != end_) fail(std::to_string(end_ - pos_) + " bytes are left over at its end");
         end_ = outer_end;
         tag_.clear();
     }
 
-    size_t left() const { return static_cast<size_t>(end_ - p_); }
+    std::uint64_t left() const { return end_ - pos_; }
 
 private:
-    const char* p_;
-    const char* end_;
+    const char* mem_ = nullptr;
+    Source* src_ = nullptr;
+    std::uint64_t pos_;
+    std::uint64_t end_;
     std::string tag_;
 
+    void get(void* p, size_t n) {
+        need(n);
+        if (src_) src_->get(p, n);
+        else std::memcpy(p, mem_ + pos_, n);
+        pos_ += n;
+    }
     std::string in_section() const { return tag_.empty() ? "" : "section '" + tag_ + "': "; }
     void need(std::uint64_t n) {
         if (left() < n) {
@@ -518,6 +646,11 @@ bool world_vertices_match(const BlockSet& s) {
     }
     return s.vertex_offset[n] >= 0 && static_cast<size_t>(s.vertex_offset[n]) == s.world_vertices.size();
 }
+
+// World vertices are derived from the blocks and rebuilt before anything reads them once
+// blocks were added or removed (geometry_changed): until then they may be stale, as in a
+// model right after 'delete'. Stale ones are neither written nor believed when read.
+bool world_vertices_stale(const Model& m) { return m.geometry_changed && !world_vertices_match(m.blocks); }
 
 // The zones, gridpoints and loaded faces of deformable blocks: lengths agree, every index
 // points at something that exists, and the blocks and zones agree on which blocks are
@@ -579,19 +712,30 @@ std::string check_zones_consistent(const Model& m) {
         }
     }
     // Each corner of a deformable block is a corner of one of its own zones: removing other
-    // blocks' zones (delete, gen again) keeps exactly the gridpoints that kept zones use.
-    std::vector<std::pair<int, int>> used; // (gridpoint, block) of every zone corner
-    used.reserve(4 * nz);
-    for (size_t i = 0; i < nz; ++i) {
-        for (int c : z.gp[i]) used.emplace_back(c, z.block[i]);
+    // blocks' zones (delete, gen again) keeps exactly the gridpoints that kept zones use. The
+    // blocks' corners are listed and marked as the zones' corners are met: memory for the
+    // corners of the blocks, a few per block, not for those of every zone.
+    std::vector<std::pair<int, int>> corners; // (gridpoint, block) of every corner of a deformable block
+    for (size_t b = 0; b < n; ++b) {
+        if (s.flags[b] & kDeformable) {
+            for (int c : s.corner_gp[b]) corners.emplace_back(c, static_cast<int>(b));
+        }
     }
-    std::sort(used.begin(), used.end());
+    std::sort(corners.begin(), corners.end());
+    std::vector<char> met(corners.size(), 0);
+    for (size_t i = 0; i < nz; ++i) {
+        for (int c : z.gp[i]) {
+            const auto r = std::equal_range(corners.begin(), corners.end(), std::make_pair(c, z.block[i]));
+            for (auto it = r.first; it != r.second; ++it) met[static_cast<size_t>(it - corners.begin())] = 1;
+        }
+    }
     for (size_t b = 0; b < n; ++b) {
         if (!(s.flags[b] & kDeformable)) continue;
         const std::string w = "block " + std::to_string(s.id[b]);
         if (!zoned[b]) return w + " is deformable but has no zones";
         for (int c : s.corner_gp[b]) {
-            if (!std::binary_search(used.begin(), used.end(), std::make_pair(c, static_cast<int>(b)))) {
+            const auto it = std::lower_bound(corners.begin(), corners.end(), std::make_pair(c, static_cast<int>(b)));
+            if (!met[static_cast<size_t>(it - corners.begin())]) {
                 return w + " has a corner at gridpoint " + std::to_string(c) + ", which none of its zones has";
             }
         }
@@ -630,7 +774,7 @@ std::string check_consistent(const Model& m) {
     same(s.half_kick.size()); same(s.cons.size()); same(s.corner_gp.size()); same(s.zone_edge.size());
     same(s.body.size());
     if (!sizes_ok) return "the block arrays differ in length";
-    if (!s.vertex_offset.empty()) {
+    if (!s.vertex_offset.empty() && !world_vertices_stale(m)) {
         if (s.vertex_offset.size() != n + 1 || s.vertex_offset[0] != 0) return "the world vertex offsets are wrong";
         for (size_t b = 0; b < n; ++b) {
             if (static_cast<long long>(s.vertex_offset[b + 1]) - s.vertex_offset[b] != s.shape[b].n_vertices()) {
@@ -723,6 +867,15 @@ std::string check_consistent(const Model& m) {
 // limits the commands that set it would enforce, and indices, counts and ids consistent. A
 // file edited and its checksum recomputed must not bring inf, NaN or a dangling index into a
 // model that then cycles on. Returns what is wrong, or "".
+// Where a number is, as the start of a message ("block 3: "): kept as a kind and a number, and
+// made text only when a check fails. Checks run on every number of the model before each save;
+// a string for each would cost more than the checks (and memory when it is short).
+struct Where {
+    const char* kind = nullptr;
+    long long n = 0;
+    std::string text() const { return kind ? std::string(kind) + " " + std::to_string(n) + ": " : std::string(); }
+};
+
 class ValueCheck {
 public:
     std::string problem;
@@ -731,28 +884,41 @@ public:
         if (problem.empty()) problem = what;
         return false;
     }
-    bool finite(double x, const std::string& what) {
-        return std::isfinite(x) || fail(what + " is not a finite number");
+    bool fail(const Where& w, const std::string& what) { return problem.empty() ? fail(w.text() + what) : false; }
+    bool finite(double x, const char* what) { return finite(x, Where{}, what); }
+    bool finite(double x, const Where& w, const char* what) {
+        return std::isfinite(x) || fail(w, std::string(what) + " is not a finite number");
     }
-    bool at_least(double x, double lo, const std::string& what) {
-        return (finite(x, what) && x >= lo) || fail(what + " is " + num(x) + ", below " + num(lo));
+    bool at_least(double x, double lo, const char* what) { return at_least(x, lo, Where{}, what); }
+    bool at_least(double x, double lo, const Where& w, const char* what) {
+        return (finite(x, w, what) && x >= lo) || fail(w, std::string(what) + " is " + num(x) + ", below " + num(lo));
     }
-    bool between(double x, double lo, double hi, const std::string& what) {
+    bool between(double x, double lo, double hi, const char* what) {
         return (finite(x, what) && x >= lo && x <= hi) ||
-               fail(what + " is " + num(x) + ", outside " + num(lo) + " to " + num(hi));
+               fail(std::string(what) + " is " + num(x) + ", outside " + num(lo) + " to " + num(hi));
     }
-    bool angle(double x, const std::string& what) {
-        return (finite(x, what) && x >= 0 && x < 90) || fail(what + " is " + num(x) + " degrees, outside 0 to 90");
+    bool angle(double x, const Where& w, const char* what) {
+        return (finite(x, w, what) && x >= 0 && x < 90) ||
+               fail(w, std::string(what) + " is " + num(x) + " degrees, outside 0 to 90");
     }
-    bool vec(const Vec3& v, const std::string& what) { return v.allFinite() || fail(what + " is not finite"); }
-    bool mat(const Mat3& a, const std::string& what) { return a.allFinite() || fail(what + " is not finite"); }
-    bool quat(const Quat& q, const std::string& what) {
-        return (q.coeffs().allFinite() && std::abs(q.norm() - 1) < 1e-6) || fail(what + " is not a unit quaternion");
+    bool vec(const Vec3& v, const char* what) { return vec(v, Where{}, what); }
+    bool vec(const Vec3& v, const Where& w, const char* what) {
+        return v.allFinite() || fail(w, std::string(what) + " is not a finite number");
+    }
+    bool mat(const Mat3& a, const Where& w, const char* what) {
+        return a.allFinite() || fail(w, std::string(what) + " is not a finite number");
+    }
+    bool quat(const Quat& q, const char* what) { return quat(q, Where{}, what); }
+    bool quat(const Quat& q, const Where& w, const char* what) {
+        return (q.coeffs().allFinite() && std::abs(q.norm() - 1) < 1e-6) ||
+               fail(w, std::string(what) + " is not a unit quaternion");
     }
     template <class T>
-    bool all_vec(const std::vector<T>& v, const std::string& what) {
+    bool all_vec(const std::vector<T>& v, const char* what) { return all_vec(v, Where{}, what); }
+    template <class T>
+    bool all_vec(const std::vector<T>& v, const Where& w, const char* what) {
         for (size_t i = 0; i < v.size(); ++i) {
-            if (!v[i].allFinite()) return fail(what + " " + std::to_string(i + 1) + " is not finite");
+            if (!v[i].allFinite()) return fail(w, std::string(what) + " " + std::to_string(i + 1) + " is not a finite number");
         }
         return true;
     }
@@ -768,7 +934,7 @@ private:
 std::string check_values(const Model& m) {
     ValueCheck c;
     // The model itself.
-    c.at_least(static_cast<double>(m.step), 0, "the step number");
+    if (m.step < 0 || m.step > kMaxStep) c.fail("the step number is " + std::to_string(m.step) + ", outside 0 to 1e18");
     c.at_least(m.time, 0, "the model time");
     c.at_least(m.dt, 0, "the timestep");
     c.vec(m.gravity, "gravity");
@@ -787,30 +953,30 @@ std::string check_values(const Model& m) {
     c.at_least(d.rayleigh_frequency, 0, "the Rayleigh damping frequency");
     c.at_least(d.auto_coefficient, 0, "the adaptive damping coefficient");
     for (double t : m.profile.seconds) c.at_least(t, 0, "a profile time");
-    if (m.profile.steps < 0) c.fail("the profiled step count is negative");
+    if (m.profile.steps < 0 || m.profile.steps > kMaxStep) c.fail("the profiled step count is outside 0 to 1e18");
     // Materials, as 'prop' limits them (a material given only other properties has density 0).
     for (size_t k = 0; k < m.materials.size(); ++k) {
         const Material& x = m.materials[k];
-        const std::string w = "material " + std::to_string(k) + ": ";
-        c.at_least(x.density, 0, w + "the density");
-        c.at_least(x.bulk, 0, w + "the bulk modulus");
-        c.at_least(x.shear, 0, w + "the shear modulus");
-        c.at_least(x.cohesion, 0, w + "the cohesion");
-        c.at_least(x.tension, 0, w + "the tension");
-        c.angle(x.friction, w + "the friction angle");
-        c.angle(x.dilation, w + "the dilation angle");
+        const Where w{"material", static_cast<long long>(k)};
+        c.at_least(x.density, 0, w, "the density");
+        c.at_least(x.bulk, 0, w, "the bulk modulus");
+        c.at_least(x.shear, 0, w, "the shear modulus");
+        c.at_least(x.cohesion, 0, w, "the cohesion");
+        c.at_least(x.tension, 0, w, "the tension");
+        c.angle(x.friction, w, "the friction angle");
+        c.angle(x.dilation, w, "the dilation angle");
     }
     for (size_t k = 0; k < m.joint_materials.size(); ++k) {
         const JointMaterial& x = m.joint_materials[k];
-        const std::string w = "joint material " + std::to_string(k) + ": ";
-        c.at_least(x.kn, 0, w + "the normal stiffness");
-        c.at_least(x.ks, 0, w + "the shear stiffness");
-        c.at_least(x.cohesion, 0, w + "the cohesion");
-        c.at_least(x.tension, 0, w + "the tension");
-        c.at_least(x.zdilation, 0, w + "the dilation limit");
-        c.angle(x.friction, w + "the friction angle");
-        c.angle(x.dilation, w + "the dilation angle");
-        c.angle(x.res_friction, w + "the residual friction angle");
+        const Where w{"joint material", static_cast<long long>(k)};
+        c.at_least(x.kn, 0, w, "the normal stiffness");
+        c.at_least(x.ks, 0, w, "the shear stiffness");
+        c.at_least(x.cohesion, 0, w, "the cohesion");
+        c.at_least(x.tension, 0, w, "the tension");
+        c.at_least(x.zdilation, 0, w, "the dilation limit");
+        c.angle(x.friction, w, "the friction angle");
+        c.angle(x.dilation, w, "the dilation angle");
+        c.angle(x.res_friction, w, "the residual friction angle");
     }
     for (const JointPlane& p : m.joint_planes) {
         if (p.set < 1 || p.jmat < 0 || p.jmat > 1000000) c.fail("a joint plane is out of range");
@@ -819,87 +985,87 @@ std::string check_values(const Model& m) {
     const BlockSet& s = m.blocks;
     const int n = s.size();
     for (int b = 0; b < n && c.ok(); ++b) {
-        const std::string w = "block " + std::to_string(s.id[b]) + ": ";
+        const Where w{"block", s.id[b]};
         if (s.id[b] < 1 || (b > 0 && s.id[b] <= s.id[b - 1]) || s.id[b] >= m.next_block_id) {
             c.fail("the block ids are not unique, increasing and below the next id");
             break;
         }
         const Polyhedron& p = s.shape[b];
-        if (p.n_vertices() < 4 || p.n_faces() < 4) c.fail(w + "its shape has too few vertices or faces");
-        c.all_vec(p.vertices, w + "vertex");
+        if (p.n_vertices() < 4 || p.n_faces() < 4) c.fail(w, "its shape has too few vertices or faces");
+        c.all_vec(p.vertices, w, "vertex");
         for (int f = 0; f < p.n_faces(); ++f) {
-            if (p.face_size(f) < 3) c.fail(w + "a face has fewer than 3 vertices");
+            if (p.face_size(f) < 3) c.fail(w, "a face has fewer than 3 vertices");
         }
         for (int j : p.face_joint) {
-            if (j < 0 || j > static_cast<int>(m.joint_planes.size())) c.fail(w + "a face refers to a joint plane that does not exist");
+            if (j < 0 || j > static_cast<int>(m.joint_planes.size())) c.fail(w, "a face refers to a joint plane that does not exist");
         }
-        c.vec(s.centroid[b], w + "the centroid");
-        c.quat(s.orientation[b], w + "the orientation");
-        c.vec(s.vel[b], w + "the velocity");
-        c.vec(s.ang_vel[b], w + "the angular velocity");
-        c.vec(s.accel[b], w + "the acceleration");
-        c.vec(s.ang_accel[b], w + "the angular acceleration");
-        c.vec(s.force[b], w + "the force");
-        c.vec(s.moment[b], w + "the moment");
-        c.vec(s.applied_force[b], w + "the applied force");
-        c.at_least(s.force_scale[b], 0, w + "the force scale");
-        c.vec(s.disp[b], w + "the displacement");
-        c.vec(s.rotation[b], w + "the rotation");
-        if (c.finite(s.volume[b], w + "the volume") && !(s.volume[b] > 0)) c.fail(w + "the volume is not positive");
-        c.at_least(s.mass[b], 0, w + "the mass");
-        c.mat(s.inertia_body[b], w + "the inertia");
-        c.mat(s.inertia_unit[b], w + "the unit inertia");
-        if (s.material[b] < 1 || s.material[b] > 1000000) c.fail(w + "the material number is out of range");
-        if (s.region[b] < 0) c.fail(w + "the region number is negative");
+        c.vec(s.centroid[b], w, "the centroid");
+        c.quat(s.orientation[b], w, "the orientation");
+        c.vec(s.vel[b], w, "the velocity");
+        c.vec(s.ang_vel[b], w, "the angular velocity");
+        c.vec(s.accel[b], w, "the acceleration");
+        c.vec(s.ang_accel[b], w, "the angular acceleration");
+        c.vec(s.force[b], w, "the force");
+        c.vec(s.moment[b], w, "the moment");
+        c.vec(s.applied_force[b], w, "the applied force");
+        c.at_least(s.force_scale[b], 0, w, "the force scale");
+        c.vec(s.disp[b], w, "the displacement");
+        c.vec(s.rotation[b], w, "the rotation");
+        if (c.finite(s.volume[b], w, "the volume") && !(s.volume[b] > 0)) c.fail(w, "the volume is not positive");
+        c.at_least(s.mass[b], 0, w, "the mass");
+        c.mat(s.inertia_body[b], w, "the inertia");
+        c.mat(s.inertia_unit[b], w, "the unit inertia");
+        if (s.material[b] < 1 || s.material[b] > 1000000) c.fail(w, "the material number is out of range");
+        if (s.region[b] < 0) c.fail(w, "the region number is negative");
         if (s.flags[b] > (kFixed | kHidden | kExcavated | kDeformable) || s.vel_bc[b] > 7 || s.half_kick[b] > 1) {
-            c.fail(w + "a flag is out of range");
+            c.fail(w, "a flag is out of range");
         }
-        if (s.cons[b] > kZoneMohrCoulomb) c.fail(w + "its zone model is " + std::to_string(s.cons[b]) + " (0 to 2 allowed)");
+        if (s.cons[b] > kZoneMohrCoulomb) c.fail(w, "its zone model is " + std::to_string(s.cons[b]) + " (0 to 2 allowed)");
         // 'gen' zones a block again with the edge it was zoned with (0: none yet).
-        c.at_least(s.zone_edge[b], 0, w + "its zone edge");
+        c.at_least(s.zone_edge[b], 0, w, "its zone edge");
         // Zoning numbers new continua from the largest one there is, plus one.
-        if (s.body[b] > 1000000000) c.fail(w + "its continuum number is out of range");
-        c.vec(s.vel_bc_value[b], w + "the boundary velocity");
+        if (s.body[b] > 1000000000) c.fail(w, "its continuum number is out of range");
+        c.vec(s.vel_bc_value[b], w, "the boundary velocity");
         if (s.vel_bc_table[b] < 0 || s.vel_bc_table[b] > 1000000) {
-            c.fail(w + "the boundary velocity table is out of range");
+            c.fail(w, "the boundary velocity table is out of range");
         }
     }
     if (!c.ok()) return c.problem;
-    c.all_vec(s.world_vertices, "world vertex");
+    if (!world_vertices_stale(m)) c.all_vec(s.world_vertices, "world vertex");
     // Zones, as 'change cons', 'insitu' and the cycle leave them.
     const ZoneSet& z = m.zones;
     for (int i = 0; i < z.size() && c.ok(); ++i) {
-        const std::string w = "zone " + std::to_string(i + 1) + ": ";
-        if (z.model[i] > kZoneMohrCoulomb) c.fail(w + "its model is " + std::to_string(z.model[i]) + " (0 to 2 allowed)");
-        if (z.state[i] > (kShearNow | kTensionNow | kShearPast | kTensionPast)) c.fail(w + "its state is out of range");
+        const Where w{"zone", i + 1};
+        if (z.model[i] > kZoneMohrCoulomb) c.fail(w, "its model is " + std::to_string(z.model[i]) + " (0 to 2 allowed)");
+        if (z.state[i] > (kShearNow | kTensionNow | kShearPast | kTensionPast)) c.fail(w, "its state is out of range");
         for (double x : z.stress[i]) {
-            if (!c.finite(x, w + "the stress")) break;
+            if (!c.finite(x, w, "the stress")) break;
         }
-        c.finite(z.volume[i], w + "the volume");
+        c.finite(z.volume[i], w, "the volume");
     }
     for (size_t i = 0; i < z.grad.size() && c.ok(); ++i) {
         for (double x : z.grad[i]) {
-            if (!c.finite(x, "zone " + std::to_string(i + 1) + ": a shape-function gradient")) break;
+            if (!c.finite(x, Where{"zone", static_cast<long long>(i) + 1}, "a shape-function gradient")) break;
         }
     }
     const GridpointSet& g = m.gridpoints;
     for (int i = 0; i < g.size() && c.ok(); ++i) {
-        const std::string w = "gridpoint " + std::to_string(i + 1) + ": ";
-        c.vec(g.pos[i], w + "the position");
-        c.vec(g.ref[i], w + "the reference position");
-        c.vec(g.vel[i], w + "the velocity");
-        c.vec(g.disp[i], w + "the displacement");
-        c.vec(g.force[i], w + "the force");
-        c.vec(g.applied[i], w + "the applied force");
-        c.vec(g.traction[i], w + "the traction");
-        c.at_least(g.mass[i], 0, w + "the mass");
-        c.at_least(g.stiffness[i], 0, w + "the stiffness");
-        c.at_least(g.force_scale[i], 0, w + "the force scale");
-        c.at_least(g.nmd_volume[i], 0, w + "the volume around it");
-        c.finite(g.nmd_rate[i], w + "the volumetric rate around it");
-        if (g.vel_bc[i] > 7 || g.half_kick[i] > 1) c.fail(w + "a flag is out of range");
-        c.vec(g.vel_bc_value[i], w + "the boundary velocity");
-        if (g.vel_bc_table[i] < 0 || g.vel_bc_table[i] > 1000000) c.fail(w + "the boundary velocity table is out of range");
+        const Where w{"gridpoint", i + 1};
+        c.vec(g.pos[i], w, "the position");
+        c.vec(g.ref[i], w, "the reference position");
+        c.vec(g.vel[i], w, "the velocity");
+        c.vec(g.disp[i], w, "the displacement");
+        c.vec(g.force[i], w, "the force");
+        c.vec(g.applied[i], w, "the applied force");
+        c.vec(g.traction[i], w, "the traction");
+        c.at_least(g.mass[i], 0, w, "the mass");
+        c.at_least(g.stiffness[i], 0, w, "the stiffness");
+        c.at_least(g.force_scale[i], 0, w, "the force scale");
+        c.at_least(g.nmd_volume[i], 0, w, "the volume around it");
+        c.finite(g.nmd_rate[i], w, "the volumetric rate around it");
+        if (g.vel_bc[i] > 7 || g.half_kick[i] > 1) c.fail(w, "a flag is out of range");
+        c.vec(g.vel_bc_value[i], w, "the boundary velocity");
+        if (g.vel_bc_table[i] < 0 || g.vel_bc_table[i] > 1000000) c.fail(w, "the boundary velocity table is out of range");
     }
     for (const BoundaryFace& f : m.stress_boundary.faces) {
         if (!c.vec(f.force, "the force on a face loaded by 'bound stress'")) break;
@@ -907,54 +1073,59 @@ std::string check_values(const Model& m) {
     // Contacts.
     const ContactSet& cs = m.contacts;
     for (int k = 0; k < cs.size() && c.ok(); ++k) {
-        const std::string w = "contact " + std::to_string(cs.id[k]) + ": ";
-        if (cs.id[k] < 1 || cs.id[k] >= cs.next_id) c.fail(w + "its id is out of range");
-        if (!(cs.block_a[k] < cs.block_b[k])) c.fail(w + "its blocks are not in order (a < b)");
-        if (c.vec(cs.normal[k], w + "the normal") && std::abs(cs.normal[k].norm() - 1) > 1e-6) c.fail(w + "the normal is not a unit vector");
-        c.vec(cs.point[k], w + "the point");
-        c.finite(cs.gap[k], w + "the gap");
-        if (cs.jmat[k] < 0 || cs.jmat[k] > 1000000) c.fail(w + "the joint material is out of range");
-        if (cs.jcons[k] < 1 || cs.jcons[k] > 2) c.fail(w + "the joint model is out of range");
-        if (cs.joined[k] > 1) c.fail(w + "a flag is out of range");
+        const Where w{"contact", cs.id[k]};
+        if (cs.id[k] < 1 || cs.id[k] >= cs.next_id) c.fail(w, "its id is out of range");
+        if (!(cs.block_a[k] < cs.block_b[k])) c.fail(w, "its blocks are not in order (a < b)");
+        if (c.vec(cs.normal[k], w, "the normal") && std::abs(cs.normal[k].norm() - 1) > 1e-6) c.fail(w, "the normal is not a unit vector");
+        c.vec(cs.point[k], w, "the point");
+        c.finite(cs.gap[k], w, "the gap");
+        if (cs.jmat[k] < 0 || cs.jmat[k] > 1000000) c.fail(w, "the joint material is out of range");
+        if (cs.jcons[k] < 1 || cs.jcons[k] > 2) c.fail(w, "the joint model is out of range");
+        if (cs.joined[k] > 1) c.fail(w, "a flag is out of range");
         for (int i = cs.sub_offset[k]; i < cs.sub_offset[k + 1] && c.ok(); ++i) {
-            if (cs.sub_contact[i] != k) c.fail(w + "a sub-contact belongs to another contact");
+            if (cs.sub_contact[i] != k) c.fail(w, "a sub-contact belongs to another contact");
             const int side = cs.sub_side[i];
             const int a = cs.block_a[k], b = cs.block_b[k];
             const bool deformable_pair = ((s.flags[a] | s.flags[b]) & kDeformable) != 0;
-            if (side > 4 || (side >= 3) != deformable_pair) c.fail(w + "a sub-contact side is out of range");
+            // Right after 'gen' (geometry_changed) a pair of zoned blocks still has the vertex
+            // sub-contacts it had as rigid blocks: they are rebuilt before anything cycles.
+            const bool side_ok = side <= 4 && (side >= 3 ? deformable_pair : !deformable_pair || m.geometry_changed);
+            if (!side_ok) c.fail(w, "a sub-contact side is out of range");
             if (side >= 3 && c.ok()) {
                 // A gridpoint of its own block against the other's surface.
                 const int own = side == 3 ? a : b, other = side == 3 ? b : a;
                 const int ng = static_cast<int>(m.gridpoints.pos.size());
                 if (!(s.flags[own] & kDeformable) || cs.sub_vertex[i] < 0 || cs.sub_vertex[i] >= ng) {
-                    c.fail(w + "a sub-contact gridpoint is out of range");
+                    c.fail(w, "a sub-contact gridpoint is out of range");
                 }
                 const auto& t = cs.sub_tri[i];
                 const bool on_triangle = (s.flags[other] & kDeformable) != 0;
                 for (int q : t) {
-                    if (on_triangle ? (q < 0 || q >= ng) : q != -1) c.fail(w + "a sub-contact triangle is out of range");
+                    if (on_triangle ? (q < 0 || q >= ng) : q != -1) c.fail(w, "a sub-contact triangle is out of range");
                 }
             } else if (c.ok()) {
                 const int owner = side == 1 ? b : a;
                 if (cs.sub_vertex[i] < -1 || cs.sub_vertex[i] >= s.shape[owner].n_vertices()) {
-                    c.fail(w + "a sub-contact vertex is out of range");
+                    c.fail(w, "a sub-contact vertex is out of range");
                 }
                 for (int q : cs.sub_tri[i]) {
-                    if (q != -1) c.fail(w + "a sub-contact triangle is out of range");
+                    if (q != -1) c.fail(w, "a sub-contact triangle is out of range");
                 }
             }
-            c.at_least(cs.sub_area[i], 0, w + "a sub-contact area");
-            c.vec(cs.sub_local[i], w + "a sub-contact point");
-            c.finite(cs.sub_un[i], w + "a normal closure");
-            c.finite(cs.sub_udil[i], w + "a dilation");
-            c.finite(cs.sub_sn[i], w + "a normal stress");
-            c.vec(cs.sub_us[i], w + "a shear displacement");
-            c.vec(cs.sub_ss[i], w + "a shear stress");
-            if (cs.sub_flags[i] > (kSubSlip | kSubOpen | kSubFailed | kSubNew)) c.fail(w + "a sub-contact flag is out of range");
+            c.at_least(cs.sub_area[i], 0, w, "a sub-contact area");
+            c.vec(cs.sub_local[i], w, "a sub-contact point");
+            c.finite(cs.sub_un[i], w, "a normal closure");
+            c.finite(cs.sub_udil[i], w, "a dilation");
+            c.finite(cs.sub_sn[i], w, "a normal stress");
+            c.vec(cs.sub_us[i], w, "a shear displacement");
+            c.vec(cs.sub_ss[i], w, "a shear stress");
+            if (cs.sub_flags[i] > (kSubSlip | kSubOpen | kSubFailed | kSubNew)) c.fail(w, "a sub-contact flag is out of range");
         }
     }
     if (!c.ok()) return c.problem;
-    {
+    // Ids in increasing order are distinct as they are; others are sorted in a copy (an int a
+    // contact).
+    if (std::adjacent_find(cs.id.begin(), cs.id.end(), std::greater_equal<int>()) != cs.id.end()) {
         std::vector<int> ids = cs.id;
         std::sort(ids.begin(), ids.end());
         if (std::adjacent_find(ids.begin(), ids.end()) != ids.end()) return "two contacts have the same id";
@@ -977,87 +1148,305 @@ std::string check_values(const Model& m) {
     }
     for (size_t k = 0; k < h.items.size() && c.ok(); ++k) {
         const History& x = h.items[k];
-        const std::string w = "history " + std::to_string(k + 1) + ": ";
-        c.vec(x.point, w + "the point");
-        c.vec(x.body_offset, w + "the material point");
-        if (x.block_id < 0 || x.contact_id < 0) c.fail(w + "it refers to a negative id");
-        for (double v : x.values) {
-            if (!c.finite(v, w + "a value")) break;
+        const Where w{"history", static_cast<long long>(k) + 1};
+        c.vec(x.point, w, "the point");
+        c.vec(x.body_offset, w, "the material point");
+        if (x.block_id < 0 || x.contact_id < 0) c.fail(w, "it refers to a negative id");
+        // The samples taken before the history was added are NaN ('hist' during a run): a
+        // leading run of them, then finite values only.
+        size_t i = 0;
+        while (i < x.values.size() && std::isnan(x.values[i])) ++i;
+        for (; i < x.values.size(); ++i) {
+            if (!std::isfinite(x.values[i])) {
+                c.fail(w, "a value is not a finite number");
+                break;
+            }
         }
     }
     // Tables, as 'table' limits them.
     for (const auto& [number, t] : m.tables.tables) {
-        const std::string w = "table " + std::to_string(number) + ": ";
+        const Where w{"table", number};
         if (number < 1 || number > 1000000) c.fail("a table number is out of range");
-        if (t.points.empty()) c.fail(w + "it has no points");
+        if (t.points.empty()) c.fail(w, "it has no points");
         for (size_t k = 0; k < t.points.size(); ++k) {
-            c.finite(t.points[k].first, w + "an x");
-            c.finite(t.points[k].second, w + "a y");
-            if (k > 0 && !(t.points[k].first > t.points[k - 1].first)) c.fail(w + "its x values do not increase");
+            c.finite(t.points[k].first, w, "an x");
+            c.finite(t.points[k].second, w, "a y");
+            if (k > 0 && !(t.points[k].first > t.points[k - 1].first)) c.fail(w, "its x values do not increase");
         }
     }
     return c.problem;
 }
 
-bool read_whole_file(const std::string& path, std::string& data, std::string& error) {
-    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd < 0) {
-        error = "cannot restore '" + path + "': " + std::strerror(errno);
-        return false;
-    }
-    data.clear();
-    char buf[1 << 16];
-    for (;;) {
-        const ssize_t k = ::read(fd, buf, sizeof buf);
-        if (k < 0) {
-            if (errno == EINTR) continue;
-            error = "cannot restore '" + path + "': " + std::strerror(errno);
-            ::close(fd);
+// What restore would refuse in this model, or "": save and restore share one validation, so
+// that every file odec writes can be read back.
+std::string model_problem(const Model& m) {
+    std::string why = check_consistent(m);
+    if (why.empty()) why = check_values(m);
+    return why;
+}
+
+std::string directory_of(const std::string& path) {
+    const size_t slash = path.find_last_of('/');
+    return slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
+}
+
+// Write the model to `path` as it is: a temporary file beside it, written through a small
+// buffer and flushed to disk, then renamed over `path`, so that `path` holds either its old
+// bytes or all the new ones, never a part.
+bool write_model(const Model& m, const std::string& path, std::string& error) {
+    const std::string where = "cannot save to '" + path + "': ";
+    // An existing file is replaced only when it is a writable regular file.
+    struct stat st;
+    if (::stat(path.c_str(), &st) == 0) {
+        if (!S_ISREG(st.st_mode)) {
+            error = where + "it is " + file_kind(st.st_mode) + ", not a regular file; nothing was written";
             return false;
         }
-        if (k == 0) break;
-        data.append(buf, static_cast<size_t>(k));
+        if ((st.st_mode & (S_IWUSR | S_IWGRP | S_IWOTH)) == 0) {
+            error = "'" + path + "' is read-only: remove it or make it writable first; nothing was written";
+            return false;
+        }
     }
-    ::close(fd);
+    // First pass: the length of every section, and of the payload, without storing a byte.
+    SectionLengths lengths;
+    Writer counter(nullptr, lengths);
+    counter.drop_world_vertices = world_vertices_stale(m);
+    model_sections(counter, m);
+    const std::uint64_t payload = counter.written;
+    const size_t n_sections = lengths.count;
+
+    static std::atomic<unsigned> n_temporaries{0};
+    const std::string tmp =
+        path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(n_temporaries.fetch_add(1));
+    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd < 0) {
+        error = where + "cannot create the temporary file '" + tmp + "': " + std::strerror(errno);
+        return false;
+    }
+    auto give_up = [&](const std::string& why) {
+        ::close(fd);
+        ::unlink(tmp.c_str());
+        error = where + why + " (the old file, if any, is unchanged)";
+        return false;
+    };
+    // Second pass: the same walk, writing through the buffer and hashing.
+    lengths.count = 0;
+    try {
+        Sink sink(fd);
+        Writer w(&sink, lengths);
+        w.drop_world_vertices = counter.drop_world_vertices;
+        w.bytes(kMagic, kMagicSize);
+        w.raw(kSaveFormatVersion);
+        w(std::string(save_program_version()));
+        w.raw(payload);
+        const std::uint64_t payload_at = w.written;
+        model_sections(w, m);
+        if (w.lengths_differ || lengths.count != n_sections || w.written - payload_at != payload) {
+            return give_up("the bytes written differ from those counted before writing");
+        }
+        const std::uint64_t checksum = sink.hash;
+        sink.put(&checksum, sizeof checksum);
+        sink.flush();
+    } catch (const WriteFailure& f) {
+        return give_up("writing '" + tmp + "' failed: " + std::strerror(f.error_number));
+    }
+    if (::fsync(fd) != 0) return give_up("writing '" + tmp + "' failed: " + std::strerror(errno));
+    if (::close(fd) != 0) {
+        const int e = errno;
+        ::unlink(tmp.c_str());
+        error = where + "writing '" + tmp + "' failed: " + std::strerror(e) + " (the old file, if any, is unchanged)";
+        return false;
+    }
+    if (::rename(tmp.c_str(), path.c_str()) != 0) {
+        const int e = errno;
+        ::unlink(tmp.c_str());
+        error = where + std::strerror(e) + " (the old file, if any, is unchanged)";
+        return false;
+    }
+    // Make the rename itself durable; a failure here loses nothing already written.
+    const int dfd = ::open(directory_of(path).c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (dfd >= 0) {
+        ::fsync(dfd);
+        ::close(dfd);
+    }
     return true;
+}
+
+// Whether `name` is "<something>.tmp-<pid>-<n>", the name of a save's temporary file; its
+// process id in `pid`.
+bool temporary_name(const std::string& name, long& pid) {
+    const size_t dash = name.find_last_of('-');
+    if (dash == std::string::npos || dash + 1 == name.size()) return false;
+    for (size_t i = dash + 1; i < name.size(); ++i) {
+        if (name[i] < '0' || name[i] > '9') return false;
+    }
+    const size_t tag = name.rfind(".tmp-", dash);
+    if (tag == std::string::npos || tag == 0) return false;
+    const size_t digits = tag + 5;
+    if (digits >= dash || dash - digits > 9) return false;
+    pid = 0;
+    for (size_t i = digits; i < dash; ++i) {
+        if (name[i] < '0' || name[i] > '9') return false;
+        pid = pid * 10 + (name[i] - '0');
+    }
+    return pid > 0;
 }
 
 } // namespace
 
+std::vector<std::string> remove_stale_save_temporaries(const std::string& dir) {
+    std::vector<std::string> removed;
+    DIR* d = ::opendir(dir.c_str());
+    if (!d) return removed;
+    const std::string prefix = dir == "." ? "" : dir.back() == '/' ? dir : dir + "/";
+    const time_t now = ::time(nullptr);
+    while (const dirent* e = ::readdir(d)) {
+        const std::string name = e->d_name;
+        long pid = 0;
+        if (!temporary_name(name, pid)) continue;
+        const std::string path = prefix + name;
+        struct stat st;
+        if (::lstat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode) || st.st_uid != ::geteuid()) continue;
+        // Its process is gone (or is this one, which is not saving now: a process of an
+        // earlier run with the same id) and it has not been written for a while; or it has
+        // not been written for a day. A save under way writes its file continuously.
+        const double idle = std::difftime(now, st.st_mtime);
+        const bool gone = pid == ::getpid() || (::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH);
+        if (!((gone && idle >= kStaleTemporarySeconds) || idle >= 86400)) continue;
+        // Only odec's own: empty (killed before its first write) or beginning as a save does.
+        if (st.st_size > 0) {
+            const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_NOFOLLOW | O_CLOEXEC);
+            if (fd < 0) continue;
+            char head[kMagicSize];
+            const ssize_t k = ::pread(fd, head, sizeof head, 0);
+            ::close(fd);
+            const size_t want = std::min<size_t>(kMagicSize, static_cast<size_t>(st.st_size));
+            if (k < 0 || static_cast<size_t>(k) < want || std::memcmp(head, kMagic, want) != 0) continue;
+        }
+        if (::unlink(path.c_str()) == 0) removed.push_back(path);
+    }
+    ::closedir(d);
+    std::sort(removed.begin(), removed.end());
+    return removed;
+}
+
+std::string stale_temporaries_note(const std::vector<std::string>& removed) {
+    if (removed.empty()) return "";
+    std::string note = "removed " + std::string(removed.size() == 1 ? "a temporary file" : std::to_string(removed.size()) + " temporary files") +
+                       " left by a save that did not finish: ";
+    const size_t shown = std::min<size_t>(removed.size(), 3);
+    for (size_t i = 0; i < shown; ++i) note += (i > 0 ? ", '" : "'") + removed[i] + "'";
+    if (removed.size() > shown) note += " and " + std::to_string(removed.size() - shown) + " more";
+    return note;
+}
+
+std::string save_problem(const Model& m) { return model_problem(m); }
+
 bool save_model(const Model& m, const std::string& path, std::string& error) {
-    Writer w;
-    w.bytes(kMagic, kMagicSize);
-    w.raw(kSaveFormatVersion);
-    w(std::string(save_program_version()));
-    const size_t length_at = w.buf.size();
-    w.raw(std::uint64_t{0});
-    const size_t payload_at = w.buf.size();
-    model_sections(w, m);
-    const std::uint64_t payload = w.buf.size() - payload_at;
-    std::memcpy(&w.buf[length_at], &payload, 8);
-    w.raw(fnv1a64(w.buf.data(), w.buf.size()));
-    return write_file_atomically(path, w.buf, error);
+    const std::string why = model_problem(m);
+    if (!why.empty()) {
+        error = "the model cannot be saved to '" + path + "': " + why + "; nothing was written";
+        return false;
+    }
+    return write_model(m, path, error);
+}
+
+bool save_model_unchecked(const Model& m, const std::string& path, std::string& error) {
+    return write_model(m, path, error);
+}
+
+namespace {
+
+// Whether the files at a and b hold the same bytes, compared through two small buffers.
+bool same_file_bytes(const std::string& a, const std::string& b, std::string& error) {
+    std::string why;
+    unsigned long long size_a = 0, size_b = 0;
+    const int fa = open_regular_for_reading(a, size_a, why);
+    if (fa < 0) {
+        error = "cannot read '" + a + "': " + why;
+        return false;
+    }
+    const int fb = open_regular_for_reading(b, size_b, why);
+    if (fb < 0) {
+        ::close(fa);
+        error = "cannot read '" + b + "': " + why;
+        return false;
+    }
+    bool same = size_a == size_b;
+    std::unique_ptr<char[]> x(new char[kBufferBytes]), y(new char[kBufferBytes]);
+    for (unsigned long long at = 0; same && at < size_a;) {
+        const size_t n = static_cast<size_t>(std::min<unsigned long long>(kBufferBytes, size_a - at));
+        same = ::pread(fa, x.get(), n, static_cast<off_t>(at)) == static_cast<ssize_t>(n) &&
+               ::pread(fb, y.get(), n, static_cast<off_t>(at)) == static_cast<ssize_t>(n) &&
+               std::memcmp(x.get(), y.get(), n) == 0;
+        if (!same) {
+            for (size_t i = 0; i < n; ++i) {
+                if (x[i] != y[i]) {
+                    error = "the two saves differ at byte " + std::to_string(at + i);
+                    break;
+                }
+            }
+        }
+        at += n;
+    }
+    ::close(fa);
+    ::close(fb);
+    if (!same && error.empty()) {
+        error = "the two saves differ in length (" + std::to_string(size_a) + " and " + std::to_string(size_b) + " bytes)";
+    }
+    return same;
+}
+
+} // namespace
+
+bool check_save_round_trip(const Model& m, const std::string& dir, std::string& error) {
+    const std::string first = dir + "/round-trip-" + std::to_string(::getpid()) + "-1.sav";
+    const std::string second = dir + "/round-trip-" + std::to_string(::getpid()) + "-2.sav";
+    bool ok = save_model(m, first, error);
+    if (ok) {
+        Model restored;
+        ok = restore_model(first, restored, error) && save_model(restored, second, error) &&
+             same_file_bytes(first, second, error);
+    }
+    ::unlink(first.c_str());
+    ::unlink(second.c_str());
+    return ok;
 }
 
 bool restore_model(const std::string& path, Model& out, std::string& error) {
-    std::string data;
-    if (!read_whole_file(path, data, error)) return false;
     const std::string who = "cannot restore '" + path + "': ";
-    const size_t size = data.size();
     auto refuse = [&](const std::string& what) {
         error = who + what;
         return false;
     };
+    unsigned long long file_size = 0;
+    std::string why;
+    const int fd = open_regular_for_reading(path, file_size, why);
+    if (fd < 0) return refuse(why);
+    struct FdCloser {
+        int fd;
+        ~FdCloser() { ::close(fd); }
+    } closer{fd};
+    const std::uint64_t size = file_size;
+    // The header, at most this long: magic, format, program version, payload length.
+    char head[kMagicSize + 4 + 8 + kMaxVersionText + 8];
+    const size_t head_size = static_cast<size_t>(std::min<std::uint64_t>(size, sizeof head));
+    for (size_t got = 0; got < head_size;) {
+        const ssize_t k = ::pread(fd, head + got, head_size - got, static_cast<off_t>(got));
+        if (k < 0 && errno == EINTR) continue;
+        if (k < 0) return refuse(std::strerror(errno));
+        if (k == 0) return refuse("the file became shorter while it was read");
+        got += static_cast<size_t>(k);
+    }
     auto truncated_header = [&] {
-        return refuse("the file is truncated: it ends at byte " + std::to_string(size) +
-                      ", inside the header");
+        return refuse("the file is truncated: it ends at byte " + std::to_string(size) + ", inside the header");
     };
     if (size == 0) return refuse("the file is empty");
-    if (std::memcmp(data.data(), kMagic, std::min(size, kMagicSize)) != 0) {
+    if (std::memcmp(head, kMagic, std::min<size_t>(head_size, kMagicSize)) != 0) {
         return refuse("it is not an odec save file (it does not begin with 'ODEC-SAVE')");
     }
     if (size < kMagicSize + 4) return truncated_header();
-    Reader header(data.data() + kMagicSize, data.data() + size);
+    Reader header(head + kMagicSize, head + head_size);
     std::string writer_version;
     std::uint32_t file_format = 0;
     try {
@@ -1087,10 +1476,11 @@ bool restore_model(const std::string& path, Model& out, std::string& error) {
         return truncated_header();
     }
     const std::uint64_t payload = header.raw<std::uint64_t>();
-    const size_t header_size = size - header.left();
+    const std::uint64_t header_size = head_size - header.left();
     if (payload > std::numeric_limits<std::uint64_t>::max() - header_size - kChecksumSize) {
         return refuse("the file is damaged: its header gives a payload of " + std::to_string(payload) + " bytes");
     }
+    // The size the header promises, compared with the file's before any more of it is read.
     const std::uint64_t expected = header_size + payload + kChecksumSize;
     if (size < expected) {
         return refuse("the file is truncated: it has " + std::to_string(size) + " bytes, a complete save has " +
@@ -1100,28 +1490,43 @@ bool restore_model(const std::string& path, Model& out, std::string& error) {
         return refuse("the file is damaged: it has " + std::to_string(size - expected) +
                       " bytes after the end of the save");
     }
-    std::uint64_t stored;
-    std::memcpy(&stored, data.data() + size - kChecksumSize, kChecksumSize);
-    const std::uint64_t computed = fnv1a64(data.data(), size - kChecksumSize);
+    // The checksum first, through a small buffer: nothing of the model is believed before it.
+    std::uint64_t computed = 0, stored = 0;
+    try {
+        Source whole(fd);
+        whole.get(nullptr, static_cast<size_t>(size - kChecksumSize));
+        computed = whole.hash;
+        whole.get(&stored, kChecksumSize);
+    } catch (const ReadFailure& f) {
+        return refuse(std::strerror(f.error_number));
+    } catch (const ReadError& e) {
+        return refuse(e.what);
+    }
     if (stored != computed) {
         return refuse("the file is damaged: its checksum does not match its contents (stored " + hex(stored) +
                       ", computed " + hex(computed) + ")");
     }
+    // Then the model, read again from the start.
+    if (::lseek(fd, 0, SEEK_SET) != 0) return refuse(std::strerror(errno));
     Model fresh;
     try {
-        Reader r(data.data() + header_size, data.data() + size - kChecksumSize);
+        Source src(fd);
+        src.get(nullptr, static_cast<size_t>(header_size));
+        Reader r(src, header_size, size - kChecksumSize);
         r.format = file_format;
         model_sections(r, fresh);
+        if (r.left() != 0) {
+            return refuse("the file is damaged: " + std::to_string(r.left()) + " bytes follow the last section");
+        }
+        if (src.hash != computed) return refuse("the file changed while it was read");
         if (file_format < 2) {
             for (History& h : fresh.histories.items) {
                 const int b = fresh.block_index(h.block_id);
                 if (b >= 0) h.body_offset = fresh.blocks.orientation[b].conjugate() * (h.point - fresh.blocks.centroid[b]);
             }
         }
-        // World vertices are derived from the blocks and rebuilt before anything reads them
-        // once blocks were added or removed (geometry_changed): until then they are stale, as
-        // in a model saved right after 'delete'. Stale ones are dropped, not believed.
-        if (fresh.geometry_changed && !world_vertices_match(fresh.blocks)) {
+        // Stale world vertices (older odecs wrote them) are dropped, not believed.
+        if (world_vertices_stale(fresh)) {
             fresh.blocks.vertex_offset.clear();
             fresh.blocks.world_vertices.clear();
         }
@@ -1134,14 +1539,12 @@ bool restore_model(const std::string& path, Model& out, std::string& error) {
             fresh.blocks.body.assign(n, 0);
         }
         if (file_format < 4) fresh.contacts.sub_tri.assign(fresh.contacts.sub_contact.size(), {-1, -1, -1});
-        if (r.left() != 0) {
-            return refuse("the file is damaged: " + std::to_string(r.left()) + " bytes follow the last section");
-        }
+    } catch (const ReadFailure& f) {
+        return refuse(std::strerror(f.error_number));
     } catch (const ReadError& e) {
         return refuse("the file is damaged or was written wrongly (by odec " + writer_version + "): " + e.what);
     }
-    std::string why = check_consistent(fresh);
-    if (why.empty()) why = check_values(fresh);
+    why = model_problem(fresh);
     if (!why.empty()) return refuse("the file is damaged or was written wrongly (by odec " + writer_version + "): " + why);
     out = std::move(fresh);
     return true;

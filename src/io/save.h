@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "engine/model.h"
 
@@ -19,16 +20,47 @@ namespace odec {
 // faces, zone and reaction histories) and the zone stage of the profile.
 constexpr std::uint32_t kSaveFormatVersion = 5;
 
-// Write the model to `path`. The bytes go to a temporary file in the same directory, which
-// is flushed to disk and then renamed over `path`, so a failed or interrupted save leaves
-// any existing file as it was. Returns false and fills `error` (naming the file) on failure.
+// Write the model to `path`. A model that restore would refuse (a velocity that is not a finite
+// number after a run-away, an index out of range) is not written: save and restore run the
+// same checks, so every file odec writes can be read back. An existing `path` is replaced only
+// when it is a regular file with a write permission bit. The bytes go through a small buffer
+// (the file is never copied whole in memory) to a temporary file in the same directory,
+// `path.tmp-PID-N`, which is flushed to disk and then renamed over `path`, so a failed or
+// interrupted save leaves any existing file as it was. Returns false and fills `error` (naming
+// the file and what is wrong, ending "nothing was written" when nothing was) on failure.
 bool save_model(const Model& m, const std::string& path, std::string& error);
 
+// What restore would refuse in `m` (e.g. "block 3: the velocity is not a finite number"), or "".
+std::string save_problem(const Model& m);
+
+// save_model without the checks: writes whatever `m` holds. For making files that restore must
+// refuse (the tests of restore's checks); never used by a command.
+bool save_model_unchecked(const Model& m, const std::string& path, std::string& error);
+
 // Read `path` into `out`. The file is read into a fresh model, which replaces `out` only
-// when the whole file was read and checked; on any failure (cannot open, truncated, not a
-// save file, newer format, checksum mismatch, inconsistent arrays) `out` is untouched and
-// `error` says which file and what is wrong.
+// when the whole file was read and checked; on any failure (cannot open, not a regular file,
+// truncated, not a save file, newer format, checksum mismatch, inconsistent arrays, numbers
+// that are not finite or out of range) `out` is untouched and `error` says which file and what
+// is wrong. A named pipe or a device is refused without waiting on it or reading it, and the
+// size of the file is compared with the one its header gives before the rest is read; the
+// file is read through a small buffer, never held whole in memory.
 bool restore_model(const std::string& path, Model& out, std::string& error);
+
+// A save's temporary file whose process is gone and which has not been written for this
+// long is stale (one not written for a day is stale whatever its process).
+constexpr int kStaleTemporarySeconds = 10;
+
+// Remove the temporary files that saves killed part way left in `dir`: files named
+// `NAME.tmp-PID-N` that are stale, owned by this user, and empty or beginning as a save file
+// does. Returns their paths.
+std::vector<std::string> remove_stale_save_temporaries(const std::string& dir);
+// One line saying what remove_stale_save_temporaries removed ("" when nothing).
+std::string stale_temporaries_note(const std::vector<std::string>& removed);
+
+// Save `m` into `dir`, restore that file into a fresh model, save the restored model and
+// compare the two files byte for byte (then remove them): true when they are the same, else
+// false with `error` saying which step failed. For checking that every model round-trips.
+bool check_save_round_trip(const Model& m, const std::string& dir, std::string& error);
 
 // The program version written into save files ("0.1.0").
 const char* save_program_version();

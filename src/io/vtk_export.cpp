@@ -5,9 +5,14 @@
 #include <fstream>
 #include <sstream>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <cerrno>
+#include <cstring>
+
 #include "engine/blocks.h"
+#include "io/files.h"
 #include "engine/zones.h"
 
 namespace odec {
@@ -170,10 +175,19 @@ struct PvdEntry {
     std::string file;
 };
 
-// Entries of an existing collection (one we wrote: one DataSet element per line).
-std::vector<PvdEntry> read_pvd(const std::string& path) {
-    std::vector<PvdEntry> entries;
-    std::ifstream f(path);
+// Entries of an existing collection (one we wrote: one DataSet element per line). None when
+// there is no such file; false with `error` when there is one that cannot be read as text (a
+// named pipe, a directory, a huge file), which is refused rather than waited on or replaced.
+bool read_pvd(const std::string& path, std::vector<PvdEntry>& entries, std::string& error) {
+    entries.clear();
+    struct stat st;
+    if (::stat(path.c_str(), &st) != 0 && errno == ENOENT) return true;
+    std::string text, why;
+    if (!read_file_text(path, text, why)) {
+        error = "cannot add to the collection '" + path + "': " + why;
+        return false;
+    }
+    std::istringstream f(text);
     std::string line;
     auto attribute = [](const std::string& line, const std::string& key, std::string& value) {
         const auto at = line.find(" " + key + "=\"");
@@ -195,7 +209,7 @@ std::vector<PvdEntry> read_pvd(const std::string& path) {
         e.file = file;
         entries.push_back(e);
     }
-    return entries;
+    return true;
 }
 
 } // namespace
@@ -523,6 +537,10 @@ bool export_vtk(const Model& m, const ContactView* contacts, const std::string& 
         error = "export vtk needs a file name";
         return false;
     }
+    // The collection this export adds to, read before anything is written.
+    const std::string pvd_path = stem + ".pvd";
+    std::vector<PvdEntry> entries;
+    if (!read_pvd(pvd_path, entries, error)) return false;
     char step[32];
     std::snprintf(step, sizeof step, "%06ld", m.step);
     struct Part {
@@ -558,8 +576,6 @@ bool export_vtk(const Model& m, const ContactView* contacts, const std::string& 
     // The collection: earlier steps' entries stay, this step's replace any of the same file.
     // ParaView's time axis is the model time, in seconds (each file also carries it as
     // TimeValue, and its step as Step).
-    const std::string pvd_path = stem + ".pvd";
-    std::vector<PvdEntry> entries = read_pvd(pvd_path);
     for (const Part& p : parts) {
         const std::string file = base_name(p.path);
         entries.erase(std::remove_if(entries.begin(), entries.end(), [&](const PvdEntry& e) { return e.file == file; }),

@@ -62,93 +62,84 @@ std::string canonical(const std::string& path) {
 
 } // namespace
 
-bool read_file_text(const std::string& path, std::string& text, std::string& error, std::size_t max_bytes) {
-    text.clear();
-    // O_NONBLOCK: opening a named pipe must not wait for a writer; it is refused below.
-    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-    if (fd < 0) {
-        error = std::strerror(errno);
-        return false;
-    }
-    struct FdCloser {
-        int fd;
-        ~FdCloser() { ::close(fd); }
-    } closer{fd};
-    struct stat st;
-    if (::fstat(fd, &st) != 0) {
-        error = std::strerror(errno);
-        return false;
-    }
-    if (!S_ISREG(st.st_mode)) {
-        const char* what = S_ISDIR(st.st_mode)    ? "a directory"
-                           : S_ISFIFO(st.st_mode) ? "a named pipe"
-                           : S_ISCHR(st.st_mode)  ? "a character device"
-                           : S_ISBLK(st.st_mode)  ? "a block device"
-                           : S_ISSOCK(st.st_mode) ? "a socket"
-                                                  : "not a plain file";
-        error = std::string("it is ") + what + ", not a regular file";
-        return false;
-    }
-    const auto size = static_cast<unsigned long long>(st.st_size);
-    if (size > max_bytes) {
-        error = "the file is larger than " + std::to_string(max_bytes >> 20) + " MiB (" + std::to_string(size) +
-                " bytes)";
-        return false;
-    }
-    text.resize(static_cast<std::size_t>(size));
-    std::size_t got = 0;
-    char more[4096];
-    for (;;) {
-        // Into the space the size promised, then in chunks (a file may grow while it is read).
-        char* into = got < text.size() ? &text[got] : more;
-        const std::size_t room = got < text.size() ? text.size() - got : sizeof more;
-        const ssize_t r = ::read(fd, into, room);
-        if (r == 0) break;
-        if (r < 0) {
-            if (errno == EINTR) continue;
-            error = std::strerror(errno);
-            text.clear();
-            return false;
-        }
-        const auto n = static_cast<std::size_t>(r);
-        if (into == more) {
-            if (got + n > max_bytes) {
-                error = "the file is larger than " + std::to_string(max_bytes >> 20) + " MiB";
-                text.clear();
-                return false;
-            }
-            text.append(more, n);
-        }
-        got += n;
-    }
-    text.resize(got);
+bool LogBuf::open(const std::string& path, std::string& error) {
+    close();
+    const int fd = open_for_writing(path, O_APPEND, error);
+    if (fd < 0) return false;
+    fd_ = fd;
+    path_ = path;
+    setp(buf_, buf_ + sizeof buf_);
     return true;
 }
 
-std::string read_file_text(const std::string& path, bool& ok) {
-    std::string text, error;
-    ok = read_file_text(path, text, error);
-    return text;
+void LogBuf::close() {
+    if (fd_ >= 0 && flush_buffer()) {
+        const int fd = fd_;
+        fd_ = -1; // the descriptor is released whatever close() says
+        setp(nullptr, nullptr);
+        if (::close(fd) != 0) fail(errno);
+    }
+    report_failure();
 }
+
+bool LogBuf::flush_buffer() {
+    if (fd_ < 0) return false;
+    const std::size_t n = static_cast<std::size_t>(pptr() - pbase());
+    if (n > 0 && !write_all(fd_, pbase(), n)) {
+        fail(errno);
+        return false;
+    }
+    setp(buf_, buf_ + sizeof buf_);
+    return true;
+}
+
+void LogBuf::fail(int error_number) {
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = -1;
+    setp(nullptr, nullptr);
+    failure_ = "the log '" + path_ + "' cannot be written: " + std::strerror(error_number) + "; the log is closed\n";
+}
+
+void LogBuf::report_failure() {
+    if (failure_.empty()) return;
+    if (report_) {
+        report_->sputn(failure_.data(), static_cast<std::streamsize>(failure_.size()));
+        report_->pubsync();
+    }
+    failure_.clear();
+}
+
+int LogBuf::overflow(int c) {
+    if (!flush_buffer()) return traits_type::eof();
+    if (c == traits_type::eof()) return traits_type::not_eof(c);
+    *pptr() = static_cast<char>(c);
+    pbump(1);
+    return c;
+}
+
+int LogBuf::sync() { return flush_buffer() ? 0 : -1; }
 
 // A write succeeds when either copy took it: a failing screen (stdout on a full disk, a closed
 // pipe) must not put the stream in a failed state, which would silently end the log too.
 int TeeBuffer::overflow(int c) {
     if (c == traits_type::eof()) return traits_type::not_eof(c);
     const char ch = static_cast<char>(c);
-    const bool logged = log_ && log_->sputc(ch) != traits_type::eof();
+    const bool logged = logging() && log_->sputc(ch) != traits_type::eof();
     const bool shown = main_->sputc(ch) != traits_type::eof();
     return logged || shown ? c : traits_type::eof();
 }
 
 std::streamsize TeeBuffer::xsputn(const char* s, std::streamsize n) {
-    const std::streamsize logged = log_ ? log_->sputn(s, n) : 0;
+    const std::streamsize logged = logging() ? log_->sputn(s, n) : 0;
     return std::max(logged, main_->sputn(s, n));
 }
 
 int TeeBuffer::sync() {
-    const bool logged = log_ && log_->pubsync() == 0;
+    // The screen first: a message about the log (written on the screen's error stream) then
+    // comes after what was shown before it.
     const bool shown = main_->pubsync() == 0;
+    const bool logged = logging() && log_->pubsync() == 0;
+    if (log_) log_->report_failure();
     return logged || shown ? 0 : -1;
 }
 
@@ -156,6 +147,7 @@ Interpreter::Interpreter(Model& m, const CommandTable& t, std::ostream& o, std::
     : model(m), table(t), out_tee_(o.rdbuf()), err_tee_(e.rdbuf()), out(&out_tee_), err(&err_tee_),
       fish_host_(std::make_unique<SessionHost>(*this)), fish_(std::make_unique<fish::Runtime>(*fish_host_)) {
     fish_->budget = &limits.fish_steps;
+    log_file_.set_report(err_tee_.main());
 }
 
 Interpreter::~Interpreter() { close_log(); }
@@ -164,13 +156,13 @@ bool Interpreter::fish_running() const { return !fish_->calls.empty(); }
 
 bool Interpreter::open_log(std::string& error) {
     close_log();
-    log_file_.open(log_path, std::ios::app);
-    if (!log_file_) {
-        error = "cannot open the log file '" + log_path + "': " + std::strerror(errno);
+    std::string why;
+    if (!log_file_.open(log_path, why)) {
+        error = "cannot open the log file '" + log_path + "': " + why;
         return false;
     }
-    out_tee_.set_log(log_file_.rdbuf());
-    err_tee_.set_log(log_file_.rdbuf());
+    out_tee_.set_log(&log_file_);
+    err_tee_.set_log(&log_file_);
     out.clear(); // a screen that failed before must not keep the log from starting
     err.clear();
     return true;
@@ -181,7 +173,7 @@ void Interpreter::close_log() {
     err.flush();
     out_tee_.set_log(nullptr);
     err_tee_.set_log(nullptr);
-    if (log_file_.is_open()) log_file_.close();
+    log_file_.close();
 }
 
 bool Interpreter::execute(const LexedCommand& cmd, bool echo_command) {
@@ -200,7 +192,10 @@ bool Interpreter::execute(const LexedCommand& cmd, bool echo_command) {
     if (log_is_on() && !(echo_command && echo && !quiet)) {
         // The log reads like a session: each command before its output.
         const auto& file = cmd.tokens.front().loc.file;
-        for (int l = cmd.first_line; l <= cmd.last_line; ++l) log_file_ << "odec> " << file->lines[l - 1] << "\n";
+        for (int l = cmd.first_line; l <= cmd.last_line && log_is_on(); ++l) {
+            const std::string line = "odec> " + file->lines[l - 1] + "\n";
+            log_file_.sputn(line.data(), static_cast<std::streamsize>(line.size()));
+        }
     }
     // Histories of FISH values read through the runtime (a `new` or `restore` drops the hook).
     if (!model.histories.external) {

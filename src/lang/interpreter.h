@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "engine/model.h"
+#include "io/files.h"
 #include "lang/lexer.h"
 #include "lang/parser.h"
 
@@ -47,11 +48,46 @@ struct CommandContext {
     std::ostream& out;
 };
 
-// Copies everything written to it into a second buffer while a log is open (`set log on`).
+// The log file (`set log on`): what is written is buffered and written to the file; the first
+// write that fails (a full disk) closes it, and report_failure() then says so, once, on
+// `report` (the screen's error stream), so that a log never ends silently. The saying waits
+// for report_failure() (at the next flush) so that it never cuts a line being shown.
+class LogBuf : public std::streambuf {
+public:
+    LogBuf() = default;
+    LogBuf(const LogBuf&) = delete;
+    LogBuf& operator=(const LogBuf&) = delete;
+    ~LogBuf() override { close(); }
+    // Open `path` for appending (a regular file, or a character device such as /dev/null).
+    bool open(const std::string& path, std::string& error);
+    // Write what is buffered and close; a failure is reported as any other.
+    void close();
+    bool is_open() const { return fd_ >= 0; }
+    void set_report(std::streambuf* report) { report_ = report; }
+    // Say that a write failed and the log was closed, if one did since last said.
+    void report_failure();
+
+protected:
+    int overflow(int c) override;
+    int sync() override;
+
+private:
+    bool flush_buffer();
+    void fail(int error_number);
+
+    int fd_ = -1;
+    std::string path_;
+    std::streambuf* report_ = nullptr;
+    std::string failure_; // the line not yet said
+    char buf_[4096];
+};
+
+// Copies everything written to it into the log while one is open (`set log on`).
 class TeeBuffer : public std::streambuf {
 public:
     explicit TeeBuffer(std::streambuf* main) : main_(main) {}
-    void set_log(std::streambuf* log) { log_ = log; }
+    void set_log(LogBuf* log) { log_ = log; }
+    std::streambuf* main() const { return main_; }
 
 protected:
     int overflow(int c) override;
@@ -59,8 +95,9 @@ protected:
     int sync() override;
 
 private:
+    bool logging() const { return log_ && log_->is_open(); }
     std::streambuf* main_;
-    std::streambuf* log_ = nullptr;
+    LogBuf* log_ = nullptr;
 };
 
 // Thrown by `call` when the called file failed (its error is already reported).
@@ -75,6 +112,7 @@ public:
     // to the file while on. Returns false with `error` when the file cannot be opened.
     bool open_log(std::string& error);
     void close_log();
+    // False too once a write to it failed (which closed it and said so).
     bool log_is_on() const { return log_file_.is_open(); }
     std::string log_path = "odec.log";
 
@@ -101,7 +139,7 @@ public:
 
 private:
     TeeBuffer out_tee_, err_tee_;
-    std::ofstream log_file_;
+    LogBuf log_file_;
 
 public:
     std::ostream out;   // the output stream given, copied into the log while it is on
@@ -168,16 +206,5 @@ private:
     std::vector<std::string> call_stack_; // canonical paths of the files being run
     std::vector<std::string> display_stack_;
 };
-
-// Largest file `call` and `table read` take: a script or a table is text a person wrote.
-constexpr std::size_t kMaxTextFileBytes = std::size_t{64} << 20;
-
-// Read a whole text file. Refuses (false, with `error` saying why, e.g. "it is a directory, not
-// a regular file") anything but a regular file, and files larger than max_bytes, without reading
-// them; never waits on a named pipe.
-bool read_file_text(const std::string& path, std::string& text, std::string& error,
-                    std::size_t max_bytes = kMaxTextFileBytes);
-// The same, for callers that only need to know whether it worked.
-std::string read_file_text(const std::string& path, bool& ok);
 
 } // namespace odec

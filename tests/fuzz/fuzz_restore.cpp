@@ -1,7 +1,8 @@
 // Fuzzing target: the bytes are a save file, given to restore_model. A file that is refused
 // (truncated, flipped, foreign, empty, newer) must leave the model as it was; a file that is
-// taken must give a model that prints, cycles, plots (scenes only), saves and restores again
-// without crashing. Each input is tried twice: as it is, and, when it begins like a save
+// taken must give a model that saves, restores into a fresh model and saves again to the same
+// bytes, and that prints, cycles, plots (scenes only), saves and restores again without
+// crashing. Each input is tried twice: as it is, and, when it begins like a save
 // file, with its payload length and checksum made right, so that mutations reach the
 // sections behind the checksum.
 #include <cstddef>
@@ -59,7 +60,13 @@ void try_file(const std::string& bytes) {
         }
         return;
     }
-    // Taken: the model must be usable.
+    // Taken: save and restore share one validation, so the model saves, and it round-trips:
+    // restored into a fresh model and saved again, it gives the same bytes.
+    if (!odec::check_save_round_trip(model, ".", error)) {
+        std::fprintf(stderr, "odec fuzz: a restored model does not round-trip: %s\n", error.c_str());
+        std::abort();
+    }
+    // And it is usable.
     odec::fuzz::NullBuffer sink;
     std::ostream out(&sink);
     odec::Interpreter interp(model, odec::command_table(), out, out);
