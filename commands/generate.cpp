@@ -170,6 +170,13 @@ const CommandSpec& generate_command() {
                          num(limit) + " one command may make",
                      {"give a larger edge: " + num(edge * std::cbrt(estimate / limit)) + " m or more"}, "generate");
             }
+            long long& budget = ctx.interp.limits.zone_budget;
+            if (budget >= 0 && !(estimate <= static_cast<double>(budget))) {
+                fail(eu->values[0].loc,
+                     "this session may make " + std::to_string(budget) + " more zones in all; an edge of " + num(edge) +
+                         " m would make about " + num(std::round(estimate)),
+                     {}, "generate");
+            }
             // Bodies: joined blocks of the range that share a whole face deform as one.
             refresh_world_vertices(m);
             detect_contacts(m);
@@ -220,6 +227,7 @@ const CommandSpec& generate_command() {
             for (size_t k = 0; k < blocks.size(); ++k) m.blocks.zone_edge[blocks[k]] = edges[k];
             long made = 0;
             for (const auto& t : bm.tets) made += static_cast<long>(t.size());
+            if (budget >= 0) budget = std::max<long long>(0, budget - made);
             if (!ctx.interp.quiet) {
                 ctx.out << "zoned " << blocks.size() << " blocks: " << made << " zones, " << m.gridpoints.size()
                         << " gridpoints in the model; zone quality (radius ratio) worst " << num(mesh.worst_quality)

@@ -373,6 +373,10 @@ const CommandSpec& poly_command() {
                 const std::string problem = block_numbers_problem(mass_properties(p), rho);
                 if (!problem.empty()) fail(where, problem, {"odec works in metres, kilograms and seconds"}, "poly");
             }
+            if (ctx.interp.limits.max_blocks > 0 && m.blocks.size() >= ctx.interp.limits.max_blocks) {
+                fail(where, "this session allows at most " + std::to_string(ctx.interp.limits.max_blocks) + " blocks",
+                     {}, "poly");
+            }
             const int group = a.has("group") ? m.group_index(a.text("group"), true) : -1;
             const int b = add_block(m, p, region, group, material);
             if (a.has("cons")) m.blocks.cons[b] = static_cast<std::uint8_t>(a.integer("cons"));

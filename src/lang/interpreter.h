@@ -173,11 +173,14 @@ public:
         // Block-steps (blocks and zones times steps) that `step` and `solve` may still take in all;
         // < 0: no limit.
         long long block_steps = -1;
-        // Blocks a `jset` may leave at most, counting every plane that crosses a block as a cut;
-        // 0: no limit.
+        // Blocks a `jset` may leave at most, counting every plane that crosses a block as a cut,
+        // and that `poly` may add to; 0: no limit.
         long max_blocks = 0;
         // Zones a `generate` may make at most; 0: the built-in limit.
         long max_zones = 0;
+        // Zones all `generate` commands together may still make; < 0: no limit (each `gen`
+        // forks the mesher: a FISH loop of them must end).
+        long long zone_budget = -1;
         // FISH loop iterations that may still run in all; < 0: no limit.
         long long fish_steps = -1;
     } limits;

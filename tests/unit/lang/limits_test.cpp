@@ -50,9 +50,33 @@ TEST(Limits, BlockLimitRefusesAJointSetBeforeCutting) {
     EXPECT_FALSE(s.run("jset dip 90 dd 90 origin 5,0,0 spacing 1e-9 number 100000")); // planes times blocks
 }
 
+TEST(Limits, BlockLimitRefusesAPolyInAFishWalk) {
+    // A walk over the blocks whose command block adds a block never reaches the end: the
+    // block limit ends it.
+    Session s;
+    s.interp.limits.max_blocks = 30;
+    EXPECT_FALSE(s.run("poly brick 0 1 0 1 0 1\nprop mat=1 dens=2000\n"
+                       "def grow\n  local b = block_head\n  loop while b # 0\n    command\n"
+                       "      poly brick 0 1 0 1 2 2.5\n    endcommand\n    b = b_next(b)\n  endloop\nend\n@grow\n"));
+    EXPECT_NE(s.error().find("this session allows at most 30 blocks"), std::string::npos) << s.error();
+    EXPECT_EQ(s.model.blocks.size(), 30);
+}
+
+TEST(Limits, ZoneBudgetEndsALoopOfZonings) {
+    Session s;
+    s.interp.limits.zone_budget = 400;
+    EXPECT_FALSE(s.run("poly brick 0 1 0 1 0 1\nprop mat=1 dens=2000 ymod=1e9 prat=0.25\n"
+                       "def rezone\n  loop k (1, 2000)\n    command\n      gen edge 0.5\n    endcommand\n"
+                       "  endloop\nend\n@rezone\n"));
+    EXPECT_NE(s.error().find("more zones in all"), std::string::npos) << s.error();
+    EXPECT_GE(s.interp.limits.zone_budget, 0);
+    EXPECT_LT(s.interp.limits.zone_budget, 400);
+}
+
 TEST(Limits, NoneByDefault) {
     Session s;
     EXPECT_FALSE(s.interp.limits.confine_files);
     EXPECT_LT(s.interp.limits.block_steps, 0);
     EXPECT_EQ(s.interp.limits.max_blocks, 0);
+    EXPECT_LT(s.interp.limits.zone_budget, 0);
 }
