@@ -365,7 +365,26 @@ bool Interpreter::define_fish(const LexedCommand& header, Lexer& lex, bool echo_
         const fish::Line head = fish::lex_line(file, line, file->lines[line - 1]);
         std::vector<fish::Line> body;
         body.reserve(static_cast<size_t>(last - first + 1));
-        for (int l = first; l <= last; ++l) body.push_back(fish::lex_line(file, l, file->lines[l - 1]));
+        // The lines of a `command ... endcommand` block are commands, read when the block runs:
+        // a word FISH has no use for there ('call ./part.dat') is no error of the definition.
+        bool in_command = false;
+        for (int l = first; l <= last; ++l) {
+            fish::Line line;
+            try {
+                line = fish::lex_line(file, l, file->lines[l - 1]);
+            } catch (const CommandError&) {
+                if (!in_command) throw;
+                line = fish::lex_line(file, l, "");
+            }
+            const auto& t = line.tokens;
+            const bool word = !t.empty() && t[0].kind == fish::Tok::Name;
+            if (word && !in_command && t[0].lower == "command" && (t.size() == 1 || t[1].kind == fish::Tok::End)) {
+                in_command = true;
+            } else if (word && in_command && (t[0].lower == "endcommand" || t[0].lower == "end_command")) {
+                in_command = false;
+            }
+            body.push_back(std::move(line));
+        }
         fish_->define(head, body);
     } catch (const CommandError& e) {
         err << format_diagnostic(e.diag);

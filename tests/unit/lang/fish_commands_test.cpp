@@ -243,3 +243,16 @@ TEST(FishCommands, QuitRefusedWhileCycling) {
     EXPECT_NE(s.error().find("'quit' cannot run while the model cycles"), std::string::npos) << s.error();
     EXPECT_FALSE(s.interp.quit_requested);
 }
+
+// A command block's lines are commands: a path FISH could not read ('./part.dat') is taken when
+// the block runs, as at the prompt.
+TEST(FishCommands, ACommandBlockMayNameAFileByAPath) {
+    ScratchDir d;
+    std::ofstream("part.dat") << "poly brick 0 1 0 1 0 1\n";
+    Session s;
+    ASSERT_TRUE(s.run("def f\n  command\n    call ./part.dat\n  endcommand\nend\n@f\n")) << s.error();
+    EXPECT_EQ(s.model.blocks.size(), 1);
+    // Outside a command block the same characters are still a FISH error of the definition.
+    EXPECT_FALSE(s.run("def g\n  x = ./part.dat\nend\n"));
+    EXPECT_NE(s.error().find("t.dat:2:7: error: '.' has no meaning in FISH"), std::string::npos) << s.error();
+}
