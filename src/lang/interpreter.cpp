@@ -342,6 +342,16 @@ bool Interpreter::run_lines(const std::shared_ptr<const SourceFile>& file, int f
             return false;
         }
         if (interrupted_here(cmd)) return false;
+        if (limits.fish_steps >= 0) {
+            if (limits.fish_steps < kCommandFishSteps) {
+                const SourceLoc& l = cmd.tokens.front().loc;
+                err << (l.file ? l.file->name : std::string("<input>")) << ":" << l.line << ":" << l.col
+                    << ": error: this session's bound on FISH work is reached (a command costs "
+                    << kCommandFishSteps << " loop iterations)\n";
+                return false;
+            }
+            limits.fish_steps -= kCommandFishSteps;
+        }
         if (!execute(cmd, false)) return false;
         if (quit_requested) break;
     }

@@ -2,6 +2,7 @@
 // of tests/fuzz/ set: each refuses with a located error and leaves the model as it was.
 #include <gtest/gtest.h>
 
+#include "fish/runtime.h"
 #include "test_util.h"
 
 using odec::test::Session;
@@ -71,6 +72,20 @@ TEST(Limits, ZoneBudgetEndsALoopOfZonings) {
     EXPECT_NE(s.error().find("more zones in all"), std::string::npos) << s.error();
     EXPECT_GE(s.interp.limits.zone_budget, 0);
     EXPECT_LT(s.interp.limits.zone_budget, 400);
+}
+
+TEST(Limits, CommandsRunByFishCountAgainstItsBound) {
+    // 200,000 iterations of two commands each would take minutes: each command costs 50.
+    Session s;
+    s.interp.limits.fish_steps = 200000;
+    EXPECT_FALSE(s.run("poly brick 0 1 0 1 0 1\n"
+                       "def many\n  loop k (1, 200000)\n    command\n      title 'a'\n      title 'b'\n"
+                       "    endcommand\n    n = k\n  endloop\nend\n@many\n"));
+    EXPECT_NE(s.error().find("this session's bound on FISH work is reached"), std::string::npos) << s.error();
+    const odec::fish::Symbol* n = s.interp.fish().find("n");
+    ASSERT_NE(n, nullptr);
+    EXPECT_LT(n->value.number(), 2000); // about 200000 / (2 * 50 + 1)
+    EXPECT_GT(n->value.number(), 1900);
 }
 
 TEST(Limits, NoneByDefault) {
