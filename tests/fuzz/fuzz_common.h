@@ -56,12 +56,15 @@ protected:
     std::streamsize xsputn(const char*, std::streamsize n) override { return n; }
 };
 
-// The bounds of every fuzzing session: files in the scratch directory only, at most 300
-// blocks from a joint set, and 400 block-steps of cycling in all.
+// The bounds of every fuzzing session: files in the scratch directory only, at most 150
+// blocks (from a joint set, a tunnel or 'poly'), 500 zones from one 'gen' and 5,000 from all,
+// 400 block-steps of cycling and 200,000 FISH loop iterations in all (a command FISH runs
+// costs 50).
 inline void bound_session(Interpreter& interp) {
     interp.limits.confine_files = true;
     interp.limits.max_blocks = 150;
     interp.limits.max_zones = 500;
+    interp.limits.zone_budget = 5000; // each 'gen' forks the mesher: ten of the largest in all
     interp.limits.block_steps = 400;
     interp.limits.fish_steps = 200000;
     interp.fish().max_string = 4096; // arrays of such strings stay below ~0.5 GB
