@@ -3,7 +3,8 @@
 #
 # Builds the libFuzzer targets of tests/fuzz/ in build-fuzz/ (clang, AddressSanitizer and
 # UBSan; installs clang through tools/setup.sh), seeds their corpora and runs each target for
-# SECONDS (default 60) in turn: `interpreter` (scripts) and `restore` (save files), both by
+# SECONDS (default 60) in turn: `interpreter` (scripts, typed or made by the script
+# generator from inputs that start with the byte 0x01) and `restore` (save files), both by
 # default. Corpora grow in build-fuzz/corpus/TARGET/; an input that crashes, trips a sanitizer
 # or runs over 10 s (times ODEC_TEST_TIME_SCALE: tools/setup.sh) is written to
 # build-fuzz/crashes/TARGET/ and the script fails. Put such an
@@ -30,6 +31,19 @@ while IFS= read -r -d '' f; do
     n=$((n + 1))
     cp "$f" "$fuzz/seeds/interpreter/$(printf '%03d' $n)-$(basename "$f")"
 done < <(find "$ODEC_ROOT/examples" "$ODEC_ROOT/tests/scripts" -name '*.dat' -print0 | sort -z)
+# Inputs for the script generator (tests/fuzz/script_gen.h): the marker byte 0x01, then
+# choices. Pseudo-random bytes from a fixed seed, so every campaign starts from the same ones.
+for s in $(seq 1 24); do
+    f="$fuzz/seeds/interpreter/gen-$(printf '%02d' "$s")"
+    [ -f "$f" ] && continue
+    RANDOM=$s
+    bytes='\001'
+    for _ in $(seq 1 $((40 + 40 * s))); do
+        v=$((RANDOM % 256)) # not inside $(...): a subshell draws from a new seed
+        bytes+="\\0$(printf '%03o' "$v")"
+    done
+    printf '%b' "$bytes" > "$f"
+done
 if [ ! -f "$fuzz/seeds/restore/empty.sav" ]; then
     (
         cd "$fuzz/seeds/restore"
