@@ -227,6 +227,7 @@ private:
         std::vector<std::string> names;            // numbers: arguments, loop counters
         std::vector<std::pair<char, std::string>> pointers; // 'b', 'c', 's', 'g', 'z'
         int depth = 0;
+        int loops = 0; // loops around the statement being written: 'exit loop' needs one
     } scope_;
 
     void line(Sink& s, const std::string& text) {
@@ -693,7 +694,8 @@ private:
     // One command that builds, changes or looks at the model: what FISH command blocks and
     // called files hold, and most of the script's own commands.
     std::string model_command(bool allow_wild = true) {
-        switch (c_.weighted({12, 10, 4, 4, 5, 5, 2, 5, 5, 5, 5, 4, 3, 3, 3, 3, 2, 2, 2, 2, 2, 2, 2, 2, 1, 1, 6})) {
+        // Weights: 'gen' forks the mesher, which costs more than most whole scripts.
+        switch (c_.weighted({12, 10, 4, 2, 5, 5, 2, 5, 5, 5, 5, 4, 3, 3, 3, 3, 2, 2, 2, 2, 2, 2, 2, 2, 1, 1, 6})) {
         case 0: return jset();
         case 1: return poly();
         case 2: return tunnel();
@@ -833,9 +835,11 @@ private:
         line(s, "loop while " + name + " # 0");
         ++s.indent;
         scope_.pointers.emplace_back(kind, name);
+        ++scope_.loops;
         const auto& wr = writers_[static_cast<unsigned char>(kind)];
         if (!wr.empty() && c_.maybe(40)) line(s, c_.pick(wr) + "(" + name + ") = " + fish_scalar_expr(1));
         fish_block(s, depth - 1, 1 + c_.below(2));
+        --scope_.loops;
         scope_.pointers.pop_back();
         line(s, name + " = " + next + "(" + name + ")");
         --s.indent;
@@ -867,7 +871,9 @@ private:
             line(s, "loop " + k + " (1, " + to + ")");
             ++s.indent;
             scope_.names.push_back(k);
+            ++scope_.loops;
             fish_block(s, depth - 1, 1 + c_.below(3));
+            --scope_.loops;
             scope_.names.pop_back();
             --s.indent;
             line(s, "endloop");
@@ -879,7 +885,9 @@ private:
             line(s, "loop while " + w + " < " + num(c_.pick({3.0, 2.0, 10.0})));
             ++s.indent;
             line(s, w + " = " + w + " + 1");
+            ++scope_.loops;
             fish_block(s, depth - 1, 1 + c_.below(2));
+            --scope_.loops;
             if (c_.maybe(20)) {
                 line(s, "if " + w + " = 2 then");
                 line(s, "  exit loop");
@@ -928,7 +936,7 @@ private:
             break;
         }
         case 9: line(s, "v9 = out('v = ' + string(" + fish_scalar_expr(1) + "))"); break;
-        case 10: line(s, c_.pick({"exit", "return", "exit loop"})); break;
+        case 10: line(s, scope_.loops > 0 && c_.maybe(50) ? "exit loop" : c_.pick({"exit", "return"})); break;
         case 11: line(s, "error = 'stopped by the script'"); break;
         default:
             line(s, "v9 = open('io.txt', 1, 1)");
@@ -1036,7 +1044,7 @@ private:
             if (c_.maybe(15)) j += " join";
             line(s, j);
         }
-        const bool zoned = c_.maybe(20);
+        const bool zoned = c_.maybe(12);
         std::string mat = "prop mat=1 dens=" + num(c_.pick({2000.0, 2600.0}));
         if (zoned || c_.maybe(20)) mat += " ymod=1e9 prat=0.25";
         if (c_.maybe(15)) mat += " coh=1e5 fric=30 ten=1e4";
