@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <initializer_list>
 #include <limits>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -85,11 +86,6 @@ std::string exact(double x) {
     char buf[64];
     std::snprintf(buf, sizeof buf, "%.17g", x);
     return buf;
-}
-
-std::string lower(std::string s) {
-    for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return s;
 }
 
 bool one_of(const std::string& s, std::initializer_list<const char*> names) {
@@ -211,7 +207,7 @@ private:
 
     Choices& c_;
     const CommandTable& table_;
-    std::vector<std::string> readers_[128], writers_[128];
+    std::map<char, std::vector<std::string>> readers_, writers_; // by pointer kind
     std::vector<std::string> scalars_;
     std::vector<const fish::Intrinsic*> functions_;
     std::vector<std::pair<std::string, std::string>> files_;
@@ -228,7 +224,12 @@ private:
         std::vector<std::pair<char, std::string>> pointers; // 'b', 'c', 's', 'g', 'z'
         int depth = 0;
         int loops = 0; // loops around the statement being written: 'exit loop' needs one
+        int runs = 1;  // about how many times the statement runs: loops multiply it
     } scope_;
+
+    // Nested loops multiply: a command block should not run more than about this many times,
+    // or one input takes seconds ('gen' forks the mesher each time).
+    static constexpr int kMaxRuns = 40;
 
     void line(Sink& s, const std::string& text) {
         s.text->append(static_cast<std::size_t>(s.indent) * 2, ' ');
@@ -691,15 +692,25 @@ private:
         return command("property", k);
     }
 
+    bool in_block_walk() const {
+        for (const auto& p : scope_.pointers) {
+            if (p.first == 'b') return true;
+        }
+        return false;
+    }
+
     // One command that builds, changes or looks at the model: what FISH command blocks and
     // called files hold, and most of the script's own commands.
     std::string model_command(bool allow_wild = true) {
         // Weights: 'gen' forks the mesher, which costs more than most whole scripts.
         switch (c_.weighted({12, 10, 4, 2, 5, 5, 2, 5, 5, 5, 5, 4, 3, 3, 3, 3, 2, 2, 2, 2, 2, 2, 2, 2, 1, 1, 6})) {
         case 0: return jset();
-        case 1: return poly();
+        case 1:
+            // A block made at each step of a walk over the blocks: the walk never ends, and
+            // nothing bounds the blocks poly makes (tests/fuzz/findings/timeout-poly-in-block-walk.dat).
+            return in_block_walk() ? jset() : poly();
         case 2: return tunnel();
-        case 3: return generate();
+        case 3: return scope_.runs > 4 ? jset() : generate();
         case 4: return command("delete", {"range"});
         case 5: return command("excavate", {"range"});
         case 6: return command("fill", c_.maybe(50) ? std::vector<std::string>{"range"} : std::vector<std::string>{});
@@ -747,7 +758,7 @@ private:
         case 3:
             if (pointers > 0) {
                 const auto& p = scope_.pointers[c_.below(scope_.pointers.size())];
-                const auto& r = readers_[static_cast<unsigned char>(p.first)];
+                const auto& r = readers_[p.first];
                 if (!r.empty()) return c_.pick(r) + "(" + p.second + ")";
             }
             return scalars_.empty() ? "nblock" : c_.pick(scalars_);
@@ -836,9 +847,12 @@ private:
         ++s.indent;
         scope_.pointers.emplace_back(kind, name);
         ++scope_.loops;
-        const auto& wr = writers_[static_cast<unsigned char>(kind)];
+        const int runs = scope_.runs;
+        scope_.runs = std::min(kMaxRuns, runs * 10); // tens of blocks, contacts or zones
+        const auto& wr = writers_[kind];
         if (!wr.empty() && c_.maybe(40)) line(s, c_.pick(wr) + "(" + name + ") = " + fish_scalar_expr(1));
         fish_block(s, depth - 1, 1 + c_.below(2));
+        scope_.runs = runs;
         --scope_.loops;
         scope_.pointers.pop_back();
         line(s, name + " = " + next + "(" + name + ")");
@@ -867,12 +881,18 @@ private:
         }
         case 2: {
             const std::string k = c_.pick({std::string("k"), std::string("i"), std::string("j")});
-            const std::string to = c_.maybe(15) ? c_.pick(kVars) : num(c_.pick({3.0, 2.0, 1.0, 5.0, 20.0, 10.0, 0.0}));
+            const int n = std::min(static_cast<int>(c_.pick({3.0, 2.0, 1.0, 5.0, 20.0, 10.0, 0.0})),
+                                   std::max(1, kMaxRuns / scope_.runs));
+            // A global as the bound (as scripts write it) only where it cannot multiply much.
+            const std::string to = scope_.runs == 1 && c_.maybe(10) ? c_.pick(kVars) : num(n);
             line(s, "loop " + k + " (1, " + to + ")");
             ++s.indent;
             scope_.names.push_back(k);
             ++scope_.loops;
+            const int runs = scope_.runs;
+            scope_.runs = std::min(kMaxRuns, runs * std::max(n, 1));
             fish_block(s, depth - 1, 1 + c_.below(3));
+            scope_.runs = runs;
             --scope_.loops;
             scope_.names.pop_back();
             --s.indent;
@@ -886,7 +906,10 @@ private:
             ++s.indent;
             line(s, w + " = " + w + " + 1");
             ++scope_.loops;
+            const int runs = scope_.runs;
+            scope_.runs = std::min(kMaxRuns, runs * 3);
             fish_block(s, depth - 1, 1 + c_.below(2));
+            scope_.runs = runs;
             --scope_.loops;
             if (c_.maybe(20)) {
                 line(s, "if " + w + " = 2 then");
