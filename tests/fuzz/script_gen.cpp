@@ -692,9 +692,10 @@ private:
         return command("property", k);
     }
 
-    bool in_block_walk() const {
+    // Inside a walk over the blocks, the contacts or their sub-contacts (which new blocks lengthen).
+    bool in_growing_walk() const {
         for (const auto& p : scope_.pointers) {
-            if (p.first == 'b') return true;
+            if (p.first == 'b' || p.first == 'c' || p.first == 's') return true;
         }
         return false;
     }
@@ -706,9 +707,10 @@ private:
         switch (c_.weighted({12, 10, 4, 2, 5, 5, 2, 5, 5, 5, 5, 4, 3, 3, 3, 3, 2, 2, 2, 2, 2, 2, 2, 2, 1, 1, 6})) {
         case 0: return jset();
         case 1:
-            // A block made at each step of a walk over the blocks: the walk never ends, and
-            // nothing bounds the blocks poly makes (tests/fuzz/findings/timeout-poly-in-block-walk.dat).
-            return in_block_walk() ? jset() : poly();
+            // A block made at each step of a walk over the blocks (or their contacts): the walk
+            // never ends, and nothing bounds the blocks poly makes
+            // (tests/fuzz/findings/timeout-poly-in-block-walk.dat).
+            return in_growing_walk() ? jset() : poly();
         case 2: return tunnel();
         case 3: return scope_.runs > 4 ? jset() : generate();
         case 4: return command("delete", {"range"});
