@@ -81,7 +81,20 @@ std::string manual_page() {
          "  endloop\n"
          "end\n"
          "hist @weight_on_base\n"
-         "```\n\n## Intrinsics\n";
+         "```\n\n## Commands from FISH\n\n"
+         "Any command may run in a `command ... endcommand` block, or in a file such a block `call`s, and "
+         "does there what it does at the prompt, with two exceptions. `new` in a running function "
+         "clears the model but keeps the FISH functions, variables and arrays, the file FISH has open "
+         "and the urand/grand sequence, so that a parametric study can loop over cases that each start "
+         "with `new` (3DEC refuses `new` and `restore` inside FISH); `restore` keeps FISH as it is, "
+         "since save files hold no FISH. While the model cycles (a `whilestepping` function, or a FISH "
+         "history sampled during `step` or `solve`), the commands that would replace the model or "
+         "cycle it again are refused with a located error: `new`, `restore`, `step`, `solve` and "
+         "`quit` (`help` of each says why); a command that changes the blocks there (`jset`, `poly`, "
+         "`gen`, `delete`, ...) is taken up by the cycle at once: contacts, masses and timestep follow "
+         "before the next stage, and energy a function gives the blocks is allowed for by the "
+         "run-away check. A pointer taken before such a change is refused when used.\n\n"
+         "## Intrinsics\n";
     const char* group = "";
     for (const Intrinsic* in : all_intrinsics()) {
         if (std::strcmp(in->group, group) != 0) {
