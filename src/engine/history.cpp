@@ -190,7 +190,25 @@ std::string history_default_label(const History& h) {
 void HistorySet::sample(const Model& m) {
     if (items.empty()) return;
     sample_steps.push_back(m.step);
-    for (History& h : items) h.values.push_back(history_value(m, h));
+    // A FISH history's function may run commands that add or clear histories ('hist' in a
+    // command block), so the list may change while it is sampled: the histories there at the
+    // start are taken by index, a FISH one through a copy of its name, and a value is stored
+    // only where the list still holds its history with the samples before this one.
+    const size_t n = items.size(), samples = sample_steps.size();
+    for (size_t k = 0; k < n && k < items.size(); ++k) {
+        double v;
+        if (items[k].kind == HistoryKind::Fish) {
+            History probe;
+            probe.kind = HistoryKind::Fish;
+            probe.source = items[k].source;
+            v = history_value(m, probe);
+        } else {
+            v = history_value(m, items[k]);
+        }
+        if (k < items.size() && sample_steps.size() == samples && items[k].values.size() + 1 == samples) {
+            items[k].values.push_back(v);
+        }
+    }
 }
 
 void HistorySet::clear_values() {

@@ -6,6 +6,7 @@
 
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -255,4 +256,32 @@ TEST(FishCommands, ACommandBlockMayNameAFileByAPath) {
     // Outside a command block the same characters are still a FISH error of the definition.
     EXPECT_FALSE(s.run("def g\n  x = ./part.dat\nend\n"));
     EXPECT_NE(s.error().find("t.dat:2:7: error: '.' has no meaning in FISH"), std::string::npos) << s.error();
+}
+
+// A FISH history whose function adds a history ('hist' in its command block) changes the list
+// of histories while it is sampled: the list is taken by index, the new history starts with
+// the samples it missed, and the model saves and restores (the session's end check).
+TEST(FishCommands, AHistoryAddedWhileHistoriesAreSampled) {
+    Session s;
+    ASSERT_TRUE(s.run(std::string(kTwoBlocks) +
+                      "def probe\n"
+                      "  if step = 10 then\n"
+                      "    command\n"
+                      "      hist unbal\n"
+                      "    endcommand\n"
+                      "  endif\n"
+                      "  probe = nblock\n"
+                      "end\n"
+                      "hist ncyc 5\n"
+                      "hist @probe\n"
+                      "step 20\n"))
+        << s.error();
+    const auto& h = s.model.histories;
+    ASSERT_EQ(h.items.size(), 2u);
+    ASSERT_EQ(h.sample_steps.size(), 4u);
+    EXPECT_EQ(h.items[0].values.size(), 4u);
+    EXPECT_EQ(h.items[0].values[3], 2.0);
+    ASSERT_EQ(h.items[1].values.size(), 4u);
+    EXPECT_TRUE(std::isnan(h.items[1].values[1])); // added while step 10 was sampled
+    EXPECT_FALSE(std::isnan(h.items[1].values[2]));
 }
