@@ -58,8 +58,13 @@ int ptr(Runtime& rt, A a, int i, PtrKind k, const char* fn, L loc) {
 
 Model& model(Runtime& rt) { return rt.host.model(); }
 
-void ensure_contacts(Model& m) {
+// A detection of the contacts that FISH asks for counts against a session's bound on FISH
+// work (Runtime::budget) as 200 loop iterations a block, about what it costs: a walk that
+// changes the blocks at each step detects them again each time.
+void ensure_contacts(Runtime& rt, Model& m, L loc) {
     if (m.geometry_changed || !m.contacts.detected) {
+        const long long cost = 200LL * m.blocks.size();
+        for (long long k = 0; k < cost && rt.budget && *rt.budget >= 0; ++k) rt.tick(loc);
         refresh_world_vertices(m);
         detect_contacts(m);
     }
@@ -139,9 +144,9 @@ Value f_b_extra(Runtime& rt, A a, int, L loc) { BLOCK("b_extra"); return extra_g
 void s_b_extra(Runtime& rt, A a, int, const Value& v, L loc) { BLOCK("b_extra"); rt.extras[0][B.id[b]] = v; }
 
 // -- contacts ------------------------------------------------------------------------------------
-Value f_contact_head(Runtime& rt, A, int, L) {
+Value f_contact_head(Runtime& rt, A, int, L loc) {
     Model& m = model(rt);
-    ensure_contacts(m);
+    ensure_contacts(rt, m, loc);
     return m.contacts.size() > 0 ? Value::pointer(PtrKind::Contact, 0) : Value::null();
 }
 Value f_c_next(Runtime& rt, A a, int, L loc) {
@@ -185,7 +190,7 @@ Value f_c_sforce(Runtime& rt, A a, int, L loc) {
 }
 Value f_c_near(Runtime& rt, A a, int n, L loc) {
     Model& m = model(rt);
-    ensure_contacts(m);
+    ensure_contacts(rt, m, loc);
     const int c = find_contact_at(m, point_args(a, n, 0, "c_near", loc));
     return c < 0 ? Value::null() : Value::pointer(PtrKind::Contact, c);
 }
@@ -310,8 +315,8 @@ Value f_dt(Runtime& rt, A, int, L) { return num(model(rt).dt); }
 Value f_unbal(Runtime& rt, A, int, L) { return num(max_unbalanced_force(model(rt))); }
 Value f_mech_ratio(Runtime& rt, A, int, L) { return num(unbalanced_ratio(model(rt))); }
 Value f_nblock(Runtime& rt, A, int, L) { return Value::integer(model(rt).blocks.size()); }
-Value f_ncontact(Runtime& rt, A, int, L) {
-    ensure_contacts(model(rt));
+Value f_ncontact(Runtime& rt, A, int, L loc) {
+    ensure_contacts(rt, model(rt), loc);
     return Value::integer(model(rt).contacts.size());
 }
 Value f_nzone(Runtime& rt, A, int, L) { return Value::integer(model(rt).zones.size()); }
