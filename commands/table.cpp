@@ -54,6 +54,12 @@ const CommandSpec& table_command() {
                         continue; // blank or comment line
                     }
                     if (!(ls >> y) || !std::isfinite(x) || !std::isfinite(y)) bad();
+                    // As for typed numbers: beyond 1e100 what odec derives from them overflows.
+                    if (std::abs(x) > kMaxMagnitude || std::abs(y) > kMaxMagnitude) {
+                        fail(f.loc, "'" + f.text + "' line " + std::to_string(line_no) +
+                                        ": numbers must be of magnitude at most 1e100, as typed ones are",
+                             {}, "table");
+                    }
                     t.points.emplace_back(x, y);
                 }
             }

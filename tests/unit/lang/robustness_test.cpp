@@ -110,6 +110,9 @@ TEST(Robustness, TableReadRefusesNumbersTooLargeForADouble) {
     EXPECT_NE(error_of("table 1 read '" + path + "'").find("line 3: expected two finite numbers"), std::string::npos);
     write_file(path, "0 0\n1 -1e400\n");
     EXPECT_NE(error_of("table 1 read '" + path + "'").find("line 2: expected two finite numbers"), std::string::npos);
+    write_file(path, "0 0\n1 -1e300\n");
+    EXPECT_NE(error_of("table 1 read '" + path + "'").find("line 2: numbers must be of magnitude at most 1e100"),
+              std::string::npos);
     std::remove(path.c_str());
 }
 
