@@ -1,9 +1,16 @@
+#include <algorithm>
+
 #include "commands.h"
 #include "common.h"
 #include "engine/cycle.h"
 #include "progress.h"
 
 namespace odec {
+
+namespace {
+// The cohesion and tension of the joints in the first stage of 'solve elastic'.
+constexpr double kElasticStrength = 1e30;
+} // namespace
 
 const CommandSpec& solve_command() {
     static const CommandSpec spec = [] {
@@ -51,13 +58,26 @@ const CommandSpec& solve_command() {
             const bool lines = talk && ctx.interp.echo;
             // 'solve elastic': a first stage whose joints keep their stiffness but cannot slip, open
             // or fail (strengths made huge for it), then the joints as they are.
+            // Only the strengths the first stage raised are given back: a joint material that a
+            // function running during the stage added or changed ('prop jmat' in a
+            // whilestepping function) keeps what it was given.
             std::vector<JointMaterial> strengths = m.joint_materials;
             struct Restore {
                 Model& m;
                 std::vector<JointMaterial>& saved;
                 bool active = false;
+                void give_back() {
+                    const size_t n = std::min(saved.size(), m.joint_materials.size());
+                    for (size_t k = 0; k < n; ++k) {
+                        JointMaterial& j = m.joint_materials[k];
+                        if (j.cohesion == kElasticStrength) j.cohesion = saved[k].cohesion;
+                        if (j.tension == kElasticStrength) j.tension = saved[k].tension;
+                        if (j.dilation == 0) j.dilation = saved[k].dilation;
+                    }
+                    active = false;
+                }
                 ~Restore() {
-                    if (active) m.joint_materials = saved;
+                    if (active) give_back();
                 }
             } restore{m, strengths};
             CycleResult r;
@@ -65,13 +85,12 @@ const CommandSpec& solve_command() {
             for (int stage = a.has("elastic") ? 0 : 1; stage < 2; ++stage) {
                 if (stage == 0) {
                     for (JointMaterial& j : m.joint_materials) {
-                        j.cohesion = j.tension = 1e30;
+                        j.cohesion = j.tension = kElasticStrength;
                         j.dilation = 0;
                     }
                     restore.active = true;
                 } else if (restore.active) {
-                    m.joint_materials = strengths;
-                    restore.active = false;
+                    restore.give_back();
                     if (talk) o << "solve elastic: equilibrium with elastic joints reached; now with their strengths\n";
                 }
                 r = cycle(m, lim, &ctx.interp.interrupt, lines ? ProgressFn(std::ref(progress)) : ProgressFn(), 100);

@@ -285,3 +285,28 @@ TEST(FishCommands, AHistoryAddedWhileHistoriesAreSampled) {
     EXPECT_TRUE(std::isnan(h.items[1].values[1])); // added while step 10 was sampled
     EXPECT_FALSE(std::isnan(h.items[1].values[2]));
 }
+
+// A joint material that a whilestepping function gives during the first stage of
+// 'solve elastic' stays when the stage gives the joints their strengths back.
+TEST(FishCommands, AJointMaterialGivenDuringSolveElasticStays) {
+    Session s;
+    ASSERT_TRUE(s.run(std::string(kTwoBlocks) +
+                      "prop jmat=1 jcoh=1e5 jten=2e4\n"
+                      "def w\n"
+                      "  whilestepping\n"
+                      "  if step = 3 then\n"
+                      "    command\n"
+                      "      prop jmat=5 jkn=1e9 jks=1e9 jfric=25\n"
+                      "      change jmat 5\n"
+                      "    endcommand\n"
+                      "  endif\n"
+                      "end\n"
+                      "solve elastic ratio 1e-3\n"
+                      "step 10\n"))
+        << s.error();
+    ASSERT_GE(s.model.joint_materials.size(), 6u);
+    EXPECT_TRUE(s.model.joint_materials[5].defined);
+    EXPECT_EQ(s.model.joint_materials[5].friction, 25.0);
+    EXPECT_EQ(s.model.joint_materials[1].cohesion, 1e5);
+    EXPECT_EQ(s.model.joint_materials[1].tension, 2e4);
+}
