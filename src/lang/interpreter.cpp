@@ -343,14 +343,15 @@ bool Interpreter::run_lines(const std::shared_ptr<const SourceFile>& file, int f
         }
         if (interrupted_here(cmd)) return false;
         if (limits.fish_steps >= 0) {
-            if (limits.fish_steps < kCommandFishSteps) {
+            const long long cost = kCommandFishSteps + kCommandFishStepsPerBlock * model.blocks.size();
+            if (limits.fish_steps < cost) {
                 const SourceLoc& l = cmd.tokens.front().loc;
                 err << (l.file ? l.file->name : std::string("<input>")) << ":" << l.line << ":" << l.col
-                    << ": error: this session's bound on FISH work is reached (a command costs "
-                    << kCommandFishSteps << " loop iterations)\n";
+                    << ": error: this session's bound on FISH work is reached (a command costs " << cost
+                    << " loop iterations here)\n";
                 return false;
             }
-            limits.fish_steps -= kCommandFishSteps;
+            limits.fish_steps -= cost;
         }
         if (!execute(cmd, false)) return false;
         if (quit_requested) break;

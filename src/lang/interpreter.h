@@ -182,13 +182,16 @@ public:
         // forks the mesher: a FISH loop of them must end).
         long long zone_budget = -1;
         // FISH loop iterations that may still run in all; < 0: no limit. A command that FISH
-        // runs (a line of a `command` block) costs kCommandFishSteps of them.
+        // runs (a line of a `command` block) costs kCommandFishSteps of them, and
+        // kCommandFishStepsPerBlock more for each block of the model.
         long long fish_steps = -1;
     } limits;
 
     // What a command run from FISH costs of Limits::fish_steps: a command does far more than a
-    // loop iteration, and a FISH loop of commands must end within a fuzzing session's time.
+    // loop iteration, and more the more blocks there are ('jset' cuts each of them), and a FISH
+    // loop of commands must end within a fuzzing session's time.
     static constexpr long long kCommandFishSteps = 50;
+    static constexpr long long kCommandFishStepsPerBlock = 100;
 
     // How many files may run at once through `call` (each level takes C++ stack).
     static constexpr int kMaxCallDepth = 64;

@@ -84,8 +84,8 @@ TEST(Limits, CommandsRunByFishCountAgainstItsBound) {
     EXPECT_NE(s.error().find("this session's bound on FISH work is reached"), std::string::npos) << s.error();
     const odec::fish::Symbol* n = s.interp.fish().find("n");
     ASSERT_NE(n, nullptr);
-    EXPECT_LT(n->value.number(), 2000); // about 200000 / (2 * 50 + 1)
-    EXPECT_GT(n->value.number(), 1900);
+    EXPECT_LT(n->value.number(), 700); // about 200000 / (2 * (50 + 100) + 1): one block
+    EXPECT_GT(n->value.number(), 600);
 }
 
 TEST(Limits, NoneByDefault) {
