@@ -400,8 +400,17 @@ TEST_F(SaveFiles, SaveAndRestoreDoNotHoldTheFileInMemory) {
     EXPECT_EQ(o, Outcome::Ok);
 }
 
-TEST_F(SaveFiles, SaveWorksAfterRunningOutOfMemory) {
+// gcc says __SANITIZE_ADDRESS__, clang __has_feature(address_sanitizer).
 #if defined(__SANITIZE_ADDRESS__)
+#define ODEC_TEST_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define ODEC_TEST_ASAN 1
+#endif
+#endif
+
+TEST_F(SaveFiles, SaveWorksAfterRunningOutOfMemory) {
+#if defined(ODEC_TEST_ASAN)
     GTEST_SKIP() << "AddressSanitizer reserves more address space than the limit this test sets";
 #else
     const int mb = 48;
