@@ -42,19 +42,12 @@
 #include "io/save.h"
 #include "test_util.h"
 
+using odec::test::read_bytes;
 using odec::test::Session;
+using odec::test::write_bytes;
 
 namespace {
 
-std::string read_bytes(const std::string& path) {
-    std::ifstream f(path, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
-}
-
-void write_bytes(const std::string& path, const std::string& bytes) {
-    std::ofstream f(path, std::ios::binary | std::ios::trunc);
-    f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-}
 
 bool exists(const std::string& path) {
     struct stat st;

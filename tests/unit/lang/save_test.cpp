@@ -21,7 +21,9 @@
 #include "io/save.h"
 #include "test_util.h"
 
+using odec::test::read_bytes;
 using odec::test::Session;
+using odec::test::write_bytes;
 
 namespace {
 
@@ -58,15 +60,6 @@ const char* kZonedCube =
     "hist szz 0.5 0.5 0.5\n"
     "hist zreaction range z -0.001 0.001\n";
 
-std::string read_bytes(const std::string& path) {
-    std::ifstream f(path, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
-}
-
-void write_bytes(const std::string& path, const std::string& bytes) {
-    std::ofstream f(path, std::ios::binary | std::ios::trunc);
-    f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-}
 
 // The bytes of a model's save file, with the wall-clock profile left out (it is the one
 // part of the state that differs between two runs of the same steps).

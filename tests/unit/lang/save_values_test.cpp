@@ -25,7 +25,9 @@
 #include "io/save.h"
 #include "test_util.h"
 
+using odec::test::read_bytes;
 using odec::test::Session;
+using odec::test::write_bytes;
 
 namespace {
 
@@ -60,15 +62,6 @@ const char* kZonedCube =
     "hist zreaction range z -0.001 0.001\n"
     "step 20\n";
 
-std::string read_bytes(const std::string& path) {
-    std::ifstream f(path, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
-}
-
-void write_bytes(const std::string& path, const std::string& bytes) {
-    std::ofstream f(path, std::ios::binary | std::ios::trunc);
-    f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-}
 
 std::uint64_t fnv1a64(const char* p, size_t n) {
     std::uint64_t h = 0xcbf29ce484222325ull;
