@@ -49,6 +49,7 @@ const CommandSpec& restore_command();
 const CommandSpec& plot_command();
 const CommandSpec& export_command();
 const CommandSpec& config_command();
+const CommandSpec& mscale_command();
 const CommandSpec& show_command();
 const CommandSpec& list_command();
 

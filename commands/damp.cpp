@@ -12,9 +12,13 @@ const CommandSpec& damp_command() {
         c.keyword("auto", 2, "adaptive global damping: viscous, adjusted to draw energy out steadily").in_choice(1);
         c.keyword("mass", 2, "mass-proportional Rayleigh damping: 'damp fraction frequency mass'").in_choice(1);
         c.keyword("off", 2, "no damping, for dynamics").in_choice(1);
-        c.describe("Local damping with a = 0.8 is the default: it brings a model to equilibrium quickly "
-                   "and does not slow a steady motion's approach to it, but it is not physical: a block "
-                   "falling freely under it accelerates at (1 - a) g. Use 'damp off' for dynamics.");
+        c.describe("Local damping with a = 0.8 is the default, for blocks and gridpoints alike: it brings a "
+                   "model to equilibrium and does not bias a steady motion (a strength test driven by 'bound "
+                   "zvel'), but it is not physical: a block falling freely under it accelerates at (1 - a) g. "
+                   "With the density scaling of a static analysis (see 'config'), 'damp auto' often reaches "
+                   "the equilibrium of a deformable model in a third of the steps local damping takes; being "
+                   "viscous, it adds a drag to gridpoints driven at a steady velocity, so keep local damping "
+                   "for those. Use 'damp off' or 'damp ... mass' for dynamics.");
         c.example("damp local 0.8");
         c.example("damp 0.05 1.5 mass");
         c.handle([](CommandContext& ctx, const Args& a) {

@@ -1,3 +1,4 @@
+#include "analysis_mode.h"
 #include "commands.h"
 #include "common.h"
 #include "engine/blocks.h"
@@ -126,7 +127,10 @@ const CommandSpec& hist_command() {
             History h;
             if (what == "unbalanced") h.kind = HistoryKind::Unbalanced;
             else if (what == "ratio") h.kind = HistoryKind::Ratio;
-            else if (what == "time") h.kind = HistoryKind::Time;
+            else if (what == "time") {
+                h.kind = HistoryKind::Time;
+                note_static_time(ctx, "a history of time");
+            }
             else if (what == "step") h.kind = HistoryKind::Step;
             else if (what == "damp") h.kind = HistoryKind::Damp;
             else if (what == "fish") {

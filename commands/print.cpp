@@ -1,3 +1,4 @@
+#include "analysis_mode.h"
 #include "commands.h"
 #include "common.h"
 #include "engine/blocks.h"
@@ -352,7 +353,9 @@ void print_info(CommandContext& ctx) {
     o << "timestep:   " << (m.settings.dt_fixed > 0 ? num(m.settings.dt_fixed) + " s (set dt)"
                                                     : "automatic, dtfrac " + num(m.settings.dtfrac))
       << (m.dt > 0 ? ", in use " + num(m.dt) + " s" : "") << "\n";
-    o << "step:       " << m.step << "  time " << num(m.time) << " s\n";
+    o << "analysis:   " << analysis_mode_text(m) << "\n";
+    o << "step:       " << m.step << "  time " << num(m.time) << " s" << (m.settings.dynamic ? "" : " (static: not real time)")
+      << "\n";
     o << "histories:  " << m.histories.items.size() << " (every " << m.histories.ncyc << " steps, "
       << m.histories.sample_steps.size() << " samples)\n";
     const Profile& p = m.profile;

@@ -16,7 +16,7 @@ const CommandTable& command_table() {
             &generate_command(),
             // properties and conditions
             &prop_command(), &change_command(), &grav_command(), &fix_command(), &free_command(),
-            &bound_command(), &insitu_command(), &ini_command(), &table_command(), &damp_command(), &set_command(),
+            &bound_command(), &insitu_command(), &ini_command(), &table_command(), &damp_command(), &mscale_command(), &set_command(),
             // solution
             &step_command(), &solve_command(), &reset_command(),
             // results

@@ -17,8 +17,9 @@ const CommandSpec& set_command() {
         c.keyword("jmat", 4, "joint material of contacts made from now on").integer("n", 1, 1000000).defaults("1");
         c.keyword("jcons", 4, "joint model of contacts made from now on").integer("j", 1, 2).defaults("1");
         c.keyword("plot", 2, "picture options kept between plots: the options of 'plot set'").forward_to("plot");
-        c.keyword("dynamic", 3, "(3DEC) 'off': a static solution, with local damping if none that solves statically is "
-                                "set; 'on': dynamic, with the damping 'damp' gives").one_of("state", {"on", "off"});
+        c.keyword("dynamic", 3, "'off': static analysis, masses scaled for convergence (and local damping if the "
+                                "damping set does not solve statically); 'on': dynamic analysis, real masses and "
+                                "real time (needs 'config dyn' first, as in 3DEC)").one_of("state", {"on", "off"});
         c.keyword("large", 2, "large-strain mode (the default): zones follow their gridpoints' positions");
         c.keyword("small", 2, "small-strain mode: zone geometry stays as it was zoned (rigid blocks still move "
                               "by large displacements)");
@@ -28,6 +29,11 @@ const CommandSpec& set_command() {
         c.example("set dt 1e-4 echo off");
         c.example("set kn = 1e10 name = 'run1'");
         c.handle([](CommandContext& ctx, const Args& a) {
+            Model& m = ctx.model;
+            if (a.has("dynamic") && a.text("dynamic") == "on" && !m.settings.dyn_configured) {
+                fail(a.find("dynamic")->values[0].loc, "dynamic analysis is not configured",
+                     {"give 'config dyn' first (as in 3DEC): without it an analysis is static"}, "set");
+            }
             if (a.has("dynamic") && a.text("dynamic") == "off") {
                 Damping& d = ctx.model.damping;
                 if (d.mode == DampingMode::Off || d.mode == DampingMode::Rayleigh) {
@@ -36,7 +42,6 @@ const CommandSpec& set_command() {
                     if (!ctx.interp.quiet) ctx.out << "static solution: local damping 0.8\n";
                 }
             }
-            Model& m = ctx.model;
             if (a.has("small") && a.has("large")) fail(a.find("small")->loc, "'small' and 'large' exclude each other", {}, "set");
             if (a.uses.empty()) fail(a.loc, "'set' needs a setting", {"type 'help set' for the settings"}, "set");
             if (a.has("jmat")) defined_joint_material(m, a, "set");
@@ -90,6 +95,10 @@ const CommandSpec& set_command() {
             if (a.has("ctol")) {
                 m.settings.ctol = a.real("ctol");
                 m.geometry_changed = true;
+            }
+            if (a.has("dynamic")) {
+                m.settings.dynamic = a.text("dynamic") == "on";
+                m.geometry_changed = true; // the masses are chosen again
             }
             if (a.has("echo")) ctx.interp.echo = a.text("echo") == "on";
             if (a.has("gravity")) m.gravity = a.vec("gravity");

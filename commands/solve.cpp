@@ -1,5 +1,6 @@
 #include <algorithm>
 
+#include "analysis_mode.h"
 #include "commands.h"
 #include "common.h"
 #include "engine/cycle.h"
@@ -80,6 +81,7 @@ const CommandSpec& solve_command() {
                     if (active) give_back();
                 }
             } restore{m, strengths};
+            if (a.has("time")) note_static_time(ctx, "'solve time'");
             CycleResult r;
             CyclingGuard cycling(ctx.interp);
             for (int stage = a.has("elastic") ? 0 : 1; stage < 2; ++stage) {
@@ -95,6 +97,7 @@ const CommandSpec& solve_command() {
                 }
                 r = cycle(m, lim, &ctx.interp.interrupt, lines ? ProgressFn(std::ref(progress)) : ProgressFn(), 100);
                 spend_step_budget(ctx, counted, r.steps);
+                report_mass_scaling(ctx);
                 if (r.reason == StopReason::Error) fail(a.loc, r.message, {}, "solve");
                 if (r.reason == StopReason::BlowUp) {
                     fail(a.loc, "stopped: " + r.message, {"the model is left as it was at that step, for inspection"}, "solve");

@@ -1,3 +1,4 @@
+#include "analysis_mode.h"
 #include "commands.h"
 #include "common.h"
 #include "engine/cycle.h"
@@ -27,6 +28,7 @@ const CommandSpec& step_command() {
                 lim.max_steps = static_cast<long>(a.positional[0].number);
             } else if (a.has("time")) {
                 lim.max_time = a.real("time");
+                note_static_time(ctx, "'step time'");
             } else {
                 fail(a.loc, "'step' needs a number of steps or 'time t'", {"for example: step 1000"}, "step");
             }
@@ -39,6 +41,7 @@ const CommandSpec& step_command() {
             const CycleResult r =
                 cycle(m, lim, &ctx.interp.interrupt, talk ? ProgressFn(std::ref(progress)) : ProgressFn(), 100);
             spend_step_budget(ctx, counted, r.steps);
+            report_mass_scaling(ctx);
             if (r.reason == StopReason::Error) fail(a.loc, r.message, {}, "step");
             if (r.reason == StopReason::Interrupted) {
                 ctx.out << "interrupted after " << r.steps << " steps: step " << m.step << ", time " << num(m.time)

@@ -13,6 +13,7 @@ static void for_each_array(BlockSet& s, F&& f) {
     f(s.id); f(s.shape); f(s.centroid); f(s.orientation); f(s.vel); f(s.ang_vel);
     f(s.accel); f(s.ang_accel); f(s.force); f(s.moment); f(s.applied_force); f(s.force_scale);
     f(s.disp); f(s.rotation); f(s.volume); f(s.mass); f(s.inertia_body); f(s.inertia_unit);
+    f(s.inertial_mass); f(s.inertial_moment);
     f(s.material); f(s.region); f(s.group); f(s.flags); f(s.vel_bc); f(s.vel_bc_value);
     f(s.vel_bc_table); f(s.half_kick); f(s.cons); f(s.corner_gp); f(s.zone_edge); f(s.body);
 }
@@ -40,6 +41,8 @@ int add_block(Model& m, const Polyhedron& world, int region, int group, int mate
     s.mass.push_back(0);
     s.inertia_body.push_back(Mat3::Zero());
     s.inertia_unit.push_back(mp.inertia);
+    s.inertial_mass.push_back(0);
+    s.inertial_moment.push_back(0);
     s.material.push_back(material);
     s.region.push_back(region);
     s.group.push_back(group);
@@ -57,6 +60,7 @@ int add_block(Model& m, const Polyhedron& world, int region, int group, int mate
     const double rho = (mat > 0 && mat < static_cast<int>(m.materials.size())) ? m.materials[mat].density : 0.0;
     s.mass[b] = rho * mp.volume;
     s.inertia_body[b] = rho * mp.inertia;
+    s.inertial_mass[b] = s.mass[b];
     m.geometry_changed = true;
     return b;
 }
@@ -117,6 +121,8 @@ std::vector<int> replace_by_pieces(Model& m, int b, const std::vector<Polyhedron
         const double rho = (mat > 0 && mat < static_cast<int>(m.materials.size())) ? m.materials[mat].density : 0.0;
         s.mass[b] = rho * mp[0].volume;
         s.inertia_body[b] = rho * mp[0].inertia;
+        s.inertial_mass[b] = s.mass[b];
+        s.inertial_moment[b] = 0;
         s.vel[b] = v0 + w0.cross(mp[0].centroid);
         s.applied_force[b] = load * (mp[0].volume / total);
     }
@@ -177,6 +183,8 @@ void update_masses(Model& m) {
         const double rho = (mat > 0 && mat < static_cast<int>(m.materials.size())) ? m.materials[mat].density : 0.0;
         s.mass[b] = rho * s.volume[b];
         s.inertia_body[b] = rho * s.inertia_unit[b];
+        s.inertial_mass[b] = s.mass[b];
+        s.inertial_moment[b] = 0;
     }
     m.geometry_changed = true;
 }

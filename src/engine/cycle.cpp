@@ -8,6 +8,7 @@
 #include "engine/blocks.h"
 #include "engine/contact.h"
 #include "engine/contact_gridpoint.h"
+#include "engine/mass_scaling.h"
 
 namespace odec {
 
@@ -86,11 +87,14 @@ void adjust_auto_damping(Damping& d, const AutoDampingPower& p, long step, doubl
 // Returns the index of a block whose motion became non-finite, or -1.
 int integrate(Model& m, double dt) {
     BlockSet& s = m.blocks;
+    // One damping law for blocks and gridpoints.
     const Damping& d = m.damping;
     const bool auto_damp = d.mode == DampingMode::Auto;
     if (auto_damp && !(m.damping.auto_coefficient > 0)) m.damping.auto_coefficient = 0.02 / dt;
     AutoDampingPower power;
     int bad = -1;
+    // Static mode: the blocks' masses follow their joints as they are this step.
+    if (!m.settings.dynamic) scale_block_masses(m);
     for (int b = 0; b < s.size(); ++b) {
         if (!is_rigid_active(s, b)) continue;
         if (s.flags[b] & kFixed) {
@@ -113,7 +117,7 @@ int integrate(Model& m, double dt) {
             s.half_kick[b] = 0;
             continue;
         }
-        const double mass = s.mass[b];
+        const double mass = s.inertial_mass[b];
         const double kick = s.half_kick[b] ? 0.5 * dt : dt;
         if (auto_damp) {
             power.damping += mass * s.vel[b].squaredNorm();
@@ -141,14 +145,21 @@ int integrate(Model& m, double dt) {
         s.disp[b] += dx;
         // Rotation: angular acceleration from the world inertia tensor (gyroscopic term
         // neglected, as usual for quasi-static block analysis).
-        const Mat3 r = s.orientation[b].toRotationMatrix();
-        const Mat3 inertia = r * s.inertia_body[b] * r.transpose();
+        // Static mode gives an isotropic inertia chosen from the joints (mass_scaling.h).
+        const double iso = s.inertial_moment[b];
+        Mat3 inertia;
+        if (iso > 0) {
+            inertia = iso * Mat3::Identity();
+        } else {
+            const Mat3 r = s.orientation[b].toRotationMatrix();
+            inertia = (mass / s.mass[b]) * (r * s.inertia_body[b] * r.transpose());
+        }
         Vec3 mom;
         for (int i = 0; i < 3; ++i) {
             mom[i] = damp_component(d, s.moment[b][i], s.ang_vel[b][i], inertia(i, i), dt);
         }
         if (auto_damp) power.damping += s.ang_vel[b].dot(inertia.diagonal().cwiseProduct(s.ang_vel[b]));
-        const Vec3 alpha = inertia.ldlt().solve(mom);
+        const Vec3 alpha = iso > 0 ? Vec3(mom / iso) : Vec3(inertia.ldlt().solve(mom));
         const Vec3 w = s.ang_vel[b] + alpha * kick;
         s.ang_vel[b] = w;
         s.ang_accel[b] = alpha;
@@ -164,7 +175,7 @@ int integrate(Model& m, double dt) {
             bad = b;
         }
     }
-    const int bad_gp = integrate_gridpoints(m, dt, auto_damp ? &power.damping : nullptr, &power.forcing);
+    const int bad_gp = integrate_gridpoints(m, d, dt, auto_damp ? &power.damping : nullptr, &power.forcing);
     if (bad < 0 && bad_gp >= 0) bad = m.gridpoints.block[bad_gp];
     if (auto_damp) adjust_auto_damping(m.damping, power, m.step, dt);
     return bad;
@@ -173,13 +184,21 @@ int integrate(Model& m, double dt) {
 // Kinetic energy of a free block, J (velocities at t - dt/2), leaving out the velocity
 // components a boundary condition prescribes: those are imposed, not earned.
 double kinetic_energy(const BlockSet& s, int b) {
-    const Mat3 r = s.orientation[b].toRotationMatrix();
     const Vec3 w = s.ang_vel[b];
     Vec3 v = s.vel[b];
     for (int i = 0; i < 3; ++i) {
         if (s.vel_bc[b] & (1 << i)) v[i] = 0;
     }
-    return 0.5 * s.mass[b] * v.squaredNorm() + 0.5 * w.dot(r * s.inertia_body[b] * r.transpose() * w);
+    // With the masses the integration uses: what the forces' work turns into (mass_scaling.h).
+    const double mass = s.inertial_mass[b];
+    double spin;
+    if (s.inertial_moment[b] > 0) {
+        spin = s.inertial_moment[b] * w.squaredNorm();
+    } else {
+        const Mat3 r = s.orientation[b].toRotationMatrix();
+        spin = (mass / s.mass[b]) * w.dot(r * s.inertia_body[b] * r.transpose() * w);
+    }
+    return 0.5 * mass * v.squaredNorm() + 0.5 * spin;
 }
 
 // The likely cause of a run-away of block b, for the message.
@@ -248,7 +267,7 @@ struct EnergyWatch {
         for (int b = 0; b < s.size(); ++b) {
             if ((s.flags[b] & (kExcavated | kFixed)) || !(s.mass[b] > 0)) continue;
             initial += kinetic_energy(s, b);
-            mass += s.mass[b];
+            mass += s.inertial_mass[b];
         }
         const ContactSet& cs = m.contacts;
         const int n_jmat = static_cast<int>(m.joint_materials.size());
@@ -381,8 +400,15 @@ struct PrepareUndo {
     std::vector<Vec3> world_vertices;
     double dt = 0;
     bool geometry_changed = false;
+    // Choosing the inertial masses may slow velocities down (mass_scaling.h).
+    std::vector<double> block_mass, block_moment, gp_mass;
+    std::vector<Vec3> vel, ang_vel, gp_vel;
+    MassScalingReport report;
 
-    explicit PrepareUndo(const Model& m) : dt(m.dt), geometry_changed(m.geometry_changed) {
+    explicit PrepareUndo(const Model& m)
+        : dt(m.dt), geometry_changed(m.geometry_changed), block_mass(m.blocks.inertial_mass),
+          block_moment(m.blocks.inertial_moment), gp_mass(m.gridpoints.inertial_mass), vel(m.blocks.vel),
+          ang_vel(m.blocks.ang_vel), gp_vel(m.gridpoints.vel), report(m.mass_scaling) {
         if (m.geometry_changed) {
             saved = true;
             contacts = m.contacts;
@@ -398,6 +424,15 @@ struct PrepareUndo {
         }
         m.dt = dt;
         m.geometry_changed = geometry_changed;
+        if (block_mass.size() == m.blocks.inertial_mass.size() && gp_mass.size() == m.gridpoints.inertial_mass.size()) {
+            m.blocks.inertial_mass = std::move(block_mass);
+            m.blocks.inertial_moment = std::move(block_moment);
+            m.blocks.vel = std::move(vel);
+            m.blocks.ang_vel = std::move(ang_vel);
+            m.gridpoints.inertial_mass = std::move(gp_mass);
+            m.gridpoints.vel = std::move(gp_vel);
+        }
+        m.mass_scaling = report;
     }
 };
 
@@ -410,6 +445,20 @@ std::string prepare_cycle(Model& m) {
     std::string problem = prepare_cycle_once(m);
     if (!problem.empty()) undo.undo(m);
     return problem;
+}
+
+double real_mass_timestep(Model& m, std::string* why) {
+    PrepareUndo undo(m);
+    const Settings keep = m.settings;
+    m.settings.dynamic = true;
+    m.settings.mscale_dt = 0;
+    m.settings.dt_fixed = 0;
+    const std::string problem = prepare_cycle_once(m);
+    const double dt = problem.empty() ? m.mass_scaling.real_dt : 0.0;
+    if (why) *why = problem;
+    m.settings = keep;
+    undo.undo(m);
+    return dt;
 }
 
 namespace {
@@ -464,13 +513,14 @@ std::string prepare_cycle_once(Model& m) {
     }
     refresh_contact_surface(m); // the zones' step allows for the joints on their surface
     const double zone_dt = zone_critical_timestep(m);
-    if (m.settings.dt_fixed > 0) {
+    // In dynamic mode a forced step beyond the stable limit can only blow up: refuse it before
+    // cycling. In static mode the masses are chosen for whatever step is forced.
+    if (m.settings.dt_fixed > 0 && m.settings.dynamic) {
         if (zone_dt > 0 && m.settings.dt_fixed > zone_dt / 0.9) {
             return "the forced timestep " + num_text(m.settings.dt_fixed) +
                    " s ('set dt') is larger than the stable limit of the zones, about " + num_text(zone_dt / 0.9) +
                    " s: the motion would run away. Use 'set dt auto' or a timestep below " + num_text(zone_dt) + " s";
         }
-        // A forced step beyond the stable limit can only blow up: refuse it before cycling.
         int worst = -1;
         const double limit = stable_timestep_limit(m, &worst);
         if (limit > 0 && m.settings.dt_fixed > limit) {
@@ -481,14 +531,10 @@ std::string prepare_cycle_once(Model& m) {
                    ": the motion would run away. Use 'set dt auto' (" + num_text(automatic) +
                    " s now) or a timestep below " + num_text(limit) + " s";
         }
-        m.dt = m.settings.dt_fixed;
-    } else {
-        double dt = contact_critical_timestep(m);
-        if (zone_dt > 0 && (!(dt > 0) || zone_dt < dt)) dt = zone_dt;
-        if (!(dt > 0)) {
-            return "no timestep: there are no contacts or zones to set one, so give it with 'set dt'";
-        }
-        m.dt = dt;
+    }
+    {
+        const std::string p = choose_timestep_and_masses(m, contact_critical_timestep(m), zone_dt);
+        if (!p.empty()) return p;
     }
     // No block may jump more than half its size in its first step: it would pass the blocks
     // in its way unseen (and numbers that large only grow). The first step moves a block by
@@ -514,7 +560,8 @@ std::string prepare_cycle_once(Model& m) {
                 if (s.vel_bc[b] & (1 << i)) v[i] = s.vel_bc_value[b][i] * scale;
             }
         }
-        const double accel = fixed ? 0.0 : (s.mass[b] * m.gravity + s.applied_force[b]).stableNorm() / s.mass[b];
+        const double accel =
+            fixed ? 0.0 : (s.mass[b] * m.gravity + s.applied_force[b]).stableNorm() / s.inertial_mass[b];
         const double speed = v.stableNorm();
         const double move = speed * m.dt + (s.half_kick[b] ? 0.5 : 1.0) * accel * m.dt * m.dt;
         double size = 0;

@@ -52,6 +52,10 @@ using ProgressFn = std::function<void(const Model&)>;
 // when ready, else what is missing (a block with no mass, no timestep, ...).
 std::string prepare_cycle(Model& m);
 
+// The automatic timestep with real masses (what dynamic mode would take before any 'mscale'),
+// s; 0 with the reason in *why when the model cannot cycle. Leaves the model as it was.
+double real_mass_timestep(Model& m, std::string* why = nullptr);
+
 // Cycle until a limit is reached, the interrupt flag is raised (checked between steps,
 // so the model is always left consistent) or the numbers blow up.
 CycleResult cycle(Model& m, const CycleLimits& limits, const std::atomic<bool>* interrupt = nullptr,

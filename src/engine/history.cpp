@@ -95,8 +95,8 @@ double history_value(const Model& m, const History& h) {
         case HistoryKind::YAcc:
         case HistoryKind::ZAcc: {
             // The gridpoint's acceleration in the last step: its unbalanced force over its mass.
-            const double mass = m.gridpoints.mass[h.gridpoint];
-            if (!(mass > 0)) return 0.0;
+            const double mass = m.gridpoints.inertial_mass[h.gridpoint];
+            if (!(m.gridpoints.mass[h.gridpoint] > 0) || !(mass > 0)) return 0.0;
             return m.gridpoints.force[h.gridpoint][static_cast<int>(h.kind) - static_cast<int>(HistoryKind::XAcc)] / mass;
         }
         default: return 0.0;

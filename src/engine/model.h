@@ -90,6 +90,12 @@ struct BlockSet {
     std::vector<double> mass;             // (n_blocks) kg
     std::vector<Mat3> inertia_body;       // (n_blocks) kg m^2 about centroid, body frame
     std::vector<Mat3> inertia_unit;       // (n_blocks) m^5, inertia per unit density, body frame
+    // What the integration divides forces by (mass_scaling.h): the real mass and inertia in
+    // dynamic mode (raised for the few blocks 'mscale' scales), masses chosen from the contact
+    // stiffness in static mode. Gravity always acts on the real mass.
+    std::vector<double> inertial_mass;    // (n_blocks) kg
+    std::vector<double> inertial_moment;  // (n_blocks) kg m^2, isotropic; 0: the real inertia tensor
+                                          //            times inertial_mass / mass
     std::vector<int> material;            // (n_blocks) material number (`change mat`)
     std::vector<int> region;              // (n_blocks) region number given at creation
     std::vector<int> group;               // (n_blocks) index into Model::group_names, -1 none
@@ -137,6 +143,26 @@ struct Settings {
     int default_jmat = 1;     // joint material of newly created contacts (`set jmat`)
     int default_jcons = 1;    // joint model of newly created contacts
     bool large_strain = true; // rigid blocks always move by large displacements
+    // Static or dynamic analysis (mass_scaling.h). Static, with density scaling, unless
+    // `config dyn` was given; `set dyn on|off` switches once it was.
+    bool dyn_configured = false; // `config dyn`
+    bool dynamic = false;        // real masses and real time
+    double mscale_dt = 0;        // s; > 0: `mscale`: in dynamic mode, masses that would need a
+                                 // smaller timestep are raised to allow this one
+};
+
+// What the last choice of inertial masses did, for the commands to report.
+struct MassScalingReport {
+    bool fresh = false;        // chosen again since the commands last reported it
+    bool is_static = false;    // static mode: every mass from its stiffness
+    double dt = 0;             // s, the timestep they allow
+    double real_dt = 0;        // s, the timestep real masses would need
+    int n_gridpoints = 0;      // mscale: gridpoint masses raised
+    int n_blocks = 0;          // mscale: block masses raised
+    double added = 0;          // kg, mscale: mass added
+    double total = 0;          // kg, real mass of what moves
+    double min_factor = 0;     // mscale: smallest and largest factor applied to a raised mass
+    double max_factor = 0;
 };
 
 // The largest step number: cycling stops there with an error rather than count past what a
@@ -162,6 +188,7 @@ struct Model {
     Damping damping;
     Settings settings;
     Profile profile;
+    MassScalingReport mass_scaling;
 
     long step = 0;                // steps taken since `new`
     double time = 0;              // s

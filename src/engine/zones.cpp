@@ -84,6 +84,7 @@ void zone_blocks(Model& m, const std::vector<int>& blocks, const std::vector<int
         g.applied.push_back(Vec3::Zero());
         g.traction.push_back(Vec3::Zero());
         g.mass.push_back(0);
+        g.inertial_mass.push_back(0);
         g.stiffness.push_back(0);
         g.force_scale.push_back(0);
         g.nmd_volume.push_back(0);
@@ -168,6 +169,7 @@ void remove_zones(Model& m, const std::vector<int>& blocks) {
         new_index[i] = n;
         g.pos[n] = g.pos[i]; g.ref[n] = g.ref[i]; g.vel[n] = g.vel[i]; g.disp[n] = g.disp[i];
         g.force[n] = g.force[i]; g.applied[n] = g.applied[i]; g.traction[n] = g.traction[i]; g.mass[n] = g.mass[i];
+        g.inertial_mass[n] = g.inertial_mass[i];
         g.stiffness[n] = g.stiffness[i]; g.force_scale[n] = g.force_scale[i];
         g.nmd_volume[n] = g.nmd_volume[i]; g.nmd_rate[n] = g.nmd_rate[i]; g.block[n] = g.block[i];
         g.vel_bc[n] = g.vel_bc[i]; g.vel_bc_value[n] = g.vel_bc_value[i];
@@ -175,7 +177,7 @@ void remove_zones(Model& m, const std::vector<int>& blocks) {
         ++n;
     }
     g.pos.resize(n); g.ref.resize(n); g.vel.resize(n); g.disp.resize(n); g.force.resize(n);
-    g.applied.resize(n); g.traction.resize(n); g.mass.resize(n); g.stiffness.resize(n); g.force_scale.resize(n);
+    g.applied.resize(n); g.traction.resize(n); g.mass.resize(n); g.inertial_mass.resize(n); g.stiffness.resize(n); g.force_scale.resize(n);
     g.nmd_volume.resize(n); g.nmd_rate.resize(n); g.block.resize(n); g.vel_bc.resize(n);
     g.vel_bc_value.resize(n); g.vel_bc_table.resize(n); g.half_kick.resize(n);
     for (auto& q : z.gp) {
@@ -262,6 +264,7 @@ void update_gridpoint_masses(Model& m) {
             g.stiffness[q[k]] += modulus * norms[k] * sum;
         }
     }
+    g.inertial_mass = g.mass; // until the cycle chooses them (mass_scaling.h)
 }
 
 void refresh_deformable_vertices(Model& m) {
@@ -365,12 +368,19 @@ std::vector<double> joint_stiffness_on_gridpoints(const Model& m) {
 
 } // namespace
 
+std::vector<double> gridpoint_stiffness(const Model& m) {
+    std::vector<double> k = m.gridpoints.stiffness;
+    const std::vector<double> joint = joint_stiffness_on_gridpoints(m);
+    for (size_t i = 0; i < joint.size() && i < k.size(); ++i) k[i] += joint[i];
+    return k;
+}
+
 double zone_critical_timestep(const Model& m) {
     const GridpointSet& g = m.gridpoints;
-    const std::vector<double> joint = joint_stiffness_on_gridpoints(m);
+    const std::vector<double> stiff = gridpoint_stiffness(m);
     double dt = 0;
     for (int i = 0; i < g.size(); ++i) {
-        const double k = g.stiffness[i] + (joint.empty() ? 0.0 : joint[i]);
+        const double k = stiff[i];
         if (!(g.mass[i] > 0) || !(k > 0) || g.vel_bc[i] == 7) continue;
         const double d = 2.0 * std::sqrt(g.mass[i] / k);
         if (dt == 0 || d < dt) dt = d;
@@ -502,13 +512,12 @@ void zone_forces(Model& m, double dt) {
     }
 }
 
-int integrate_gridpoints(Model& m, double dt, double* damping_power, double* forcing_power) {
+int integrate_gridpoints(Model& m, const Damping& d, double dt, double* damping_power, double* forcing_power) {
     GridpointSet& g = m.gridpoints;
-    const Damping& d = m.damping;
     int bad = -1;
     for (int i = 0; i < g.size(); ++i) {
-        const double mass = g.mass[i];
-        if (!(mass > 0)) {
+        const double mass = g.inertial_mass[i];
+        if (!(g.mass[i] > 0) || !(mass > 0)) {
             // Only null zones around it: it does not move.
             g.vel[i].setZero();
             continue;
@@ -698,11 +707,11 @@ int set_insitu_stress(Model& m, const Range& r, const Sym6& s, const Sym6& gx, c
 
 Vec3 gridpoint_velocity_at_t(const Model& m, int i) {
     const GridpointSet& g = m.gridpoints;
-    if (g.half_kick[i] || !(g.mass[i] > 0)) return g.vel[i];
+    if (g.half_kick[i] || !(g.mass[i] > 0) || !(g.inertial_mass[i] > 0)) return g.vel[i];
     Vec3 v = g.vel[i];
     // Half a step of the last acceleration (force over mass, damping aside).
     for (int k = 0; k < 3; ++k) {
-        if (!(g.vel_bc[i] & (1 << k))) v[k] += 0.5 * m.dt * g.force[i][k] / g.mass[i];
+        if (!(g.vel_bc[i] & (1 << k))) v[k] += 0.5 * m.dt * g.force[i][k] / g.inertial_mass[i];
     }
     return v;
 }

@@ -86,6 +86,8 @@ struct GridpointSet {
     std::vector<Vec3> applied;           // (n_gp) N, `bound xload ...` forces
     std::vector<Vec3> traction;          // (n_gp) N, `bound stress` (from the loaded faces)
     std::vector<double> mass;            // (n_gp) kg, rho V / 4 of the zones around
+    std::vector<double> inertial_mass;   // (n_gp) kg, what the integration divides forces by
+                                         //        (mass_scaling.h); gravity acts on `mass`
     std::vector<double> stiffness;       // (n_gp) N/m, for the timestep
     std::vector<double> force_scale;     // (n_gp) N, sum of magnitudes of the forces this step
     std::vector<double> nmd_volume;      // (n_gp) m^3, volume of the zones around (scratch)
@@ -129,6 +131,10 @@ void refresh_deformable_vertices(Model& m);
 // Why the zones cannot cycle (a zone without material, elastic moduli missing...), or "".
 std::string zones_problem(const Model& m);
 
+// The stiffness of each gridpoint for the timestep, N/m: the zones' bound (`stiffness`) and the
+// joints that can press on it (see zone_critical_timestep).
+std::vector<double> gridpoint_stiffness(const Model& m);
+
 // Largest stable timestep of the zones, s (0 when there are none). Where a deformable block
 // has something to touch, the stiffest joint material on its surface gridpoints counts too
 // (the contact surface must be ready: refresh_contact_surface).
@@ -142,7 +148,8 @@ void zone_forces(Model& m, double dt);
 // Gridpoint integration: velocities at t + dt/2, positions at t + dt. Returns the index of a
 // gridpoint whose motion became non-finite, or -1. Adds m v.v and |f.v| to the two power sums
 // when given (adaptive damping).
-int integrate_gridpoints(Model& m, double dt, double* damping_power, double* forcing_power);
+struct Damping;
+int integrate_gridpoints(Model& m, const Damping& d, double dt, double* damping_power, double* forcing_power);
 
 // Gridpoints of deformable blocks (not excavated) that the range selects by their position.
 std::vector<int> select_gridpoints(const Model& m, const Range& r);

@@ -157,6 +157,11 @@ auto fields(IO& io, M& x) -> If<M, TableSet> {
 template <class IO, class M>
 auto fields(IO& io, M& x) -> If<M, Settings> {
     io(x.dt_fixed); io(x.dtfrac); io(x.ctol); io(x.default_jmat); io(x.default_jcons); io(x.large_strain);
+    // Format 6: static and dynamic analysis (older files were computed dynamically, with real
+    // masses: they restore in dynamic mode).
+    if (io.format >= 6) {
+        io(x.dyn_configured); io(x.dynamic); io(x.mscale_dt);
+    }
 }
 
 template <class IO, class M>
@@ -192,6 +197,9 @@ auto fields(IO& io, M& x) -> If<M, BlockSet> {
     if (io.format >= 3) {
         io(x.cons); io(x.corner_gp); io(x.zone_edge); io(x.body);
     }
+    if (io.format >= 6) {
+        io(x.inertial_mass); io(x.inertial_moment);
+    }
     // Derived from the above, but written as they are so nothing is recomputed differently
     // (unless stale: see world_vertices_stale).
     io.world_vertices(x.vertex_offset, x.world_vertices);
@@ -211,6 +219,7 @@ auto fields(IO& io, M& x) -> If<M, GridpointSet> {
     io(x.pos); io(x.ref); io(x.vel); io(x.disp); io(x.force); io(x.applied); io(x.traction);
     io(x.mass); io(x.stiffness); io(x.force_scale); io(x.nmd_volume); io(x.nmd_rate); io(x.block);
     io(x.vel_bc); io(x.vel_bc_value); io(x.vel_bc_table); io(x.half_kick);
+    if (io.format >= 6) io(x.inertial_mass);
 }
 
 template <class IO, class M>
@@ -671,7 +680,7 @@ std::string check_zones_consistent(const Model& m) {
         g.applied.size() != ng || g.traction.size() != ng || g.mass.size() != ng || g.stiffness.size() != ng ||
         g.force_scale.size() != ng || g.nmd_volume.size() != ng || g.nmd_rate.size() != ng ||
         g.block.size() != ng || g.vel_bc.size() != ng || g.vel_bc_value.size() != ng ||
-        g.vel_bc_table.size() != ng || g.half_kick.size() != ng) {
+        g.vel_bc_table.size() != ng || g.half_kick.size() != ng || g.inertial_mass.size() != ng) {
         return "the gridpoint arrays differ in length";
     }
     if (nz > static_cast<size_t>(std::numeric_limits<int>::max()) ||
@@ -772,7 +781,7 @@ std::string check_consistent(const Model& m) {
     same(s.inertia_unit.size()); same(s.material.size()); same(s.region.size()); same(s.group.size());
     same(s.flags.size()); same(s.vel_bc.size()); same(s.vel_bc_value.size()); same(s.vel_bc_table.size());
     same(s.half_kick.size()); same(s.cons.size()); same(s.corner_gp.size()); same(s.zone_edge.size());
-    same(s.body.size());
+    same(s.body.size()); same(s.inertial_mass.size()); same(s.inertial_moment.size());
     if (!sizes_ok) return "the block arrays differ in length";
     if (!s.vertex_offset.empty() && !world_vertices_stale(m)) {
         if (s.vertex_offset.size() != n + 1 || s.vertex_offset[0] != 0) return "the world vertex offsets are wrong";
@@ -946,6 +955,8 @@ std::string check_values(const Model& m) {
     c.at_least(st.ctol, 0, "the contact tolerance");
     if (st.default_jmat < 1 || st.default_jmat > 1000000) c.fail("the default joint material is out of range");
     if (st.default_jcons < 1 || st.default_jcons > 2) c.fail("the default joint model is out of range");
+    c.at_least(st.mscale_dt, 0, "the mscale timestep");
+    if (st.dynamic && !st.dyn_configured) c.fail("dynamic mode is on without 'config dyn'");
     // Damping, as 'damp' limits it.
     const Damping& d = m.damping;
     if (c.finite(d.local, "the local damping") && !(d.local >= 0 && d.local < 1)) c.fail("the local damping is outside [0, 1)");
@@ -1013,6 +1024,11 @@ std::string check_values(const Model& m) {
         c.vec(s.rotation[b], w, "the rotation");
         if (c.finite(s.volume[b], w, "the volume") && !(s.volume[b] > 0)) c.fail(w, "the volume is not positive");
         c.at_least(s.mass[b], 0, w, "the mass");
+        // The integration divides by the inertial mass of every block that has a mass.
+        if (c.at_least(s.inertial_mass[b], 0, w, "the inertial mass") && s.mass[b] > 0 && !(s.inertial_mass[b] > 0)) {
+            c.fail(w, "the inertial mass is zero for a block with mass");
+        }
+        c.at_least(s.inertial_moment[b], 0, w, "the inertial moment");
         c.mat(s.inertia_body[b], w, "the inertia");
         c.mat(s.inertia_unit[b], w, "the unit inertia");
         if (s.material[b] < 1 || s.material[b] > 1000000) c.fail(w, "the material number is out of range");
@@ -1059,6 +1075,9 @@ std::string check_values(const Model& m) {
         c.vec(g.applied[i], w, "the applied force");
         c.vec(g.traction[i], w, "the traction");
         c.at_least(g.mass[i], 0, w, "the mass");
+        if (c.at_least(g.inertial_mass[i], 0, w, "the inertial mass") && g.mass[i] > 0 && !(g.inertial_mass[i] > 0)) {
+            c.fail(w, "the inertial mass is zero for a gridpoint with mass");
+        }
         c.at_least(g.stiffness[i], 0, w, "the stiffness");
         c.at_least(g.force_scale[i], 0, w, "the force scale");
         c.at_least(g.nmd_volume[i], 0, w, "the volume around it");
@@ -1539,6 +1558,14 @@ bool restore_model(const std::string& path, Model& out, std::string& error) {
             fresh.blocks.body.assign(n, 0);
         }
         if (file_format < 4) fresh.contacts.sub_tri.assign(fresh.contacts.sub_contact.size(), {-1, -1, -1});
+        if (file_format < 6) {
+            // Computed with real masses and real time: they go on in dynamic mode.
+            fresh.settings.dyn_configured = true;
+            fresh.settings.dynamic = true;
+            fresh.blocks.inertial_mass = fresh.blocks.mass;
+            fresh.blocks.inertial_moment.assign(fresh.blocks.mass.size(), 0.0);
+            fresh.gridpoints.inertial_mass = fresh.gridpoints.mass;
+        }
     } catch (const ReadFailure& f) {
         return refuse(std::strerror(f.error_number));
     } catch (const ReadError& e) {

@@ -18,7 +18,7 @@ namespace odec {
 // layout may read older ones.
 // 2: histories follow a material point; 3: deformable blocks (zones, gridpoints, `bound stress`
 // faces, zone and reaction histories) and the zone stage of the profile.
-constexpr std::uint32_t kSaveFormatVersion = 5;
+constexpr std::uint32_t kSaveFormatVersion = 6;
 
 // Write the model to `path`. A model that restore would refuse (a velocity that is not a finite
 // number after a run-away, an index out of range) is not written: save and restore run the

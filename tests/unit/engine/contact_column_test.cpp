@@ -16,6 +16,7 @@ namespace {
 
 Model column(int n) {
     Model m;
+    m.settings.dyn_configured = m.settings.dynamic = true; // real masses and time: dynamics
     set_material(m, 1, 2000);
     set_joint(m, 1, 1e7, 1e7, 30);
     m.gravity = Vec3(0, 0, -10);

@@ -18,6 +18,7 @@ constexpr double kPsi = 40.0 * M_PI / 180.0;
 // in the normal direction. Returns the model; block index 1 is the sliding block.
 Model incline(double phi_deg, double height) {
     Model m;
+    m.settings.dyn_configured = m.settings.dynamic = true; // real masses and time: dynamics
     set_material(m, 1, 2000);
     set_joint(m, 1, 1e7, 1e7, phi_deg);
     m.gravity = Vec3(0, 0, -10);

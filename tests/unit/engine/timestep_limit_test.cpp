@@ -18,6 +18,7 @@ namespace {
 // with `gap` m between neighbours.
 Model stack(double gap) {
     Model m;
+    m.settings.dyn_configured = m.settings.dynamic = true; // real masses and time: dynamics
     set_material(m, 1, 2000);
     set_joint(m, 1, 1e9, 1e9, 30);
     m.gravity = Vec3(0, 0, -10);
@@ -116,6 +117,7 @@ TEST(TimestepLimit, ABlockJumpingPastItsNeighboursIsStopped) {
     // Two blocks far apart and no joint material: nothing limits the step, but a block that
     // moves more than half its size per step cannot meet the other.
     Model m;
+    m.settings.dyn_configured = m.settings.dynamic = true; // real masses and time: dynamics
     set_material(m, 1, 2000);
     m.gravity = Vec3(0, 0, -10);
     add_fixed(m, make_brick(0, 1, 0, 1, -1, 0));
@@ -140,6 +142,7 @@ TEST(TimestepLimit, ABlockJumpingPastItsNeighboursIsStopped) {
 TEST(TimestepLimit, FreeFallAndUndampedBouncingDoNotTrip) {
     // Free fall with damping off: all kinetic energy comes from gravity's work.
     Model m;
+    m.settings.dyn_configured = m.settings.dynamic = true; // real masses and time: dynamics
     set_material(m, 1, 2000);
     m.gravity = Vec3(0, 0, -10);
     add_block(m, make_brick(0, 1, 0, 1, 0, 1), 0, -1, 1);
@@ -157,6 +160,7 @@ TEST(TimestepLimit, FreeFallAndUndampedBouncingDoNotTrip) {
 TEST(TimestepLimit, ABlockSinkingThroughSoftJointsIsStopped) {
     // jkn = 1e4 Pa/m cannot hold 40 kPa: block 2 sinks into the base, stably but for good.
     Model m;
+    m.settings.dyn_configured = m.settings.dynamic = true; // real masses and time: dynamics
     set_material(m, 1, 2000);
     set_joint(m, 1, 1e4, 1e4, 30);
     m.gravity = Vec3(0, 0, -10);

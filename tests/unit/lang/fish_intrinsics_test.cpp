@@ -333,7 +333,7 @@ TEST(FishIntrinsics, ZonesAndGridpointsOfAStressedCube) {
     // A zoned 1 m cube (2000 kg) under sxx -1, syy -2, szz -3, sxy 0.5 MPa: principal stresses
     // -3, -1.5 -/+ sqrt(0.5) MPa.
     Session s;
-    ASSERT_TRUE(s.run("poly brick 0 1 0 1 0 1\nprop mat=1 dens=2000 ymod=1e9 prat=0.25\ngen edge 0.5\n"
+    ASSERT_TRUE(s.run("config dyn\npoly brick 0 1 0 1 0 1\nprop mat=1 dens=2000 ymod=1e9 prat=0.25\ngen edge 0.5\n"
                       "insitu stress -1e6 -2e6 -3e6 5e5 0 0\n"))
         << s.error();
     run_cases(s,

@@ -107,7 +107,7 @@ TEST(Numbers, SetDtAutoGivesTheStepBackToTheAutomaticOne) {
 
 TEST(Numbers, AForcedTimestepBeyondTheStableLimitIsRefusedByStep) {
     Session s;
-    ASSERT_TRUE(s.run(std::string(kStack) + "set dt 2e-3")) << s.error();
+    ASSERT_TRUE(s.run("config dyn\n" + std::string(kStack) + "set dt 2e-3")) << s.error();
     const odec::Vec3 top = s.model.blocks.centroid[3];
     EXPECT_FALSE(s.run("step 1000"));
     EXPECT_EQ(s.error(),

@@ -258,7 +258,7 @@ TEST(Commands, ContactHistoriesByPointOrId) {
     Session s;
     ASSERT_TRUE(s.run("poly brick 0 1 0 1 -1 0 region 1\npoly brick 0 1 0 1 0 1\nprop mat=1 dens=2000\n"
                       "prop jmat=1 jkn=1e7 jks=1e7 jfric=30\ngrav 0 0 -10\nfix range region 1\n"
-                      "hist nstress 0.5,0.5,0\nhist ndis contact 1\nsolve"))
+                      "hist ncyc 1\nhist nstress 0.5,0.5,0\nhist ndis contact 1\nsolve"))
         << s.error();
     EXPECT_NEAR(s.model.histories.items[0].values.back(), 20000.0, 200.0);
     EXPECT_NEAR(s.model.histories.items[1].values.back(), 0.002, 2e-5);

@@ -1,0 +1,233 @@
+#include "engine/mass_scaling.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "engine/contact.h"
+#include "engine/model.h"
+#include "engine/zones.h"
+
+namespace odec {
+
+namespace {
+
+// A gridpoint's stable step is 0.9 * 2 sqrt(m / k) (zones.h): m = k (dt / 1.8)^2 makes it dt.
+constexpr double kGridpointSpan = 1.8;
+// Rigid blocks: m = s kt dt^2, I = s kr dt^2 (see the header).
+constexpr double kBlockFactor = 1.0 / (0.9 * 0.9);
+// The least a rigid block's mass and inertia are scaled to, as a fraction of the real ones.
+constexpr double kBlockFloor = 1.0 / 16.0;
+
+bool moves_as_rigid(const BlockSet& s, int b) {
+    return !(s.flags[b] & (kExcavated | kDeformable | kFixed)) && s.mass[b] > 0;
+}
+
+// The velocity that keeps the kinetic energy from rising when the mass goes from m0 to m1:
+// the momentum when it grows, the velocity when it shrinks.
+inline double velocity_factor(double m0, double m1) { return (m0 > 0 && m1 > m0) ? m0 / m1 : 1.0; }
+
+// Inertia a block's rotation uses now, for comparing with a new one (kg m^2).
+double current_moment(const BlockSet& s, int b) {
+    if (s.inertial_moment[b] > 0) return s.inertial_moment[b];
+    const double f = s.mass[b] > 0 ? s.inertial_mass[b] / s.mass[b] : 1.0;
+    return f * s.inertia_body[b].trace() / 3.0;
+}
+
+void set_block(BlockSet& s, int b, double mass, double moment) {
+    const double fv = velocity_factor(s.inertial_mass[b], mass);
+    const double fw = velocity_factor(current_moment(s, b), moment > 0 ? moment : current_moment(s, b) * mass /
+                                                                                   std::max(s.inertial_mass[b], 1e-300));
+    s.vel[b] *= fv;
+    s.ang_vel[b] *= fw;
+    s.inertial_mass[b] = mass;
+    s.inertial_moment[b] = moment;
+}
+
+void set_gridpoint(GridpointSet& g, int i, double mass) {
+    g.vel[i] *= velocity_factor(g.inertial_mass[i], mass);
+    g.inertial_mass[i] = mass;
+}
+
+// Median of the gridpoints' own stable steps with real masses, s (0: none).
+double median_gridpoint_timestep(const Model& m, const std::vector<double>& k) {
+    const GridpointSet& g = m.gridpoints;
+    std::vector<double> steps;
+    steps.reserve(g.size());
+    for (int i = 0; i < g.size(); ++i) {
+        if (!(g.mass[i] > 0) || !(k[i] > 0) || g.vel_bc[i] == 7) continue;
+        steps.push_back(kGridpointSpan * std::sqrt(g.mass[i] / k[i]));
+    }
+    if (steps.empty()) return 0;
+    auto mid = steps.begin() + static_cast<long>(steps.size() / 2);
+    std::nth_element(steps.begin(), mid, steps.end());
+    return *mid;
+}
+
+double total_real_mass(const Model& m) {
+    double total = 0;
+    const BlockSet& s = m.blocks;
+    for (int b = 0; b < s.size(); ++b) {
+        if (moves_as_rigid(s, b)) total += s.mass[b];
+    }
+    const GridpointSet& g = m.gridpoints;
+    for (int i = 0; i < g.size(); ++i) {
+        if (g.mass[i] > 0 && g.vel_bc[i] != 7) total += g.mass[i];
+    }
+    return total;
+}
+
+void real_masses(Model& m) {
+    BlockSet& s = m.blocks;
+    for (int b = 0; b < s.size(); ++b) {
+        if (s.inertial_mass[b] != s.mass[b] || s.inertial_moment[b] != 0) set_block(s, b, s.mass[b], 0.0);
+    }
+    GridpointSet& g = m.gridpoints;
+    for (int i = 0; i < g.size(); ++i) {
+        if (g.inertial_mass[i] != g.mass[i]) set_gridpoint(g, i, g.mass[i]);
+    }
+}
+
+// Dynamic mode with `mscale dt`: raise what needs it; returns the report's counts.
+void partial_scaling(Model& m, double target, MassScalingReport& r) {
+    r.min_factor = r.max_factor = 0;
+    auto count = [&](double real, double scaled) {
+        const double f = scaled / real;
+        r.added += scaled - real;
+        r.min_factor = r.min_factor > 0 ? std::min(r.min_factor, f) : f;
+        r.max_factor = std::max(r.max_factor, f);
+    };
+    GridpointSet& g = m.gridpoints;
+    const std::vector<double> k = gridpoint_stiffness(m);
+    for (int i = 0; i < g.size(); ++i) {
+        if (!(g.mass[i] > 0) || !(k[i] > 0) || g.vel_bc[i] == 7) continue;
+        const double need = k[i] * (target / kGridpointSpan) * (target / kGridpointSpan);
+        if (need > g.mass[i]) {
+            set_gridpoint(g, i, need);
+            count(g.mass[i], need);
+            ++r.n_gridpoints;
+        }
+    }
+    // Blocks: the automatic step is dtfrac * 2 sqrt(m / k) with k the stiffest contact.
+    BlockSet& s = m.blocks;
+    const ContactSet& cs = m.contacts;
+    double k_max = 0;
+    for (int c = 0; c < cs.size(); ++c) {
+        const int jm = cs.jmat[c];
+        if (jm <= 0 || jm >= static_cast<int>(m.joint_materials.size()) || !m.joint_materials[jm].defined) continue;
+        const JointMaterial& j = m.joint_materials[jm];
+        double area = 0;
+        for (int i = cs.sub_offset[c]; i < cs.sub_offset[c + 1]; ++i) area += cs.sub_area[i];
+        k_max = std::max(k_max, std::max(j.kn, j.ks) * area);
+    }
+    if (k_max > 0) {
+        const double span = 2.0 * m.settings.dtfrac;
+        const double need = k_max * (target / span) * (target / span);
+        for (int b = 0; b < s.size(); ++b) {
+            if (!moves_as_rigid(s, b) || !(need > s.mass[b])) continue;
+            set_block(s, b, need, 0.0);
+            count(s.mass[b], need);
+            ++r.n_blocks;
+        }
+    }
+}
+
+} // namespace
+
+void scale_block_masses(Model& m) {
+    BlockSet& s = m.blocks;
+    const ContactSet& cs = m.contacts;
+    const int n = s.size();
+    thread_local std::vector<double> kt, kr;
+    kt.assign(n, 0.0);
+    kr.assign(n, 0.0);
+    const int n_jmat = static_cast<int>(m.joint_materials.size());
+    for (int c = 0; c < cs.size(); ++c) {
+        const int jm = cs.jmat[c];
+        if (jm <= 0 || jm >= n_jmat || !m.joint_materials[jm].defined) continue;
+        const int a = cs.block_a[c], b = cs.block_b[c];
+        const bool ra = moves_as_rigid(s, a), rb = moves_as_rigid(s, b);
+        if (!ra && !rb) continue;
+        const double k = std::max(m.joint_materials[jm].kn, m.joint_materials[jm].ks);
+        for (int i = cs.sub_offset[c]; i < cs.sub_offset[c + 1]; ++i) {
+            const double ki = k * cs.sub_area[i];
+            if (!(ki > 0)) continue;
+            const Vec3 x = sub_point(m, c, i);
+            if (ra) {
+                kt[a] += ki;
+                kr[a] += ki * (x - s.centroid[a]).squaredNorm();
+            }
+            if (rb) {
+                kt[b] += ki;
+                kr[b] += ki * (x - s.centroid[b]).squaredNorm();
+            }
+        }
+    }
+    const double dt2 = m.dt * m.dt;
+    for (int b = 0; b < n; ++b) {
+        if (!moves_as_rigid(s, b)) continue;
+        if (!(kt[b] > 0) || !std::isfinite(kt[b])) {
+            // Touching nothing: it moves as its real mass would.
+            if (s.inertial_mass[b] != s.mass[b] || s.inertial_moment[b] != 0) set_block(s, b, s.mass[b], 0.0);
+            continue;
+        }
+        // Never below a fraction of the real mass and inertia: a block losing its last contact
+        // area (a wedge sliding off) would otherwise be thrown by its own weight.
+        const double real_moment = s.inertia_body[b].trace() / 3.0;
+        const double mass = std::max(kBlockFactor * kt[b] * dt2, kBlockFloor * s.mass[b]);
+        // Springs all at the centroid give no turning stiffness: the real inertia per unit
+        // mass, at the scaled mass, then.
+        const double moment = kr[b] > 0 ? std::max(kBlockFactor * kr[b] * dt2, kBlockFloor * real_moment)
+                                        : mass * real_moment / s.mass[b];
+        if (mass != s.inertial_mass[b] || moment != s.inertial_moment[b]) set_block(s, b, mass, moment);
+    }
+}
+
+std::string choose_timestep_and_masses(Model& m, double rigid_dt, double zone_dt) {
+    MassScalingReport r;
+    r.is_static = !m.settings.dynamic;
+    r.total = total_real_mass(m);
+    double real_dt = rigid_dt;
+    if (zone_dt > 0 && (!(real_dt > 0) || zone_dt < real_dt)) real_dt = zone_dt;
+    r.real_dt = real_dt;
+    double dt = 0;
+    if (r.is_static) {
+        if (m.settings.dt_fixed > 0) {
+            dt = m.settings.dt_fixed;
+        } else {
+            const double zone_static = median_gridpoint_timestep(m, gridpoint_stiffness(m));
+            dt = rigid_dt;
+            if (zone_static > 0 && (!(dt > 0) || zone_static < dt)) dt = zone_static;
+        }
+        if (!(dt > 0)) {
+            return "no timestep: there are no contacts or zones to set one, so give it with 'set dt'";
+        }
+        m.dt = dt;
+        GridpointSet& g = m.gridpoints;
+        const std::vector<double> k = gridpoint_stiffness(m);
+        const double span2 = (dt / kGridpointSpan) * (dt / kGridpointSpan);
+        for (int i = 0; i < g.size(); ++i) {
+            const double mass = (g.mass[i] > 0 && k[i] > 0) ? k[i] * span2 : g.mass[i];
+            if (mass != g.inertial_mass[i]) set_gridpoint(g, i, mass);
+        }
+        scale_block_masses(m);
+    } else {
+        real_masses(m);
+        dt = m.settings.dt_fixed > 0 ? m.settings.dt_fixed : real_dt;
+        if (!(dt > 0)) {
+            return "no timestep: there are no contacts or zones to set one, so give it with 'set dt'";
+        }
+        if (m.settings.dt_fixed <= 0 && m.settings.mscale_dt > dt) {
+            partial_scaling(m, m.settings.mscale_dt, r);
+            dt = m.settings.mscale_dt;
+        }
+        m.dt = dt;
+    }
+    r.dt = m.dt;
+    const MassScalingReport& old = m.mass_scaling;
+    r.fresh = old.fresh || r.is_static != old.is_static || r.dt != old.dt || r.n_gridpoints != old.n_gridpoints ||
+              r.n_blocks != old.n_blocks;
+    m.mass_scaling = r;
+    return "";
+}
+
+} // namespace odec
