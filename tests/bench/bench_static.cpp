@@ -1,0 +1,117 @@
+// Static-solution benchmark: steps and CPU seconds to equilibrium of the project's static
+// examples in three ways: dynamic mode (real masses, what odec did before density scaling),
+// static mode with local damping (the default) and static mode with adaptive damping ('damp
+// auto'). Prints, per model and way: steps, CPU seconds, the timestep, and the answer the
+// example is checked on, beside its analytic value.
+// Usage: bench_static [--quick] [model ...]   (models: column kirsch tunnel-stress prandtl)
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <ctime>
+#include <fstream>
+#include <functional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "commands.h"
+#include "engine/model.h"
+#include "engine/zones.h"
+#include "lang/interpreter.h"
+
+using namespace odec;
+
+namespace {
+
+double cpu_seconds() {
+    timespec t;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+std::string slurp(const std::string& path) {
+    std::ifstream in(path);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+enum class Way { Dynamic, StaticLocal, StaticAuto };
+const char* way_name(Way w) {
+    return w == Way::Dynamic ? "dynamic (real masses)" : w == Way::StaticLocal ? "static, damp local" : "static, damp auto";
+}
+
+// The example's text made to run one way: without pictures, without its own 'damp auto', with
+// 'config dyn' after 'new' (dynamic) or 'damp auto' before the first solve or step.
+std::string variant(const std::string& text, Way way) {
+    std::istringstream in(text);
+    std::string line, out;
+    bool damped = false;
+    while (std::getline(in, line)) {
+        std::string word = line.substr(0, line.find_first_of(" \t"));
+        if (word == "plot" || word == "damp" || word == "config") continue;
+        if (way == Way::StaticAuto && !damped && (word == "solve" || word == "step")) {
+            out += "damp auto\n";
+            damped = true;
+        }
+        out += line + "\n";
+        if (word == "new" && way == Way::Dynamic) out += "config dyn\n";
+    }
+    return out;
+}
+
+struct Model_ {
+    const char* name;
+    std::string file;           // under examples/
+    const char* quantity;       // what is compared
+    double analytic;
+    std::function<double(const Model&)> answer;
+};
+
+double gp_disp(const Model& m, Vec3 x, int k) { return m.gridpoints.disp[find_gridpoint_near(m, x)][k]; }
+
+} // namespace
+
+int main(int argc, char** argv) {
+    bool quick = false;
+    std::vector<std::string> only;
+    for (int i = 1; i < argc; ++i) {
+        if (!std::strcmp(argv[i], "--quick")) quick = true;
+        else only.push_back(argv[i]);
+    }
+    const std::string ex = std::string(ODEC_SOURCE_DIR) + "/examples/";
+    const double prandtl = (2 + M_PI) * 1e5;
+    std::vector<Model_> models = {
+        {"kirsch", "verification/kirsch.dat", "crown displacement, m", 6.91e-3,
+         [](const Model& m) { return -gp_disp(m, {0, 0.25, 1}, 2); }},
+        {"tunnel-stress", "tutorial/tunnel-stress.dat", "crown displacement, m", 0,
+         [](const Model& m) { return -gp_disp(m, {0, 0.25, 1}, 2); }},
+        {"prandtl", "verification/footing-prandtl.dat", "bearing pressure at the end, Pa", prandtl,
+         [](const Model& m) { return m.histories.items.at(0).values.back() / 0.1; }},
+    };
+    std::printf("%-14s %-24s %9s %9s %11s %14s %12s  %s\n", "model", "way", "steps", "cpu s", "dt s", "answer",
+                "analytic", "quantity");
+    for (const Model_& mod : models) {
+        if (!only.empty() && std::find(only.begin(), only.end(), mod.name) == only.end()) continue;
+        if (quick && std::string(mod.name) != "tunnel-stress") continue;
+        const std::string text = slurp(ex + mod.file);
+        for (Way way : {Way::Dynamic, Way::StaticLocal, Way::StaticAuto}) {
+            Model m;
+            std::ostringstream out, err;
+            Interpreter in(m, command_table(), out, err);
+            in.quiet = true;
+            const double t0 = cpu_seconds();
+            const bool ok = in.run_text(mod.file, variant(text, way), false);
+            const double t = cpu_seconds() - t0;
+            if (!ok) {
+                std::printf("%-14s %-24s failed: %s\n", mod.name, way_name(way), err.str().c_str());
+                continue;
+            }
+            std::printf("%-14s %-24s %9ld %9.2f %11.4g %14.6g %12.6g  %s\n", mod.name, way_name(way), m.step, t, m.dt,
+                        mod.answer(m), mod.analytic, mod.quantity);
+            std::fflush(stdout);
+        }
+    }
+    return 0;
+}
