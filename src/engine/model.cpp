@@ -12,6 +12,7 @@ const char* stage_name(Stage s) {
     case Stage::Zones: return "zones";
     case Stage::Integrate: return "integrate";
     case Stage::Record: return "record";
+    case Stage::Checks: return "checks";
     case Stage::Count: break;
     }
     return "?";

@@ -118,7 +118,7 @@ struct BlockSet {
 };
 
 // Cycle stages, timed into Profile.
-enum class Stage { ApplyLoads, DetectContacts, UpdateContacts, Zones, Integrate, Record, Count };
+enum class Stage { ApplyLoads, DetectContacts, UpdateContacts, Zones, Integrate, Record, Checks, Count };
 const char* stage_name(Stage s);
 
 struct Profile {

@@ -512,50 +512,6 @@ void zone_forces(Model& m, double dt) {
     }
 }
 
-int integrate_gridpoints(Model& m, const Damping& d, double dt, double* damping_power, double* forcing_power) {
-    GridpointSet& g = m.gridpoints;
-    int bad = -1;
-    for (int i = 0; i < g.size(); ++i) {
-        const double mass = g.inertial_mass[i];
-        if (!(g.mass[i] > 0) || !(mass > 0)) {
-            // Only null zones around it: it does not move.
-            g.vel[i].setZero();
-            continue;
-        }
-        const double kick = g.half_kick[i] ? 0.5 * dt : dt;
-        const double scale = g.vel_bc[i] ? m.table_factor(g.vel_bc_table[i]) : 1.0;
-        Vec3 v;
-        for (int k = 0; k < 3; ++k) {
-            if (g.vel_bc[i] & (1 << k)) {
-                v[k] = g.vel_bc_value[i][k] * scale;
-                continue;
-            }
-            const double f = g.force[i][k], vk = g.vel[i][k];
-            double fd = f;
-            switch (d.mode) {
-            case DampingMode::Local: fd = f - d.local * std::abs(f) * sign(vk); break;
-            case DampingMode::Auto: fd = f - d.auto_coefficient * mass * vk; break;
-            case DampingMode::Rayleigh:
-                fd = f - 2.0 * d.rayleigh_fraction * 2.0 * M_PI * d.rayleigh_frequency * mass * vk;
-                break;
-            case DampingMode::Off: break;
-            }
-            v[k] = vk + fd / mass * kick;
-        }
-        if (damping_power) {
-            *damping_power += mass * g.vel[i].squaredNorm();
-            *forcing_power += std::abs(g.force[i].dot(g.vel[i]));
-        }
-        g.vel[i] = v;
-        const Vec3 dx = v * dt;
-        g.pos[i] += dx;
-        g.disp[i] += dx;
-        g.half_kick[i] = 0;
-        if (bad < 0 && !(v.allFinite() && g.pos[i].allFinite())) bad = i;
-    }
-    return bad;
-}
-
 std::vector<int> select_gridpoints(const Model& m, const Range& r) {
     const GridpointSet& g = m.gridpoints;
     std::vector<int> out;

@@ -145,11 +145,7 @@ double zone_critical_timestep(const Model& m);
 // into force_scale, for the unbalanced-force ratio.
 void zone_forces(Model& m, double dt);
 
-// Gridpoint integration: velocities at t + dt/2, positions at t + dt. Returns the index of a
-// gridpoint whose motion became non-finite, or -1. Adds m v.v and |f.v| to the two power sums
-// when given (adaptive damping).
-struct Damping;
-int integrate_gridpoints(Model& m, const Damping& d, double dt, double* damping_power, double* forcing_power);
+// Gridpoint integration is part of the integrate stage (stages.h).
 
 // Gridpoints of deformable blocks (not excavated) that the range selects by their position.
 std::vector<int> select_gridpoints(const Model& m, const Range& r);

@@ -172,14 +172,16 @@ auto fields(IO& io, M& x) -> If<M, Damping> {
 
 template <class IO, class M>
 auto fields(IO& io, M& x) -> If<M, Profile> {
-    // Format 3 added the zone stage; older files time the other five, in the same order.
-    const int expected = static_cast<int>(Stage::Count) - (io.format >= 3 ? 0 : 1);
+    // Format 3 added the zone stage, format 6 the checks; older files time the others, in the
+    // same order.
+    const int expected = static_cast<int>(Stage::Count) - (io.format >= 3 ? 0 : 1) - (io.format >= 6 ? 0 : 1);
     int n_stages = expected;
     io(n_stages);
     io.check(n_stages == expected, "the profile has " + std::to_string(n_stages) + " stages, save format " +
                                        std::to_string(io.format) + " has " + std::to_string(expected));
     for (int k = 0; k < static_cast<int>(Stage::Count); ++k) {
         if (io.format < 3 && k == static_cast<int>(Stage::Zones)) continue;
+        if (io.format < 6 && k == static_cast<int>(Stage::Checks)) continue;
         io(x.seconds[k]);
     }
     io(x.steps);

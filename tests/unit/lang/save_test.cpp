@@ -632,5 +632,5 @@ TEST(SaveLayout, EveryFieldIsSaved) {
     EXPECT_EQ(count_fields<TableSet>(), 1u) << fix;
     EXPECT_EQ(count_fields<Damping>(), 5u) << fix;
     EXPECT_EQ(count_fields<Settings>(), 9u) << fix;
-    EXPECT_EQ(count_fields<Profile>(), 7u) << fix; // 6 stage times and the step count
+    EXPECT_EQ(count_fields<Profile>(), 8u) << fix; // 7 stage times and the step count
 }

@@ -1,0 +1,135 @@
+// The checks stage: run-aways told by speed, by sinking and by energy; the unbalanced force.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "engine/blocks.h"
+#include "engine/contact.h"
+#include "engine/contact_gridpoint.h"
+#include "engine/mass_scaling.h"
+#include "engine/stages.h"
+
+namespace odec {
+
+// Kinetic energy of a free block, J (velocities at t - dt/2), leaving out the velocity
+// components a boundary condition prescribes: those are imposed, not earned.
+double kinetic_energy(const BlockSet& s, int b) {
+    const Vec3 w = s.ang_vel[b];
+    Vec3 v = s.vel[b];
+    for (int i = 0; i < 3; ++i) {
+        if (s.vel_bc[b] & (1 << i)) v[i] = 0;
+    }
+    // With the masses the integration uses: what the forces' work turns into (mass_scaling.h).
+    const double mass = s.inertial_mass[b];
+    double spin;
+    if (s.inertial_moment[b] > 0) {
+        spin = s.inertial_moment[b] * w.squaredNorm();
+    } else {
+        const Mat3 r = s.orientation[b].toRotationMatrix();
+        spin = (mass / s.mass[b]) * w.dot(r * s.inertia_body[b] * r.transpose() * w);
+    }
+    return 0.5 * mass * v.squaredNorm() + 0.5 * spin;
+}
+
+// The likely cause of a run-away of block b, for the message.
+std::string runaway_cause(const Model& m, int b) {
+    std::string cause = m.settings.dt_fixed > 0
+                            ? "the forced timestep (set dt " + num_text(m.settings.dt_fixed) +
+                                  ") is too large for the stiffnesses: try 'set dt auto'"
+                            : "the timestep is too large for the stiffnesses";
+    const Vec3& f = m.blocks.applied_force[b];
+    if (f.squaredNorm() > 0) {
+        cause = "the load applied to block " + std::to_string(m.blocks.id[b]) + " ('bound ...load', " +
+                num_text(f.stableNorm()) + " N) is too large for what holds it, or " + cause;
+    } else if (m.settings.dt_fixed <= 0) {
+        cause += ", or a load is unbounded";
+    }
+    return cause;
+}
+
+std::string runaway_after_step(EnergyWatch& watch, const Model& m) {
+    double energy = 0, available = 0;
+    int jumper = -1;
+    const int runaway = watch.check(m, energy, available, jumper);
+    if (jumper >= 0) {
+        return "the motion of block " + std::to_string(m.blocks.id[jumper]) + " has run away (step " +
+                      std::to_string(m.step) + "): it moved " + num_text(m.blocks.vel[jumper].stableNorm() * m.dt) +
+                      " m in one step, more than half its size, passing through the blocks in its way "
+                      "unseen; likely cause: " + runaway_cause(m, jumper);
+    }
+    double depth = 0;
+    const int deep = runaway < 0 ? watch.sunk(m, depth) : -1;
+    if (deep >= 0) {
+        const ContactSet& cs = m.contacts;
+        const BlockSet& s = m.blocks;
+        // The block that moves: the free one, or the lighter.
+        int mover = cs.block_b[deep], other = cs.block_a[deep];
+        if ((s.flags[mover] & kFixed) || (!(s.flags[other] & kFixed) && s.mass[other] < s.mass[mover])) {
+            std::swap(mover, other);
+        }
+        const int jm = cs.jmat[deep];
+        const bool has_jmat = jm > 0 && jm < static_cast<int>(m.joint_materials.size());
+        return "the motion of block " + std::to_string(s.id[mover]) + " has run away (step " +
+                      std::to_string(m.step) + "): it has sunk " + num_text(depth) + " m into block " +
+                      std::to_string(s.id[other]) + ", more than half the smaller block's size; likely cause: " +
+                      (has_jmat ? "the joints (jmat " + std::to_string(jm) + ", jkn " +
+                                      num_text(m.joint_materials[jm].kn) + " Pa/m) are too soft for the load on them"
+                                : std::string("the contact has no joint material to hold it")) +
+                      (m.settings.dt_fixed > 0 ? ", or the forced timestep is too large" : "");
+    }
+    if (runaway >= 0) {
+        return "the motion of block " + std::to_string(m.blocks.id[runaway]) + " has run away (step " +
+                      std::to_string(m.step) + "): the kinetic energy, " + num_text(energy) +
+                      " J, is far beyond the " + num_text(available) +
+                      " J that the loads and the initial state could have given; likely cause: " +
+                      runaway_cause(m, runaway);
+    }
+    return "";
+}
+
+double max_unbalanced_force(const Model& m) {
+    const BlockSet& s = m.blocks;
+    double fmax = 0;
+    for (int b = 0; b < s.size(); ++b) {
+        if (!is_rigid_active(s, b) || (s.flags[b] & kFixed)) continue;
+        Vec3 f = s.force[b];
+        for (int i = 0; i < 3; ++i) {
+            if (s.vel_bc[b] & (1 << i)) f[i] = 0;
+        }
+        fmax = std::max(fmax, f.norm());
+    }
+    const GridpointSet& g = m.gridpoints;
+    for (int i = 0; i < g.size(); ++i) {
+        if (!(g.mass[i] > 0) || g.vel_bc[i] == 7) continue;
+        Vec3 f = g.force[i];
+        for (int k = 0; k < 3; ++k) {
+            if (g.vel_bc[i] & (1 << k)) f[k] = 0;
+        }
+        fmax = std::max(fmax, f.norm());
+    }
+    return fmax;
+}
+
+double unbalanced_ratio(const Model& m) {
+    const BlockSet& s = m.blocks;
+    double unbal = 0, total = 0;
+    for (int b = 0; b < s.size(); ++b) {
+        if (!is_rigid_active(s, b) || (s.flags[b] & kFixed)) continue;
+        unbal += s.force[b].norm();
+        total += s.force_scale[b];
+    }
+    const GridpointSet& g = m.gridpoints;
+    for (int i = 0; i < g.size(); ++i) {
+        if (!(g.mass[i] > 0) || g.vel_bc[i] == 7) continue;
+        Vec3 f = g.force[i];
+        for (int k = 0; k < 3; ++k) {
+            if (g.vel_bc[i] & (1 << k)) f[k] = 0;
+        }
+        unbal += f.norm();
+        total += g.force_scale[i];
+    }
+    return total > 0 ? unbal / total : 0.0;
+}
+
+} // namespace odec

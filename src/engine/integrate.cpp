@@ -1,0 +1,194 @@
+// The integration stage: central differences for rigid blocks and gridpoints, under one
+// damping law (see cycle.h for the law, mass_scaling.h for the masses).
+#include <algorithm>
+#include <cmath>
+
+#include "engine/mass_scaling.h"
+#include "engine/stages.h"
+#include "engine/table.h"
+
+namespace odec {
+
+namespace {
+
+// Damped force component f acting on a degree of freedom moving at v.
+inline double damp_component(const Damping& d, double f, double v, double mass, double dt) {
+    switch (d.mode) {
+    case DampingMode::Local: return f - d.local * std::abs(f) * sign(v);
+    case DampingMode::Auto: return f - d.auto_coefficient * mass * v;
+    case DampingMode::Rayleigh: {
+        // Mass-proportional part of Rayleigh damping: c = 2 xi omega m.
+        const double c = 2.0 * d.rayleigh_fraction * 2.0 * M_PI * d.rayleigh_frequency * mass;
+        return f - c * v;
+    }
+    case DampingMode::Off: break;
+    }
+    (void)dt;
+    return f;
+}
+
+// Adaptive global damping (Cundall's auto damping): a viscous coefficient c (1/s, force
+// c m v) that is nudged every few steps so that the power the damping absorbs stays at
+// half the rate at which the unbalanced forces change the kinetic energy. When the model
+// still moves with purpose (kinetic energy changing fast) the damping rises to follow;
+// as it settles and the forces balance, it eases off, so it never freezes a real motion
+// the way a fixed heavy damping would. Explicit viscous damping needs c dt < 2; it is
+// kept well inside that.
+struct AutoDampingPower {
+    double damping = 0; // W per unit c: sum of m v.v (and I w.w)
+    double forcing = 0; // W: sum of |f.v| (and |M.w|), the undamped change of kinetic energy
+};
+
+void adjust_auto_damping(Damping& d, const AutoDampingPower& p, long step, double dt) {
+    const double c_max = 0.5 / dt, c_min = 1e-4 / dt;
+    if (!(d.auto_coefficient > 0)) d.auto_coefficient = 0.02 / dt;
+    if (step % 5 != 0 || !(p.forcing > 0)) return;
+    const double ratio = d.auto_coefficient * p.damping / p.forcing;
+    d.auto_coefficient *= ratio < 0.5 ? 1.05 : 1.0 / 1.05;
+    d.auto_coefficient = std::clamp(d.auto_coefficient, c_min, c_max);
+}
+
+} // namespace
+
+int integrate(Model& m, double dt) {
+    BlockSet& s = m.blocks;
+    // One damping law for blocks and gridpoints.
+    const Damping& d = m.damping;
+    const bool auto_damp = d.mode == DampingMode::Auto;
+    if (auto_damp && !(m.damping.auto_coefficient > 0)) m.damping.auto_coefficient = 0.02 / dt;
+    AutoDampingPower power;
+    int bad = -1;
+    // Static mode: the blocks' masses follow their joints as they are this step.
+    if (!m.settings.dynamic) scale_block_masses(m);
+    for (int b = 0; b < s.size(); ++b) {
+        if (!is_rigid_active(s, b)) continue;
+        if (s.flags[b] & kFixed) {
+            // Held still, except for the velocity components a boundary condition drives
+            // (the fixed base of a shake table moves as its table says, without turning).
+            Vec3 v = Vec3::Zero();
+            if (s.vel_bc[b]) {
+                const double scale = m.table_factor(m.blocks.vel_bc_table[b]);
+                for (int i = 0; i < 3; ++i) {
+                    if (s.vel_bc[b] & (1 << i)) v[i] = s.vel_bc_value[b][i] * scale;
+                }
+                const Vec3 dx = v * dt;
+                s.centroid[b] += dx;
+                s.disp[b] += dx;
+            }
+            s.vel[b] = v;
+            s.ang_vel[b].setZero();
+            s.accel[b].setZero();
+            s.ang_accel[b].setZero();
+            s.half_kick[b] = 0;
+            continue;
+        }
+        const double mass = s.inertial_mass[b];
+        const double kick = s.half_kick[b] ? 0.5 * dt : dt;
+        if (auto_damp) {
+            power.damping += mass * s.vel[b].squaredNorm();
+            power.forcing += std::abs(s.force[b].dot(s.vel[b])) + std::abs(s.moment[b].dot(s.ang_vel[b]));
+        }
+        // Translation.
+        Vec3 a;
+        for (int i = 0; i < 3; ++i) {
+            a[i] = damp_component(d, s.force[b][i], s.vel[b][i], mass, dt) / mass;
+        }
+        Vec3 v = s.vel[b] + a * kick;
+        if (s.vel_bc[b]) {
+            const double scale = m.table_factor(m.blocks.vel_bc_table[b]);
+            for (int i = 0; i < 3; ++i) {
+                if (s.vel_bc[b] & (1 << i)) {
+                    v[i] = s.vel_bc_value[b][i] * scale;
+                    a[i] = 0;
+                }
+            }
+        }
+        s.vel[b] = v;
+        s.accel[b] = a;
+        const Vec3 dx = v * dt;
+        s.centroid[b] += dx;
+        s.disp[b] += dx;
+        // Rotation: angular acceleration from the world inertia tensor (gyroscopic term
+        // neglected, as usual for quasi-static block analysis).
+        // Static mode gives an isotropic inertia chosen from the joints (mass_scaling.h).
+        const double iso = s.inertial_moment[b];
+        Mat3 inertia;
+        if (iso > 0) {
+            inertia = iso * Mat3::Identity();
+        } else {
+            const Mat3 r = s.orientation[b].toRotationMatrix();
+            inertia = (mass / s.mass[b]) * (r * s.inertia_body[b] * r.transpose());
+        }
+        Vec3 mom;
+        for (int i = 0; i < 3; ++i) {
+            mom[i] = damp_component(d, s.moment[b][i], s.ang_vel[b][i], inertia(i, i), dt);
+        }
+        if (auto_damp) power.damping += s.ang_vel[b].dot(inertia.diagonal().cwiseProduct(s.ang_vel[b]));
+        const Vec3 alpha = iso > 0 ? Vec3(mom / iso) : Vec3(inertia.ldlt().solve(mom));
+        const Vec3 w = s.ang_vel[b] + alpha * kick;
+        s.ang_vel[b] = w;
+        s.ang_accel[b] = alpha;
+        const Vec3 dtheta = w * dt;
+        const double angle = dtheta.norm();
+        if (angle > 0) {
+            s.orientation[b] = (Quat(Eigen::AngleAxisd(angle, dtheta / angle)) * s.orientation[b]).normalized();
+            s.rotation[b] += dtheta;
+        }
+        s.half_kick[b] = 0;
+        // Not finite: the integration has become unstable.
+        if (bad < 0 && !(v.allFinite() && w.allFinite() && s.centroid[b].allFinite())) {
+            bad = b;
+        }
+    }
+    const int bad_gp = integrate_gridpoints(m, d, dt, auto_damp ? &power.damping : nullptr, &power.forcing);
+    if (bad < 0 && bad_gp >= 0) bad = m.gridpoints.block[bad_gp];
+    if (auto_damp) adjust_auto_damping(m.damping, power, m.step, dt);
+    return bad;
+}
+
+int integrate_gridpoints(Model& m, const Damping& d, double dt, double* damping_power, double* forcing_power) {
+    GridpointSet& g = m.gridpoints;
+    int bad = -1;
+    for (int i = 0; i < g.size(); ++i) {
+        const double mass = g.inertial_mass[i];
+        if (!(g.mass[i] > 0) || !(mass > 0)) {
+            // Only null zones around it: it does not move.
+            g.vel[i].setZero();
+            continue;
+        }
+        const double kick = g.half_kick[i] ? 0.5 * dt : dt;
+        const double scale = g.vel_bc[i] ? m.table_factor(g.vel_bc_table[i]) : 1.0;
+        Vec3 v;
+        for (int k = 0; k < 3; ++k) {
+            if (g.vel_bc[i] & (1 << k)) {
+                v[k] = g.vel_bc_value[i][k] * scale;
+                continue;
+            }
+            const double f = g.force[i][k], vk = g.vel[i][k];
+            double fd = f;
+            switch (d.mode) {
+            case DampingMode::Local: fd = f - d.local * std::abs(f) * sign(vk); break;
+            case DampingMode::Auto: fd = f - d.auto_coefficient * mass * vk; break;
+            case DampingMode::Rayleigh:
+                fd = f - 2.0 * d.rayleigh_fraction * 2.0 * M_PI * d.rayleigh_frequency * mass * vk;
+                break;
+            case DampingMode::Off: break;
+            }
+            v[k] = vk + fd / mass * kick;
+        }
+        if (damping_power) {
+            *damping_power += mass * g.vel[i].squaredNorm();
+            *forcing_power += std::abs(g.force[i].dot(g.vel[i]));
+        }
+        g.vel[i] = v;
+        const Vec3 dx = v * dt;
+        g.pos[i] += dx;
+        g.disp[i] += dx;
+        g.half_kick[i] = 0;
+        if (bad < 0 && !(v.allFinite() && g.pos[i].allFinite())) bad = i;
+    }
+    return bad;
+}
+
+
+} // namespace odec

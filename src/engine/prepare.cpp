@@ -1,0 +1,173 @@
+// Preparing the cycle: the model can cycle, contacts match the geometry, the timestep and the
+// masses are chosen.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "engine/blocks.h"
+#include "engine/contact.h"
+#include "engine/contact_gridpoint.h"
+#include "engine/mass_scaling.h"
+#include "engine/stages.h"
+
+namespace odec {
+
+std::string prepare_cycle(Model& m) {
+    PrepareUndo undo(m);
+    std::string problem = prepare_cycle_once(m);
+    if (!problem.empty()) undo.undo(m);
+    return problem;
+}
+
+double real_mass_timestep(Model& m, std::string* why) {
+    PrepareUndo undo(m);
+    const Settings keep = m.settings;
+    m.settings.dynamic = true;
+    m.settings.mscale_dt = 0;
+    m.settings.dt_fixed = 0;
+    const std::string problem = prepare_cycle_once(m);
+    const double dt = problem.empty() ? m.mass_scaling.real_dt : 0.0;
+    if (why) *why = problem;
+    m.settings = keep;
+    undo.undo(m);
+    return dt;
+}
+
+std::string prepare_cycle_once(Model& m) {
+    const BlockSet& s = m.blocks;
+    for (int b = 0; b < s.size(); ++b) {
+        if (!is_rigid_active(s, b) || (s.flags[b] & kFixed)) continue;
+        if (!(s.mass[b] > 0)) {
+            const int mat = s.material[b];
+            const bool defined = mat > 0 && mat < static_cast<int>(m.materials.size()) && m.materials[mat].defined;
+            return "block " + std::to_string(s.id[b]) + " has no mass: " +
+                   (defined ? "material " + std::to_string(mat) + " has no density"
+                            : "material " + std::to_string(mat) + " is not defined") +
+                   " (give one with 'prop mat=" + std::to_string(mat) + " dens=...')";
+        }
+    }
+    // The loads must be numbers: gravity or a density near the top of the double range
+    // makes a weight of inf, which would turn every velocity to NaN in the first step.
+    for (int b = 0; b < s.size(); ++b) {
+        if (!is_rigid_active(s, b) || (s.flags[b] & kFixed)) continue;
+        const Vec3 w = s.mass[b] * m.gravity + s.applied_force[b];
+        if (!std::isfinite(s.mass[b]) || !s.inertia_body[b].allFinite() || !w.allFinite()) {
+            return "the load on block " + std::to_string(s.id[b]) + " is not a finite number (mass " +
+                   num_text(s.mass[b]) + " kg, gravity " + num_text(m.gravity.stableNorm()) + " m/s^2, applied force " +
+                   num_text(s.applied_force[b].stableNorm()) + " N): give smaller values";
+        }
+    }
+    {
+        const std::string zp = zones_problem(m);
+        if (!zp.empty()) return zp;
+    }
+    if (m.geometry_changed) {
+        refresh_world_vertices(m);
+        detect_contacts(m);
+        update_gridpoint_masses(m);
+    }
+    // A joint material may be assigned before its properties are given ('change jmat'), but not
+    // cycled without them: such a joint would hold nothing.
+    {
+        const ContactSet& cs = m.contacts;
+        const int n_jmat = static_cast<int>(m.joint_materials.size());
+        bool any_defined = false;
+        for (const JointMaterial& j : m.joint_materials) any_defined = any_defined || j.defined;
+        for (int c = 0; c < cs.size() && any_defined; ++c) {
+            const int jm = cs.jmat[c];
+            if (jm > 0 && (jm >= n_jmat || !m.joint_materials[jm].defined)) {
+                return "contact " + std::to_string(cs.id[c]) + " has joint material " + std::to_string(jm) +
+                       ", which has no properties: give them with 'prop jmat=" + std::to_string(jm) + " jkn ... jks ...'";
+            }
+        }
+    }
+    refresh_contact_surface(m); // the zones' step allows for the joints on their surface
+    const double zone_dt = zone_critical_timestep(m);
+    // In dynamic mode a forced step beyond the stable limit can only blow up: refuse it before
+    // cycling. In static mode the masses are chosen for whatever step is forced.
+    if (m.settings.dt_fixed > 0 && m.settings.dynamic) {
+        if (zone_dt > 0 && m.settings.dt_fixed > zone_dt / 0.9) {
+            return "the forced timestep " + num_text(m.settings.dt_fixed) +
+                   " s ('set dt') is larger than the stable limit of the zones, about " + num_text(zone_dt / 0.9) +
+                   " s: the motion would run away. Use 'set dt auto' or a timestep below " + num_text(zone_dt) + " s";
+        }
+        int worst = -1;
+        const double limit = stable_timestep_limit(m, &worst);
+        if (limit > 0 && m.settings.dt_fixed > limit) {
+            const double automatic = contact_critical_timestep(m);
+            return "the forced timestep " + num_text(m.settings.dt_fixed) +
+                   " s ('set dt') is larger than the stable limit, about " + num_text(limit) + " s" +
+                   (worst >= 0 ? " (set by block " + std::to_string(s.id[worst]) + " on its contacts)" : "") +
+                   ": the motion would run away. Use 'set dt auto' (" + num_text(automatic) +
+                   " s now) or a timestep below " + num_text(limit) + " s";
+        }
+    }
+    {
+        const std::string p = choose_timestep_and_masses(m, contact_critical_timestep(m), zone_dt);
+        if (!p.empty()) return p;
+    }
+    // No block may jump more than half its size in its first step: it would pass the blocks
+    // in its way unseen (and numbers that large only grow). The first step moves a block by
+    // v dt + a dt^2 (a dt^2 / 2 when its velocity was just given), v its velocity (prescribed
+    // ones at the largest their table reaches), a its loads over its mass.
+    int active = 0;
+    for (int b = 0; b < s.size() && active < 2; ++b) active += is_active(s, b) ? 1 : 0;
+    for (int b = 0; b < s.size() && active > 1; ++b) {
+        if (!is_rigid_active(s, b) || !(s.mass[b] > 0)) continue;
+        const bool fixed = s.flags[b] & kFixed;
+        if (fixed && !s.vel_bc[b]) continue;
+        Vec3 v = fixed ? Vec3::Zero() : s.vel[b];
+        if (s.vel_bc[b]) {
+            double scale = 1.0;
+            if (s.vel_bc_table[b] > 0) {
+                const Table* t = m.tables.find(s.vel_bc_table[b]);
+                scale = 0;
+                if (t) {
+                    for (const auto& p : t->points) scale = std::max(scale, std::abs(p.second));
+                }
+            }
+            for (int i = 0; i < 3; ++i) {
+                if (s.vel_bc[b] & (1 << i)) v[i] = s.vel_bc_value[b][i] * scale;
+            }
+        }
+        const double accel =
+            fixed ? 0.0 : (s.mass[b] * m.gravity + s.applied_force[b]).stableNorm() / s.inertial_mass[b];
+        const double speed = v.stableNorm();
+        const double move = speed * m.dt + (s.half_kick[b] ? 0.5 : 1.0) * accel * m.dt * m.dt;
+        double size = 0;
+        for (const Vec3& x : s.shape[b].vertices) size = std::max(size, x.norm());
+        if (!(move <= 0.5 * size)) {
+            std::string cause;
+            if (speed * m.dt >= accel * m.dt * m.dt) {
+                cause = "its velocity, " + num_text(speed) + " m/s ('ini' or 'bound ...vel'" +
+                        (s.vel_bc_table[b] > 0 ? std::string(" times its table") : std::string()) + "), is too large";
+            } else if (s.applied_force[b].squaredNorm() > 0) {
+                cause = "its load, " + num_text(accel) + " m/s^2 with the applied force, is too large";
+            } else if (m.settings.dt_fixed > 0) {
+                cause = "the forced timestep is too large: try 'set dt auto'";
+            } else {
+                cause = "the timestep is too large for gravity: the joints are too soft to hold the blocks";
+            }
+            return "block " + std::to_string(s.id[b]) + " would move " + num_text(move) + " m in one step of " +
+                   num_text(m.dt) + " s, more than half its size (" + num_text(size) +
+                   " m), passing the blocks in its way unseen: " + cause;
+        }
+    }
+    // Explicit viscous damping c m v is stable only for c dt < 2: beyond it each step
+    // reverses and amplifies the velocity it should damp.
+    if (m.damping.mode == DampingMode::Rayleigh) {
+        const double c = 2.0 * m.damping.rayleigh_fraction * 2.0 * M_PI * m.damping.rayleigh_frequency;
+        if (!(c * m.dt < 2.0)) {
+            return "Rayleigh damping of fraction " + num_text(m.damping.rayleigh_fraction) + " at " +
+                   num_text(m.damping.rayleigh_frequency) + " Hz is unstable at the timestep " + num_text(m.dt) +
+                   " s (4 pi fraction frequency dt = " + num_text(c * m.dt) +
+                   ", must be below 2): lower the frequency below " + num_text(1.0 / (2 * M_PI * m.damping.rayleigh_fraction * m.dt)) + " Hz";
+        }
+    }
+    // Contacts and timestep now match the geometry; the cycle need not prepare again.
+    m.geometry_changed = false;
+    return "";
+}
+
+} // namespace odec

@@ -1,0 +1,227 @@
+// The stages of the explicit cycle, each in a file of its own; cycle.cpp only orders and
+// times them (Model::profile, shown by 'print info'):
+//   loads      stage_loads.cpp     weights and applied loads into each block's force
+//   detection  contact_detect.cpp  new and lost contacts (when blocks moved far enough)
+//   zones      zones.cpp           zone stresses -> gridpoint forces, with gravity and loads
+//   contacts   joint_law.cpp       relative motion -> joint stresses -> forces on both sides
+//   integrate  integrate.cpp       blocks and gridpoints under one damping law
+//   checks     checks.cpp          run-aways (energy, jumps, sinking) and the stop criteria
+//   record     history.cpp         histories every ncyc steps
+// Before the first step (and whenever the blocks change), prepare.cpp checks that the model can
+// cycle and chooses the timestep and the masses (mass_scaling.h).
+// Joint flow, structural elements and the 2D engine are to join as stages of their own.
+#pragma once
+
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "engine/model.h"
+
+namespace odec {
+
+inline double sign(double x) { return (x > 0) - (x < 0); }
+
+inline std::string num_text(double x) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g", x);
+    return buf;
+}
+
+inline bool is_active(const BlockSet& s, int b) { return !(s.flags[b] & kExcavated); }
+// A rigid block that moves as a whole (not excavated, not divided into zones).
+inline bool is_rigid_active(const BlockSet& s, int b) { return !(s.flags[b] & (kExcavated | kDeformable)); }
+
+// loads: each block's force starts as its weight plus its applied load.
+void apply_loads(Model& m);
+
+// integrate: velocities at t + dt/2 and positions at t + dt of the free blocks and gridpoints,
+// forces damped by the model's damping law. Returns the index of a block whose motion became
+// non-finite, or -1.
+int integrate(Model& m, double dt);
+
+// Gridpoints only (part of integrate): returns the index of a gridpoint whose motion became
+// non-finite, or -1; adds m v.v and |f.v| to the two power sums when given (adaptive damping).
+int integrate_gridpoints(Model& m, const Damping& d, double dt, double* damping_power, double* forcing_power);
+
+// prepare (prepare.cpp): what preparing a cycle changes, kept so that a cycle refused before its
+// first step leaves the model exactly as it was; and the preparation itself ("" or why not).
+// What preparing a cycle changes (contact detection and the timestep), kept so that a
+// cycle refused before its first step leaves the model exactly as it was.
+struct PrepareUndo {
+    bool saved = false;
+    ContactSet contacts;
+    std::vector<int> vertex_offset;
+    std::vector<Vec3> world_vertices;
+    double dt = 0;
+    bool geometry_changed = false;
+    // Choosing the inertial masses may slow velocities down (mass_scaling.h).
+    std::vector<double> block_mass, block_moment, gp_mass;
+    std::vector<Vec3> vel, ang_vel, gp_vel;
+    MassScalingReport report;
+
+    explicit PrepareUndo(const Model& m)
+        : dt(m.dt), geometry_changed(m.geometry_changed), block_mass(m.blocks.inertial_mass),
+          block_moment(m.blocks.inertial_moment), gp_mass(m.gridpoints.inertial_mass), vel(m.blocks.vel),
+          ang_vel(m.blocks.ang_vel), gp_vel(m.gridpoints.vel), report(m.mass_scaling) {
+        if (m.geometry_changed) {
+            saved = true;
+            contacts = m.contacts;
+            vertex_offset = m.blocks.vertex_offset;
+            world_vertices = m.blocks.world_vertices;
+        }
+    }
+    void undo(Model& m) {
+        if (saved) {
+            m.contacts = std::move(contacts);
+            m.blocks.vertex_offset = std::move(vertex_offset);
+            m.blocks.world_vertices = std::move(world_vertices);
+        }
+        m.dt = dt;
+        m.geometry_changed = geometry_changed;
+        if (block_mass.size() == m.blocks.inertial_mass.size() && gp_mass.size() == m.gridpoints.inertial_mass.size()) {
+            m.blocks.inertial_mass = std::move(block_mass);
+            m.blocks.inertial_moment = std::move(block_moment);
+            m.blocks.vel = std::move(vel);
+            m.blocks.ang_vel = std::move(ang_vel);
+            m.gridpoints.inertial_mass = std::move(gp_mass);
+            m.gridpoints.vel = std::move(gp_vel);
+        }
+        m.mass_scaling = report;
+    }
+};
+std::string prepare_cycle_once(Model& m);
+
+// checks (checks.cpp).
+double kinetic_energy(const BlockSet& s, int b);
+// The likely cause of a run-away of block b, for the message.
+std::string runaway_cause(const Model& m, int b);
+// A run-away told by the physics rather than by a speed: with damping at most taking energy
+// out, the kinetic energy of the free blocks can never exceed what the model had when the
+// cycling began (kinetic energy and the strain energy stored in the joints) plus the work
+// the loads have done since (gravity and applied forces on the free blocks: their force
+// times the displacement, exact as both are constant while cycling) plus the work the
+// velocity boundaries can have done (bounded by |force . velocity| dt summed). A numerical
+// instability pumps energy in from nowhere, growing it geometrically, so a generous margin
+// still stops it within a few steps of its start, long before numbers overflow.
+struct EnergyWatch {
+    std::vector<Vec3> start;   // (n_blocks) centroid when the cycling began
+    std::vector<double> size;  // (n_blocks) m, largest vertex distance from the centroid
+    bool neighbours = false;   // more than one block: there is something to pass through
+    double initial = 0;        // J, kinetic + joint strain energy then
+    double boundary_work = 0;  // J, bound on the work of prescribed velocities since
+    double peak_work = 0;      // J, the most work gravity and the applied loads have done
+    double floor = 0;          // J, noise level below which nothing is judged
+    static constexpr double kMargin = 4.0;
+
+    // Kinetic energy of the free blocks, J.
+    double kinetic(const Model& m) const {
+        const BlockSet& s = m.blocks;
+        double e = 0;
+        for (int b = 0; b < s.size(); ++b) {
+            if ((s.flags[b] & (kExcavated | kFixed)) || !(s.mass[b] > 0)) continue;
+            e += kinetic_energy(s, b);
+        }
+        return e;
+    }
+    // Energy given to the blocks from outside the cycle (by FISH between steps).
+    void given(double energy) {
+        if (energy > 0 && std::isfinite(energy)) initial += energy;
+    }
+    // Whether the blocks changed in number since begin(): the arrays no longer match.
+    bool stale(const Model& m) const { return start.size() != static_cast<size_t>(m.blocks.size()); }
+
+    void begin(const Model& m) {
+        const BlockSet& s = m.blocks;
+        start = s.centroid;
+        size.assign(s.size(), 0.0);
+        int active = 0;
+        for (int b = 0; b < s.size(); ++b) {
+            for (const Vec3& v : s.shape[b].vertices) size[b] = std::max(size[b], v.norm());
+            if (!(s.flags[b] & kExcavated)) ++active;
+        }
+        neighbours = active > 1;
+        initial = 0;
+        double mass = 0;
+        for (int b = 0; b < s.size(); ++b) {
+            if ((s.flags[b] & (kExcavated | kFixed)) || !(s.mass[b] > 0)) continue;
+            initial += kinetic_energy(s, b);
+            mass += s.inertial_mass[b];
+        }
+        const ContactSet& cs = m.contacts;
+        const int n_jmat = static_cast<int>(m.joint_materials.size());
+        for (int c = 0; c < cs.size(); ++c) {
+            const int jm = cs.jmat[c];
+            if (jm <= 0 || jm >= n_jmat || !m.joint_materials[jm].defined) continue;
+            const JointMaterial& j = m.joint_materials[jm];
+            for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
+                const double u = cs.sub_un[k] + cs.sub_udil[k];
+                double un = u > 0 ? u : (cs.joined[c] ? -u : std::min(-u, j.kn > 0 ? j.tension / j.kn : 0.0));
+                if (!(un >= 0)) un = 0;
+                double e = 0.5 * j.kn * un * un;
+                if (j.ks > 0) e += 0.5 * cs.sub_ss[k].squaredNorm() / j.ks;
+                initial += cs.sub_area[k] * e;
+            }
+        }
+        boundary_work = 0;
+        peak_work = 0;
+        // A millimetre per second over all the free mass: below it, nothing is judged.
+        floor = 0.5 * mass * 1e-6;
+    }
+
+    // After a step: the block whose motion ran away, or -1. `energy` and `available`
+    // receive the totals.
+    // The contact whose closure has gone deeper than half the smaller of its two blocks (one
+    // block is passing through the other), or -1; `depth` receives that closure.
+    int sunk(const Model& m, double& depth) const {
+        const ContactSet& cs = m.contacts;
+        for (int c = 0; c < cs.size(); ++c) {
+            const int a = cs.block_a[c], b = cs.block_b[c];
+            const double limit = 0.5 * std::min(size[a], size[b]);
+            for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
+                if (cs.sub_un[k] > limit) {
+                    depth = cs.sub_un[k];
+                    return c;
+                }
+            }
+        }
+        return -1;
+    }
+
+    int check(const Model& m, double& energy, double& available, int& jumper) {
+        jumper = -1;
+        const BlockSet& s = m.blocks;
+        double work = 0, ke = 0, ke_max = -1;
+        int worst = -1;
+        for (int b = 0; b < s.size(); ++b) {
+            if (s.flags[b] & kExcavated) continue;
+            if (s.vel_bc[b]) {
+                const Vec3 load = s.mass[b] * m.gravity + s.applied_force[b];
+                boundary_work += m.dt * (std::abs(s.force[b].dot(s.vel[b])) + std::abs(load.dot(s.vel[b])));
+            }
+            if ((s.flags[b] & kFixed) || !(s.mass[b] > 0)) continue;
+            // Moving more than half its size in one step, a block jumps past the blocks in
+            // its way: contact detection cannot see them.
+            if (jumper < 0 && neighbours && s.vel[b].stableNorm() * m.dt > 0.5 * size[b]) jumper = b;
+            const double e = kinetic_energy(s, b);
+            ke += e;
+            if (!(e <= ke_max)) {
+                ke_max = e;
+                worst = b;
+            }
+            work += (s.mass[b] * m.gravity + s.applied_force[b]).dot(s.centroid[b] - start[b]);
+        }
+        energy = ke;
+        // The most work the loads have done at any time: the energy they put in may have been
+        // carried back up since (an undamped block bouncing), and explicit impacts do not
+        // conserve energy exactly, so the budget is the largest the exchange has been.
+        peak_work = std::max(peak_work, work);
+        available = initial + peak_work + boundary_work;
+        if (std::isfinite(ke) && ke <= kMargin * available + floor && jumper < 0) return -1;
+        return worst;
+    }
+};
+// After a step: the run-away verdict (a message) or "".
+std::string runaway_after_step(EnergyWatch& watch, const Model& m);
+
+} // namespace odec
