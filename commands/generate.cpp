@@ -89,14 +89,16 @@ void zone_model_form(CommandContext& ctx, const Args& a) {
     }
 }
 
-// The timestep zone z sets: the least over its gridpoints of the engine's estimate
+// The timestep zone z sets: the least over its free gridpoints of the engine's estimate
 // 2 sqrt(mass / stiffness) (zone_critical_timestep), from the masses and stiffnesses
-// update_gridpoint_masses gave them. 0 when a gridpoint has none (no material yet) or is fixed.
+// update_gridpoint_masses gave them. -1 when a gridpoint has none (no material yet); 0 when
+// all four are fixed (they set no timestep).
 double zone_timestep(const Model& m, int z) {
     const GridpointSet& g = m.gridpoints;
     double dt = 0;
     for (int i : m.zones.gp[z]) {
-        if (!(g.mass[i] > 0) || !(g.stiffness[i] > 0) || g.vel_bc[i] == 7) return 0;
+        if (!(g.mass[i] > 0) || !(g.stiffness[i] > 0)) return -1;
+        if (g.vel_bc[i] == 7) continue;
         const double d = 2.0 * std::sqrt(g.mass[i] / g.stiffness[i]);
         if (dt == 0 || d < dt) dt = d;
     }
@@ -166,11 +168,13 @@ void warn_of_poor_zones(CommandContext& ctx, const std::vector<int>& blocks, con
             std::snprintf(buf, sizeof buf, "%.3g", v);
             return std::string(buf);
         };
-        const double dt = worst_zone[i] >= 0 ? zone_timestep(m, worst_zone[i]) : 0;
+        const double dt = worst_zone[i] >= 0 ? zone_timestep(m, worst_zone[i]) : -1.0;
         std::string cost;
         if (dt > 0 && median > 0) {
             cost = "its timestep is " + (dt < median ? g3(median / dt) + " times smaller than" : std::string("no smaller than")) +
                    " the model's median zone timestep (" + g3(dt) + " s against " + g3(median) + " s)";
+        } else if (dt == 0) {
+            cost = "its gridpoints are fixed (it costs no timestep while they are)";
         } else {
             cost = "it will shorten the timestep once the block has a material (its zones have no mass yet)";
         }
