@@ -1,5 +1,7 @@
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <numeric>
 
 #include "commands.h"
@@ -12,6 +14,11 @@
 namespace odec {
 
 namespace {
+
+// Zones of a radius ratio below this are reported: the mesher reaches it in blocks of ordinary
+// shape at any edge length (tests/unit/lang/mesh_quality_test.cpp), so a block whose zones
+// fall short is too thin or too sharp for the edge asked.
+constexpr double kPoorZone = 0.1;
 
 // Most zones one command makes (a regular tetrahedron of edge e has volume e^3 / (6 sqrt 2)):
 // beyond it the memory of the model and its cycle time are out of any session's reach.
@@ -82,6 +89,106 @@ void zone_model_form(CommandContext& ctx, const Args& a) {
     }
 }
 
+// The timestep zone z sets: the least over its free gridpoints of the engine's estimate
+// 2 sqrt(mass / stiffness) (zone_critical_timestep), from the masses and stiffnesses
+// update_gridpoint_masses gave them. -1 when a gridpoint has none (no material yet); 0 when
+// all four are fixed (they set no timestep).
+double zone_timestep(const Model& m, int z) {
+    const GridpointSet& g = m.gridpoints;
+    double dt = 0;
+    for (int i : m.zones.gp[z]) {
+        if (!(g.mass[i] > 0) || !(g.stiffness[i] > 0)) return -1;
+        if (g.vel_bc[i] == 7) continue;
+        const double d = 2.0 * std::sqrt(g.mass[i] / g.stiffness[i]);
+        if (dt == 0 || d < dt) dt = d;
+    }
+    return dt;
+}
+
+// Thickness of a convex solid: its least width across the normals of its faces.
+double thickness(const Polyhedron& p) {
+    double least = std::numeric_limits<double>::infinity();
+    for (int f = 0; f < p.n_faces(); ++f) {
+        const Vec3 n = p.face_normal(f);
+        double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+        for (const Vec3& v : p.vertices) {
+            lo = std::min(lo, v.dot(n));
+            hi = std::max(hi, v.dot(n));
+        }
+        least = std::min(least, hi - lo);
+    }
+    return least;
+}
+
+// Warns of the blocks just zoned (blocks[k], meshed as solids[k]) whose worst zone is poor:
+// the block, the zone's radius ratio, and what it costs: the timestep it sets against the
+// median zone's of the model.
+void warn_of_poor_zones(CommandContext& ctx, const std::vector<int>& blocks, const std::vector<double>& edges,
+                        const std::vector<Polyhedron>& solids, const std::vector<double>& solid_worst) {
+    const Model& m = ctx.model;
+    std::vector<int> poor;  // positions in blocks
+    for (size_t k = 0; k < blocks.size() && k < solid_worst.size(); ++k) {
+        if (solid_worst[k] < kPoorZone) poor.push_back(static_cast<int>(k));
+    }
+    if (poor.empty()) return;
+    std::sort(poor.begin(), poor.end(), [&](int a, int b) {
+        return solid_worst[a] != solid_worst[b] ? solid_worst[a] < solid_worst[b] : a < b;
+    });
+    // The worst zone of each poor block, and the median zone timestep of the model.
+    std::vector<int> slot(m.blocks.size(), -1);
+    for (size_t i = 0; i < poor.size(); ++i) slot[blocks[poor[i]]] = static_cast<int>(i);
+    std::vector<int> worst_zone(poor.size(), -1);
+    std::vector<double> worst_q(poor.size(), 2.0);
+    const std::vector<Vec3>& x = m.settings.large_strain ? m.gridpoints.pos : m.gridpoints.ref;
+    std::vector<double> steps;
+    steps.reserve(m.zones.size());
+    for (int z = 0; z < m.zones.size(); ++z) {
+        const double dt = zone_timestep(m, z);
+        if (dt > 0) steps.push_back(dt);
+        const int i = slot[m.zones.block[z]];
+        if (i < 0) continue;
+        const auto& q = m.zones.gp[z];
+        const double r = radius_ratio(x[q[0]], x[q[1]], x[q[2]], x[q[3]]);
+        if (r < worst_q[i]) {
+            worst_q[i] = r;
+            worst_zone[i] = z;
+        }
+    }
+    double median = 0;
+    if (!steps.empty()) {
+        std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
+        median = steps[steps.size() / 2];
+    }
+    constexpr size_t kShown = 5;
+    for (size_t i = 0; i < poor.size() && i < kShown; ++i) {
+        const int k = poor[i];
+        const int b = blocks[k];
+        auto g3 = [](double v) {
+            char buf[32];
+            std::snprintf(buf, sizeof buf, "%.3g", v);
+            return std::string(buf);
+        };
+        const double dt = worst_zone[i] >= 0 ? zone_timestep(m, worst_zone[i]) : -1.0;
+        std::string cost;
+        if (dt > 0 && median > 0) {
+            cost = "its timestep is " + (dt < median ? g3(median / dt) + " times smaller than" : std::string("no smaller than")) +
+                   " the model's median zone timestep (" + g3(dt) + " s against " + g3(median) + " s)";
+        } else if (dt == 0) {
+            cost = "its gridpoints are fixed (it costs no timestep while they are)";
+        } else {
+            cost = "it will shorten the timestep once the block has a material (its zones have no mass yet)";
+        }
+        ctx.interp.err << "warning: block " << m.blocks.id[b] << " is too thin or too sharp for zones of " << num(edges[k])
+                       << " m: its worst zone has a radius ratio of " << g3(worst_q[i] < 2 ? worst_q[i] : solid_worst[k])
+                       << " (good zones: " << num(kPoorZone) << " or more), and " << cost << "; zones of "
+                       << g3(thickness(solids[k])) << " m or less (the block's thickness) would be better\n";
+    }
+    if (poor.size() > kShown) {
+        ctx.interp.err << "warning: and " << poor.size() - kShown << " more blocks with zones of radius ratio under "
+                       << num(kPoorZone) << "\n";
+    }
+}
+
 } // namespace
 
 const CommandSpec& generate_command() {
@@ -114,8 +221,12 @@ const CommandSpec& generate_command() {
                    "one continuum. Zoning a deformable block again replaces its zones (their stresses are "
                    "lost) and zones the rest of its continuum again with it at their own size, so that a "
                    "continuum can be zoned finer where it matters: 'gen edge 1' then 'gen edge 0.2 range ...' "
-                   "grades from 0.2 m to 1 m, conforming. The command reports the zones and gridpoints made and the worst zone's radius "
-                   "ratio (3 r_in / r_out: 1 for a regular tetrahedron). "
+                   "grades from 0.2 m to 1 m, conforming. The command reports the zones and gridpoints made and the "
+                   "worst zone's radius ratio (3 r_in / r_out: 1 for a regular tetrahedron); blocks of ordinary shape "
+                   "(convex, aspect ratio under 20) get none under 0.1 with edges up to half their size. A block too "
+                   "thin or too sharp for the edge may: a warning names it, with its worst zone's radius ratio, the "
+                   "timestep that zone sets against the model's median zone timestep, and the block's thickness, an "
+                   "edge that would zone it well. "
                    "The UDEC form 'zone model elastic|mohr|null density ... bulk ... shear ... [friction ... "
                    "cohesion ... tension ... dilation ...] [range ...]' gives the blocks of the range (and "
                    "their zones) that zone model (1, 2 or 0) and a material of these properties: the first "
@@ -233,6 +344,7 @@ const CommandSpec& generate_command() {
                         << " gridpoints in the model; zone quality (radius ratio) worst " << num(mesh.worst_quality)
                         << ", mean " << num(mesh.mean_quality) << "\n";
             }
+            warn_of_poor_zones(ctx, blocks, edges, solids, mesh.solid_worst);
         });
         return c;
     }();

@@ -5,6 +5,7 @@
 #include "engine/contact.h"
 #include "engine/cycle.h"
 #include "engine/zones.h"
+#include "mesh/tet_mesh.h"
 
 #include <cmath>
 
@@ -318,6 +319,21 @@ void print_info(CommandContext& ctx) {
           << " elastic, " << models[2] << " Mohr-Coulomb, " << models[0] << " null)\n";
         o << "gridpoints: " << m.gridpoints.size() << "; " << (m.settings.large_strain ? "large" : "small")
           << " strain\n";
+        // Zone quality: the radius ratio (3 r_in / r_out, 1 for a regular tetrahedron) of the
+        // worst zone, in the geometry the zones use.
+        const std::vector<Vec3>& x = m.settings.large_strain ? m.gridpoints.pos : m.gridpoints.ref;
+        double worst = 2;
+        int worst_zone = 0;
+        for (int z = 0; z < m.zones.size(); ++z) {
+            const auto& q = m.zones.gp[z];
+            const double r = radius_ratio(x[q[0]], x[q[1]], x[q[2]], x[q[3]]);
+            if (r < worst) {
+                worst = r;
+                worst_zone = z;
+            }
+        }
+        o << "zone quality: worst radius ratio " << num(worst) << " (a zone of block "
+          << m.blocks.id[m.zones.block[worst_zone]] << "; 1 for a regular tetrahedron)\n";
     }
     o << "joint sets: " << m.n_joint_sets << " (" << m.joint_planes.size() << " planes, " << m.slivers_skipped
       << " cuts skipped as slivers)\n";

@@ -1,4 +1,5 @@
 #include "mesh/tet_mesh.h"
+#include "mesh/tet_improve.h"
 
 #include <dlfcn.h>
 #include <fcntl.h>
@@ -47,6 +48,11 @@ double radius_ratio(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) 
 }
 
 namespace {
+
+// Zones of a radius ratio below this are improved after the mesher (mesh/tet_improve.h): a
+// margin over the 0.1 'gen' reaches in blocks of ordinary shape. Gmsh's own optimizer
+// (Mesh.Optimize, below) cannot: the slivers it leaves have all four corners on the surface.
+constexpr double kImproveBelow = 0.2;
 
 // Gmsh is opened when a block is first zoned, not when odec starts: it brings in some hundred
 // shared libraries (its CAD kernels among them), which would triple the start-up time of
@@ -308,8 +314,6 @@ void mesh_with(const Gmsh& g, const std::vector<Polyhedron>& solids, const std::
     // Tetrahedra of each solid, oriented with positive volume.
     out.tets.resize(solids.size());
     out.corner_node.resize(solids.size());
-    double worst = 1, sum = 0;
-    long count = 0;
     for (size_t s = 0; s < solids.size(); ++s) {
         GmshArray<size_t> elems(g), enodes(g);
         g.get_elements_by_type(4, &elems.data, &elems.n, &enodes.data, &enodes.n, volume_tag[s], 0, 1, &ierr);
@@ -321,10 +325,6 @@ void mesh_with(const Gmsh& g, const std::vector<Polyhedron>& solids, const std::
             for (int k = 0; k < 4; ++k) t[k] = index.at(enodes.data[4 * e + k]);
             const Vec3& a = out.nodes[t[0]];
             if ((out.nodes[t[1]] - a).dot((out.nodes[t[2]] - a).cross(out.nodes[t[3]] - a)) < 0) std::swap(t[2], t[3]);
-            const double q = radius_ratio(out.nodes[t[0]], out.nodes[t[1]], out.nodes[t[2]], out.nodes[t[3]]);
-            worst = std::min(worst, q);
-            sum += q;
-            ++count;
             tv.push_back(t);
         }
         if (tv.empty()) throw MeshError{"the mesher made no zones in a block"};
@@ -338,9 +338,22 @@ void mesh_with(const Gmsh& g, const std::vector<Polyhedron>& solids, const std::
             out.corner_node[s].push_back(index.at(nt.data[0]));
         }
     }
+    g.clear(&ierr);
+    improve_tets(out.nodes, out.tets, kImproveBelow);
+    double worst = 1, sum = 0;
+    long count = 0;
+    out.solid_worst.assign(solids.size(), 1.0);
+    for (size_t s = 0; s < solids.size(); ++s) {
+        for (const auto& t : out.tets[s]) {
+            const double q = radius_ratio(out.nodes[t[0]], out.nodes[t[1]], out.nodes[t[2]], out.nodes[t[3]]);
+            out.solid_worst[s] = std::min(out.solid_worst[s], q);
+            worst = std::min(worst, q);
+            sum += q;
+            ++count;
+        }
+    }
     out.worst_quality = worst;
     out.mean_quality = count > 0 ? sum / count : 1;
-    g.clear(&ierr);
 }
 
 // ---- meshing in a child process ----
@@ -354,8 +367,8 @@ void mesh_with(const Gmsh& g, const std::vector<Polyhedron>& solids, const std::
 //
 // What the child writes: a status byte (0: a mesh follows; 1: an error message follows, as a
 // u64 length and its bytes), then the nodes (u64 n, 3 n doubles), the solids (u64 n), and for
-// each its tetrahedra (u64 n, 4 n int32), corner nodes and face surfaces (u64 n, n int32 each),
-// and last the worst and mean quality (2 doubles).
+// each its tetrahedra (u64 n, 4 n int32), corner nodes and face surfaces (u64 n, n int32 each)
+// and its worst quality (a double), and last the worst and mean quality (2 doubles).
 
 bool write_bytes(int fd, const void* p, size_t n) {
     const char* c = static_cast<const char*>(p);
@@ -437,6 +450,7 @@ void send_ints(ChildOut& o, const std::vector<int>& v) {
             }
             send_ints(o, mesh.corner_node[s]);
             send_ints(o, mesh.face_surface[s]);
+            o.raw(mesh.solid_worst[s]);
         }
         o.raw(mesh.worst_quality);
         o.raw(mesh.mean_quality);
@@ -569,6 +583,7 @@ std::string mesh_solids(const std::vector<Polyhedron>& solids, const std::vector
             out.tets.resize(n_solids);
             out.corner_node.resize(n_solids);
             out.face_surface.resize(n_solids);
+            out.solid_worst.resize(n_solids);
             const auto n_nodes = static_cast<std::int64_t>(out.nodes.size());
             for (size_t s = 0; s < n_solids; ++s) {
                 out.tets[s].resize(in.count(16));
@@ -583,6 +598,7 @@ std::string mesh_solids(const std::vector<Polyhedron>& solids, const std::vector
                     if (q < 0 || q >= n_nodes) throw ChildFailed{};
                 }
                 out.face_surface[s] = in.ints();
+                out.solid_worst[s] = in.raw<double>();
             }
             out.worst_quality = in.raw<double>();
             out.mean_quality = in.raw<double>();

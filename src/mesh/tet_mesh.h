@@ -7,6 +7,10 @@
 // it as one geometry in which a face shared by two blocks (the same polygon) is one surface,
 // the meshes of neighbouring blocks conform on their shared faces node for node.
 //
+// Delaunay meshes of thin slices keep flat tetrahedra whose corners all lie on the surface
+// (slivers, which set the timestep of the whole model); mesh/tet_improve.h removes them after
+// the mesher, without changing the surface meshes.
+//
 // This file knows nothing of the model: blocks go in as polyhedra, nodes and tetrahedra come
 // out. The engine decides which blocks share nodes (joined ones) and which get copies.
 #pragma once
@@ -26,12 +30,15 @@ struct TetMesh {
     std::vector<std::vector<int>> corner_node;       // (n_solids) node of each vertex of the solid
     std::vector<std::vector<int>> face_surface;      // (n_solids) per face: which surface it is; two
                                                      // solids with a face on one surface share its nodes
+    std::vector<double> solid_worst;                 // (n_solids) smallest radius ratio in each
     double worst_quality = 1;                        // smallest radius ratio 3 r_in / r_out (1: regular)
     double mean_quality = 1;
 };
 
 // Mesh each convex solid into tetrahedra of mean edge length about edges[s] (m): a vertex
-// shared by solids takes the smallest, and sizes grade in between. Returns "" on success,
+// shared by solids takes the smallest, and sizes grade in between. Zones of a radius ratio
+// under 0.2 are then improved (mesh/tet_improve.h): solids of ordinary shape (convex, aspect
+// ratio under 20) get none under 0.1 at any edge; a solid too thin for the edge may. Returns "" on success,
 // else why not (the mesher's own message). The same solids and edges give the same mesh, bit
 // for bit, whatever the session did before. The mesher runs in a child process: raising
 // *interrupt (Ctrl-C) stops it within a tenth of a second, with "interrupted: ..." returned.
