@@ -1,9 +1,12 @@
 #include <algorithm>
+#include <memory>
 
 #include "commands.h"
 #include "common.h"
 #include "engine/cycle.h"
+#include "engine/verdict.h"
 #include "progress.h"
+#include "verdict_text.h"
 
 namespace odec {
 
@@ -80,6 +83,15 @@ const CommandSpec& solve_command() {
                     if (active) give_back();
                 }
             } restore{m, strengths};
+            ctx.interp.last_solve.reset();
+            // The verdict at the end comes from a small record of the run (engine/verdict.h),
+            // sampled through the cycle's progress call, made every step.
+            SolveRecorder record;
+            long stage_first = m.step;
+            auto each = [&](const Model& mm) {
+                record.observe(mm);
+                if (lines && (mm.step - stage_first) % 100 == 0) progress(mm);
+            };
             CycleResult r;
             CyclingGuard cycling(ctx.interp);
             for (int stage = a.has("elastic") ? 0 : 1; stage < 2; ++stage) {
@@ -93,7 +105,9 @@ const CommandSpec& solve_command() {
                     restore.give_back();
                     if (talk) o << "solve elastic: equilibrium with elastic joints reached; now with their strengths\n";
                 }
-                r = cycle(m, lim, &ctx.interp.interrupt, lines ? ProgressFn(std::ref(progress)) : ProgressFn(), 100);
+                stage_first = m.step;
+                record.begin(m);
+                r = cycle(m, lim, &ctx.interp.interrupt, ProgressFn(each), 1);
                 spend_step_budget(ctx, counted, r.steps);
                 if (r.reason == StopReason::Error) fail(a.loc, r.message, {}, "solve");
                 if (r.reason == StopReason::BlowUp) {
@@ -101,16 +115,16 @@ const CommandSpec& solve_command() {
                 }
                 if (r.reason == StopReason::Interrupted) break;
             }
+            record.finish(m);
+            auto verdict = std::make_shared<SolveVerdict>(judge_solve(record, m, r.reason, lim, r.steps));
+            ctx.interp.last_solve = verdict;
             if (!talk) return;
             line(m);
-            switch (r.reason) {
-            case StopReason::Ratio: o << "solve: equilibrium, ratio " << num(unbalanced_ratio(m)) << " < " << num(lim.ratio); break;
-            case StopReason::Steps: o << "solve: stopped at the step limit (" << r.steps << " steps), ratio still " << num(unbalanced_ratio(m)); break;
-            case StopReason::Time: o << "solve: reached the time limit, ratio " << num(unbalanced_ratio(m)); break;
-            case StopReason::Interrupted: o << "solve: interrupted"; break;
-            default: break;
+            o << "solve: " << verdict_text(*verdict) << "\n";
+            // A run for a time keeps its plain line; a mechanism found in it is said too.
+            if (r.reason == StopReason::Time && verdict->outcome == SolveOutcome::Mechanism) {
+                o << "solve: mechanism: " << mechanism_text(*verdict) << "\n";
             }
-            o << " after " << r.steps << " steps\n";
         });
         return c;
     }();
