@@ -365,7 +365,7 @@ void print_info(CommandContext& ctx) {
             o << "            mechanism: " << mechanism_text(*v) << "\n";
         }
     } else {
-        o << "last solve: none since 'new' or 'restore'\n";
+        o << "last solve: none finished since 'new' or 'restore'\n";
     }
     const Profile& p = m.profile;
     double total = 0;

@@ -84,7 +84,7 @@ std::string mechanism_text(const SolveVerdict& v) {
     const long n = static_cast<long>(ids.size());
     return plural(n, "block", "blocks") + " (" + (n == 1 ? "id " : "ids ") + id_list(ids) +
            ") still moving at up to " + fig(v.moving_speed) + " m/s, " +
-           (v.moving_growth >= 1.2 ? "speeding up" : "steady") + " over the last " +
+           (v.moving_growth >= 1.05 ? "speeding up" : v.moving_growth >= 0.95 ? "steady" : "nearly steady") + " over the last " +
            plural(v.window_steps, "step", "steps") + " (moved " + (n == 1 ? "" : "up to ") + fig(moved) +
            " m in them)";
 }

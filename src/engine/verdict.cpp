@@ -7,6 +7,12 @@ namespace odec {
 
 namespace {
 
+// The thresholds of a mechanism (verdict.h).
+constexpr double kLeast = 1e-4;        // net displacement over the window, times the block's size
+constexpr double kSteady = 0.8;        // rate of the window's second half over its first
+constexpr double kSameWay = 0.5;       // cosine between the two halves' displacements
+constexpr double kAccumulating = 0.25; // rate of the second half over the speed at the end
+
 // Where each block is: a rigid block's centroid, a deformable block's mean gridpoint position.
 std::vector<Vec3> block_places(const Model& m) {
     const BlockSet& s = m.blocks;
@@ -211,7 +217,7 @@ SolveVerdict judge_solve(const SolveRecorder& rec, const Model& m, StopReason re
     if (mid < 0) return v;
 
     // Each free block's motion over the two halves of the window.
-    const bool settling = v.trend_known && v.decades_per_step * static_cast<double>(v.window_steps) < -0.1;
+    const bool ratio_falling = v.trend_known && v.decades_per_step * static_cast<double>(v.window_steps) < -0.02;
     std::vector<double> speed;
     std::vector<char> free;
     block_speeds(m, speed, free);
@@ -224,13 +230,19 @@ SolveVerdict judge_solve(const SolveRecorder& rec, const Model& m, StopReason re
     const BlockSet& s = m.blocks;
     for (int b = 0; b < s.size(); ++b) {
         if (!free[b] || !(speed[b] > 0)) continue;
-        const double r1 = (p1[b] - p0[b]).stableNorm() / h1, r2 = (now[b] - p1[b]).stableNorm() / h2;
+        const Vec3 d1 = p1[b] - p0[b], d2 = now[b] - p1[b];
+        const double r1 = d1.stableNorm() / h1, r2 = d2.stableNorm() / h2;
         const double moved = (now[b] - p0[b]).stableNorm();
         const double size = std::cbrt(std::max(s.volume[b], 0.0));
-        const bool steady = r2 >= 0.8 * r1 && !(settling && r2 < r1);
-        const bool accumulating = r2 >= 0.25 * speed[b];
-        if (!steady || !accumulating || !(moved >= 1e-5 * size) || !std::isfinite(moved)) continue;
-        v.moving.push_back({s.id[b], speed[b], moved, r1 > 0 ? r2 / r1 : 1e30});
+        if (!(moved >= kLeast * size) || !std::isfinite(moved) || !(r1 > 0)) continue;
+        // Steady or growing; a rate a little lower is steady only while the ratio does not fall.
+        const double growth = r2 / r1;
+        const bool steady = growth >= 1 || (growth >= kSteady && !ratio_falling);
+        // One way: the two halves' displacements point alike, and add up to about the speed.
+        const bool one_way = d1.dot(d2) >= kSameWay * d1.stableNorm() * d2.stableNorm();
+        const bool accumulating = r2 >= kAccumulating * speed[b];
+        if (!steady || !one_way || !accumulating) continue;
+        v.moving.push_back({s.id[b], speed[b], moved, growth});
         v.moving_speed = std::max(v.moving_speed, speed[b]);
         rate1 += r1;
         rate2 += r2;

@@ -2,20 +2,24 @@
 // run stopped by its limit while the model was still settling.
 //
 // During the run a SolveRecorder keeps a small rolling record: every `stride` steps a sample
-// of the mean unbalanced-force ratio, the kinetic energy and the largest speed; every 16
+// of the mean unbalanced-force ratio, the kinetic energy and the largest speed; every 8
 // samples a snapshot of where each block is (a deformable block: the mean position of its
 // gridpoints). When the record is full, every other entry is dropped and the stride doubles,
-// so that it always spans the whole run in at most 256 samples and 17 snapshots.
+// so that it always spans the whole run in at most 256 samples and 33 snapshots.
 //
 // At the end, judge_solve() looks at the last part of the run (the window: the last fifth of
 // the steps, from the snapshot at or before that point):
 // - the ratio's trend: a least-squares fit of log10(ratio) against the step;
 // - each free block's motion: its net displacement over the first and the second half of the
-//   window. A block moves as a mechanism when the second half's rate is at least 0.8 times the
-//   first's (steady or growing), that rate is at least a quarter of its speed at the end (the
-//   displacement accumulates: not an oscillation about a place of rest), and it moved at least
-//   1e-5 of its size. A block whose rate fell while the ratio fell by more than 0.1 decade is
-//   settling, not failing.
+//   window. A block moves as a mechanism when
+//     it moved at least 1e-4 of its size over the window;
+//     its rate over the second half is at least its rate over the first (steady or growing),
+//     or at least 0.8 of it while the ratio does not fall (by 0.02 decade or more over the
+//     window): a block slowing while the ratio falls is settling, not failing;
+//     the two halves' displacements point the same way (within 60 degrees) and the second
+//     half's rate is at least a quarter of its speed at the end: the displacement
+//     accumulates, it is no oscillation about a place of rest.
+//   Under local damping a block that fails speeds up (a fifth of its net force is left).
 // A deformable block counts through its gridpoints: its speed is that of its fastest free
 // gridpoint. Fixed, excavated and velocity-driven blocks are left out.
 //
@@ -41,7 +45,7 @@ struct SolveSample {
 class SolveRecorder {
 public:
     static constexpr int kSamples = 256;        // samples kept at most
-    static constexpr int kSamplesPerSnapshot = 16;
+    static constexpr int kSamplesPerSnapshot = 8;
     static constexpr long kFirstStride = 5;     // steps between samples at first
 
     // Start the record at the model as it is (the run's first snapshot).
@@ -117,7 +121,7 @@ struct SolveVerdict {
     // Mechanism: the blocks moving, by id, and the fastest speed among them.
     std::vector<MovingBlock> moving;
     double moving_speed = 0;   // m/s
-    double moving_growth = 1;  // of the blocks together (> 1.2: speeding up)
+    double moving_growth = 1;  // of the blocks together (> 1: speeding up)
 };
 
 // The verdict of a run recorded by `rec`, ended for `reason`, on the model as it is at the end.
