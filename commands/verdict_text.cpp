@@ -118,7 +118,9 @@ std::string verdict_text(const SolveVerdict& v) {
         s += ", no trend toward " + g(v.ratio_limit, 3);
     }
     s += "; the largest speed " + change(v.speed_from, v.speed_to, [](double x) { return fig(x); }) + " m/s";
-    s += v.speed_to < v.speed_from / 1.12 ? " (settling; no block moves steadily)" : " (no block moves steadily)";
+    if (v.speed_to < v.speed_from / 1.12) s += " (settling; no block moves steadily)";
+    else if (v.speed_to > v.speed_from * 1.12) s += " (speeding up, though no block moves steadily one way yet)";
+    else s += " (no block moves steadily)";
     return s;
 }
 

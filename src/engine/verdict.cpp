@@ -8,7 +8,7 @@ namespace odec {
 namespace {
 
 // The thresholds of a mechanism (verdict.h).
-constexpr double kLeast = 1e-4;        // net displacement over the window, times the block's size
+constexpr double kLeast = 1e-5;        // net displacement over the window, times the block's size
 constexpr double kSteady = 0.8;        // rate of the window's second half over its first
 constexpr double kSameWay = 0.5;       // cosine between the two halves' displacements
 constexpr double kAccumulating = 0.25; // rate of the second half over the speed at the end

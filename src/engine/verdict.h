@@ -12,7 +12,7 @@
 // - the ratio's trend: a least-squares fit of log10(ratio) against the step;
 // - each free block's motion: its net displacement over the first and the second half of the
 //   window. A block moves as a mechanism when
-//     it moved at least 1e-4 of its size over the window;
+//     it moved at least 1e-5 of its size over the window;
 //     its rate over the second half is at least its rate over the first (steady or growing),
 //     or at least 0.8 of it while the ratio does not fall (by 0.02 decade or more over the
 //     window): a block slowing while the ratio falls is settling, not failing;
