@@ -29,8 +29,17 @@ const CommandSpec& solve_command() {
         c.describe("The mean unbalanced-force ratio is the sum over free blocks of the unbalanced force "
                    "divided by the sum of the magnitudes of all the forces acting on them. A long run prints "
                    "its progress every few seconds (step, time, ratio, and the time left when it runs to a "
-                   "number of steps or a time), unless --quiet or 'set echo off'; at the end, why it stopped. "
-                   "Ctrl-C stops it at the prompt.");
+                   "number of steps or a time), unless --quiet or 'set echo off'. Ctrl-C stops it at the prompt. "
+                   "It ends with one verdict: 'equilibrium' (the ratio limit was reached: the ratio and the "
+                   "steps); 'mechanism' (stopped by the step limit with blocks still moving one way at a "
+                   "steady or growing rate: their ids, how many, their largest speed in m/s, and how far they "
+                   "moved over the last part of the run); or 'not converged' (stopped by the step limit while "
+                   "settling: how the ratio fell over the last fifth of the steps, about how many steps a "
+                   "decade takes, how many more the ratio limit would take at that rate, and whether the "
+                   "largest speed is falling). A run stopped by its time limit or by Ctrl-C says so, and a "
+                   "time-limited run names a mechanism too. A deformable block counts through its gridpoints; "
+                   "fixed and velocity-driven blocks are left out. 'print info' shows the last solve's "
+                   "criteria and verdict, and FISH's solve_verdict gives it in a word.");
         c.example("solve");
         c.example("solve ratio 1e-6 cycles 50000");
         c.refuse_while_cycling(kNoNestedCycling);

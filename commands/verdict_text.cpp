@@ -119,7 +119,7 @@ std::string verdict_text(const SolveVerdict& v) {
     }
     s += "; the largest speed " + change(v.speed_from, v.speed_to, [](double x) { return fig(x); }) + " m/s";
     if (v.speed_to < v.speed_from / 1.12) s += " (settling; no block moves steadily)";
-    else if (v.speed_to > v.speed_from * 1.12) s += " (speeding up, though no block moves steadily one way yet)";
+    else if (v.speed_to > v.speed_from * 1.12) s += " (speeding up, but no block moves as a mechanism yet)";
     else s += " (no block moves steadily)";
     return s;
 }

@@ -12,6 +12,7 @@ constexpr double kLeast = 1e-5;        // net displacement over the window, time
 constexpr double kSteady = 0.8;        // rate of the window's second half over its first
 constexpr double kSameWay = 0.5;       // cosine between the two halves' displacements
 constexpr double kAccumulating = 0.25; // rate of the second half over the speed at the end
+constexpr double kDriven = 0.5;        // unbalanced force at the window's end over its start
 
 // Where each block is: a rigid block's centroid, a deformable block's mean gridpoint position.
 std::vector<Vec3> block_places(const Model& m) {
@@ -30,6 +31,22 @@ std::vector<Vec3> block_places(const Model& m) {
         else where[b] = s.centroid[b];
     }
     return where;
+}
+
+// The unbalanced force on each block, N: a rigid block's, or the sum of the magnitudes of its
+// gridpoints'.
+std::vector<double> block_forces(const Model& m) {
+    const BlockSet& s = m.blocks;
+    std::vector<double> f(static_cast<size_t>(s.size()), 0.0);
+    for (int b = 0; b < s.size(); ++b) {
+        if (!(s.flags[b] & kDeformable)) f[b] = s.force[b].stableNorm();
+    }
+    const GridpointSet& g = m.gridpoints;
+    for (int i = 0; i < g.size(); ++i) {
+        const int b = g.block[i];
+        if (b >= 0 && b < s.size() && (s.flags[b] & kDeformable)) f[b] += g.force[i].stableNorm();
+    }
+    return f;
 }
 
 bool rigid_free(const BlockSet& s, int b) {
@@ -78,7 +95,7 @@ void SolveRecorder::restart(const Model& m) {
     n_gridpoints_ = m.gridpoints.size();
     samples_.clear();
     snapshots_.clear();
-    snapshots_.push_back({m.step - first_step_, m.time, block_places(m)});
+    snapshots_.push_back({m.step - first_step_, m.time, block_places(m), block_forces(m)});
 }
 
 SolveSample SolveRecorder::sample(const Model& m, long rel) const {
@@ -117,7 +134,7 @@ void SolveRecorder::observe(const Model& m) {
     const long rel = m.step - first_step_;
     if (rel <= 0 || rel % stride_ != 0) return;
     samples_.push_back(sample(m, rel));
-    if (rel % (stride_ * kSamplesPerSnapshot) == 0) snapshots_.push_back({rel, m.time, block_places(m)});
+    if (rel % (stride_ * kSamplesPerSnapshot) == 0) snapshots_.push_back({rel, m.time, block_places(m), block_forces(m)});
     if (static_cast<int>(samples_.size()) < kSamples) return;
     // Full: keep every other sample (and snapshot), twice as far apart.
     stride_ *= 2;
@@ -222,11 +239,18 @@ SolveVerdict judge_solve(const SolveRecorder& rec, const Model& m, StopReason re
     std::vector<char> free;
     block_speeds(m, speed, free);
     const std::vector<Vec3> now = block_places(m);
+    const std::vector<double> force_now = block_forces(m);
+    const auto& f0 = snaps[i0].force;
     const auto& p0 = snaps[i0].where;
     const auto& p1 = snaps[mid].where;
     const double h1 = snaps[mid].time - snaps[i0].time, h2 = m.time - snaps[mid].time;
     if (!(h1 > 0) || !(h2 > 0)) return v;
-    double rate1 = 0, rate2 = 0;
+    struct Candidate {
+        MovingBlock block;
+        double r1, r2, f0, f;
+    };
+    std::vector<Candidate> candidates;
+    double f0_sum = 0, f_sum = 0;
     const BlockSet& s = m.blocks;
     for (int b = 0; b < s.size(); ++b) {
         if (!free[b] || !(speed[b] > 0)) continue;
@@ -242,10 +266,21 @@ SolveVerdict judge_solve(const SolveRecorder& rec, const Model& m, StopReason re
         const bool one_way = d1.dot(d2) >= kSameWay * d1.stableNorm() * d2.stableNorm();
         const bool accumulating = r2 >= kAccumulating * speed[b];
         if (!steady || !one_way || !accumulating) continue;
-        v.moving.push_back({s.id[b], speed[b], moved, growth});
-        v.moving_speed = std::max(v.moving_speed, speed[b]);
-        rate1 += r1;
-        rate2 += r2;
+        candidates.push_back({{s.id[b], speed[b], moved, growth}, r1, r2, f0[b], force_now[b]});
+        f0_sum += f0[b];
+        f_sum += force_now[b];
+    }
+    // Still driven: a block swinging back toward a place of rest (a slow sway of a whole wall)
+    // speeds up too, but the force on it dies away as it nears that place. The blocks together
+    // keep at least half their unbalanced force, and so does each block named.
+    if (candidates.empty() || !(f_sum >= kDriven * f0_sum)) return v;
+    double rate1 = 0, rate2 = 0;
+    for (const Candidate& c : candidates) {
+        if (!(c.f >= kDriven * c.f0)) continue;
+        v.moving.push_back(c.block);
+        v.moving_speed = std::max(v.moving_speed, c.block.speed);
+        rate1 += c.r1;
+        rate2 += c.r2;
     }
     if (!v.moving.empty()) {
         v.outcome = SolveOutcome::Mechanism;

@@ -4,8 +4,9 @@
 // During the run a SolveRecorder keeps a small rolling record: every `stride` steps a sample
 // of the mean unbalanced-force ratio, the kinetic energy and the largest speed; every 8
 // samples a snapshot of where each block is (a deformable block: the mean position of its
-// gridpoints). When the record is full, every other entry is dropped and the stride doubles,
-// so that it always spans the whole run in at most 256 samples and 33 snapshots.
+// gridpoints) and of the unbalanced force on it. When the record is full, every other entry is
+// dropped and the stride doubles, so that it always spans the whole run in at most 256
+// samples and 33 snapshots.
 //
 // At the end, judge_solve() looks at the last part of the run (the window: the last fifth of
 // the steps, from the snapshot at or before that point):
@@ -18,7 +19,11 @@
 //     window): a block slowing while the ratio falls is settling, not failing;
 //     the two halves' displacements point the same way (within 60 degrees) and the second
 //     half's rate is at least a quarter of its speed at the end: the displacement
-//     accumulates, it is no oscillation about a place of rest.
+//     accumulates, it is no oscillation about a place of rest;
+//     the unbalanced force on it at the window's end is at least half what it was at its
+//     start, and so is the sum over all the blocks that pass the tests above: a block
+//     swinging back toward a place of rest (a slow sway of a whole wall) speeds up too, but
+//     the force on it dies away as it nears that place.
 //   Under local damping a block that fails speeds up (a fifth of its net force is left).
 // A deformable block counts through its gridpoints: its speed is that of its fastest free
 // gridpoint. Fixed, excavated and velocity-driven blocks are left out.
@@ -59,7 +64,9 @@ public:
     struct Snapshot {
         long step = 0;
         double time = 0;
-        std::vector<Vec3> where; // per block, m
+        std::vector<Vec3> where;    // per block, m
+        std::vector<double> force;  // per block, N: its unbalanced force (a deformable block:
+                                    // the sum of the magnitudes of its gridpoints')
     };
     const std::vector<SolveSample>& samples() const { return samples_; }
     const std::vector<Snapshot>& snapshots() const { return snapshots_; }
