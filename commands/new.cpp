@@ -16,6 +16,7 @@ const CommandSpec& new_command() {
         c.example("new");
         c.refuse_while_cycling("it would clear the model that is cycling");
         c.handle([](CommandContext& ctx, const Args& a) {
+            ctx.interp.last_solve.reset();
             if (ctx.interp.fish_running()) {
                 ctx.model = Model();
                 ctx.interp.fish().forget_model();

@@ -4,8 +4,10 @@
 #include "engine/blocks.h"
 #include "engine/contact.h"
 #include "engine/cycle.h"
+#include "engine/verdict.h"
 #include "engine/zones.h"
 #include "mesh/tet_mesh.h"
+#include "verdict_text.h"
 
 #include <cmath>
 
@@ -374,6 +376,16 @@ void print_info(CommandContext& ctx) {
       << "\n";
     o << "histories:  " << m.histories.items.size() << " (every " << m.histories.ncyc << " steps, "
       << m.histories.sample_steps.size() << " samples)\n";
+    // The last solve: the criteria it was given, and how it ended.
+    if (const auto& v = ctx.interp.last_solve) {
+        o << "last solve: " << criteria_text(*v) << "; ended at step " << v->end_step << "\n";
+        o << "verdict:    " << verdict_text(*v) << "\n";
+        if (v->stop == StopReason::Time && v->outcome == SolveOutcome::Mechanism) {
+            o << "            mechanism: " << mechanism_text(*v) << "\n";
+        }
+    } else {
+        o << "last solve: none finished since 'new' or 'restore'\n";
+    }
     const Profile& p = m.profile;
     double total = 0;
     for (double s : p.seconds) total += s;

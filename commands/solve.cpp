@@ -1,10 +1,13 @@
 #include <algorithm>
+#include <memory>
 
 #include "analysis_mode.h"
 #include "commands.h"
 #include "common.h"
 #include "engine/cycle.h"
+#include "engine/verdict.h"
 #include "progress.h"
+#include "verdict_text.h"
 
 namespace odec {
 
@@ -27,8 +30,17 @@ const CommandSpec& solve_command() {
         c.describe("The mean unbalanced-force ratio is the sum over free blocks of the unbalanced force "
                    "divided by the sum of the magnitudes of all the forces acting on them. A long run prints "
                    "its progress every few seconds (step, time, ratio, and the time left when it runs to a "
-                   "number of steps or a time), unless --quiet or 'set echo off'; at the end, why it stopped. "
-                   "Ctrl-C stops it at the prompt.");
+                   "number of steps or a time), unless --quiet or 'set echo off'. Ctrl-C stops it at the prompt. "
+                   "It ends with one verdict: 'equilibrium' (the ratio limit was reached: the ratio and the "
+                   "steps); 'mechanism' (stopped by the step limit with blocks still moving one way at a "
+                   "steady or growing rate: their ids, how many, their largest speed in m/s, and how far they "
+                   "moved over the last part of the run); or 'not converged' (stopped by the step limit while "
+                   "settling: how the ratio fell over the last fifth of the steps, about how many steps a "
+                   "decade takes, how many more the ratio limit would take at that rate, and whether the "
+                   "largest speed is falling). A run stopped by its time limit or by Ctrl-C says so, and a "
+                   "time-limited run names a mechanism too. A deformable block counts through its gridpoints; "
+                   "fixed and velocity-driven blocks are left out. 'print info' shows the last solve's "
+                   "criteria and verdict, and FISH's solve_verdict gives it in a word.");
         c.example("solve");
         c.example("solve ratio 1e-6 cycles 50000");
         c.refuse_while_cycling(kNoNestedCycling);
@@ -82,6 +94,15 @@ const CommandSpec& solve_command() {
                 }
             } restore{m, strengths};
             if (a.has("time")) note_static_time(ctx, "'solve time'");
+            ctx.interp.last_solve.reset();
+            // The verdict at the end comes from a small record of the run (engine/verdict.h),
+            // sampled through the cycle's progress call, made every step.
+            SolveRecorder record;
+            long stage_first = m.step;
+            auto each = [&](const Model& mm) {
+                record.observe(mm);
+                if (lines && (mm.step - stage_first) % 100 == 0) progress(mm);
+            };
             CycleResult r;
             CyclingGuard cycling(ctx.interp);
             for (int stage = a.has("elastic") ? 0 : 1; stage < 2; ++stage) {
@@ -95,7 +116,9 @@ const CommandSpec& solve_command() {
                     restore.give_back();
                     if (talk) o << "solve elastic: equilibrium with elastic joints reached; now with their strengths\n";
                 }
-                r = cycle(m, lim, &ctx.interp.interrupt, lines ? ProgressFn(std::ref(progress)) : ProgressFn(), 100);
+                stage_first = m.step;
+                record.begin(m);
+                r = cycle(m, lim, &ctx.interp.interrupt, ProgressFn(each), 1);
                 spend_step_budget(ctx, counted, r.steps);
                 report_mass_scaling(ctx);
                 if (r.reason == StopReason::Error) fail(a.loc, r.message, {}, "solve");
@@ -104,16 +127,16 @@ const CommandSpec& solve_command() {
                 }
                 if (r.reason == StopReason::Interrupted) break;
             }
+            record.finish(m);
+            auto verdict = std::make_shared<SolveVerdict>(judge_solve(record, m, r.reason, lim, r.steps));
+            ctx.interp.last_solve = verdict;
             if (!talk) return;
             line(m);
-            switch (r.reason) {
-            case StopReason::Ratio: o << "solve: equilibrium, ratio " << num(unbalanced_ratio(m)) << " < " << num(lim.ratio); break;
-            case StopReason::Steps: o << "solve: stopped at the step limit (" << r.steps << " steps), ratio still " << num(unbalanced_ratio(m)); break;
-            case StopReason::Time: o << "solve: reached the time limit, ratio " << num(unbalanced_ratio(m)); break;
-            case StopReason::Interrupted: o << "solve: interrupted"; break;
-            default: break;
+            o << "solve: " << verdict_text(*verdict) << "\n";
+            // A run for a time keeps its plain line; a mechanism found in it is said too.
+            if (r.reason == StopReason::Time && verdict->outcome == SolveOutcome::Mechanism) {
+                o << "solve: mechanism: " << mechanism_text(*verdict) << "\n";
             }
-            o << " after " << r.steps << " steps\n";
         });
         return c;
     }();

@@ -322,6 +322,7 @@ Value f_ncontact(Runtime& rt, A, int, L loc) {
 Value f_nzone(Runtime& rt, A, int, L) { return Value::integer(model(rt).zones.size()); }
 Value f_ngp(Runtime& rt, A, int, L) { return Value::integer(model(rt).gridpoints.size()); }
 Value f_gravity(Runtime& rt, A, int, L) { return vec(model(rt).gravity); }
+Value f_solve_verdict(Runtime& rt, A, int, L) { return Value::string(rt.host.solve_verdict()); }
 
 Value f_memory(Runtime&, A, int, L loc) {
     fish_fail(loc, "odec has no memory offsets: imem() and fmem() have nothing to read",
@@ -451,6 +452,9 @@ const std::vector<Intrinsic>& model_intrinsics() {
         {"nzone", 0, 0, "", "number of zones", "model", f_nzone, nullptr},
         {"ngp", 0, 0, "", "number of gridpoints", "model", f_ngp, nullptr},
         {"gravity", 0, 0, "", "gravity (vector), m/s^2", "model", f_gravity, nullptr},
+        {"solve_verdict", 0, 0, "", "how the last solve ended: 'equilibrium', 'mechanism', 'not converged' or "
+                                    "'interrupted' ('' before any solve since 'new' or 'restore')", "model",
+         f_solve_verdict, nullptr},
         {"imem", 1, 1, "i", "(classic) integer memory at an offset: odec has none, the call stops with the "
                             "intrinsic to use instead", "model", f_memory, nullptr},
         {"fmem", 1, 1, "i", "(classic) real memory at an offset: odec has none, the call stops with the "

@@ -44,6 +44,9 @@ public:
     virtual bool interrupted() = 0;
     // Files FISH opens must stay in the working directory (fuzzing sessions).
     virtual bool confine_files() = 0;
+    // How the last `solve` ended, in a word (equilibrium, mechanism, not converged,
+    // interrupted), or "" before any.
+    virtual std::string solve_verdict() { return ""; }
 };
 
 // A global name: a variable, a function (whose value is what it assigns to its own name), or

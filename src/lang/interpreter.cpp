@@ -16,6 +16,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "engine/verdict.h"
 #include "fish/ast.h"
 #include "fish/intrinsics.h"
 #include "fish/runtime.h"
@@ -39,11 +40,14 @@ public:
     std::ostream& out() override { return in_.out; }
     std::ostream& err() override { return in_.err; }
     bool interrupted() override { return in_.interrupt.load(); }
+    std::string solve_verdict() override;
     bool confine_files() override { return in_.limits.confine_files; }
 
 private:
     Interpreter& in_;
 };
+
+std::string SessionHost::solve_verdict() { return in_.last_solve ? outcome_name(in_.last_solve->outcome) : ""; }
 
 } // namespace
 

@@ -30,6 +30,7 @@ class Host;
 } // namespace fish
 
 class Interpreter;
+struct SolveVerdict; // engine/verdict.h
 
 // Picture options kept between plots of a session (`plot set ...`).
 struct PlotSettings {
@@ -160,6 +161,9 @@ public:
     bool new_in_fish_noted = false; // the note on `new` inside FISH is given once a session
     bool at_prompt = false;       // commands typed at the prompt are not echoed
     PlotSettings plot;            // kept between plots
+    // How the last `solve` ended: its criteria and verdict (null before any; `new` and `restore`
+    // clear it). `print info` and FISH's solve_verdict read it.
+    std::shared_ptr<const SolveVerdict> last_solve;
     NamedRanges named_ranges;     // `range name X ...`, for `nrange X`
 
     // Bounds for a session that runs input nobody wrote by hand (the fuzzing targets of

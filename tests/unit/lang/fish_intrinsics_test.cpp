@@ -177,6 +177,7 @@ std::vector<Case> block_cases() {
         {"gravity", "xcomp(gravity) * 100 + zcomp(gravity)", 90, 1e-12, nullptr},
         {"unbal", "unbal < 20", 1, 0, nullptr},
         {"mech_ratio", "mech_ratio < 1e-7", 1, 0, nullptr},
+        {"solve_verdict", "solve_verdict", 0, 0, "equilibrium"},
         {"zone_head", "zone_head", 0, 0, nullptr},
         {"gp_head", "gp_head", 0, 0, nullptr},
     };

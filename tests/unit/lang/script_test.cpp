@@ -231,7 +231,7 @@ TEST(Commands, SolveStopsAtEquilibriumAndSaysWhy) {
     // A short run prints no progress lines.
     EXPECT_EQ(out.str().find("  ... step"), std::string::npos) << out.str();
     ASSERT_TRUE(interp.run_text("t.dat", "solve cycles 3 ratio 1e-12", false));
-    EXPECT_NE(out.str().find("solve: stopped at the step limit (3 steps)"), std::string::npos) << out.str();
+    EXPECT_NE(out.str().find("solve: not converged within the step limit (3 steps): ratio "), std::string::npos) << out.str();
 }
 
 TEST(Commands, LongRunsShowProgress) {
