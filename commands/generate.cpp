@@ -6,6 +6,7 @@
 #include "common.h"
 #include "engine/blocks.h"
 #include "engine/contact.h"
+#include "engine/insitu.h"
 #include "engine/zones.h"
 #include "mesh/tet_mesh.h"
 
@@ -232,6 +233,11 @@ const CommandSpec& generate_command() {
                 ctx.out << "zoned " << blocks.size() << " blocks: " << made << " zones, " << m.gridpoints.size()
                         << " gridpoints in the model; zone quality (radius ratio) worst " << num(mesh.worst_quality)
                         << ", mean " << num(mesh.mean_quality) << "\n";
+            }
+            // The in-situ fields given before: the new zones and the joints of their blocks take them.
+            if (!m.insitu.empty()) {
+                const InsituCount ic = apply_kept_insitu(m, blocks);
+                report_insitu(ctx, a.loc, ic, "in-situ stress given before: ");
             }
         });
         return c;

@@ -2,7 +2,7 @@
 #include "common.h"
 #include "engine/blocks.h"
 #include "engine/contact.h"
-#include "engine/contact.h"
+#include "engine/insitu.h"
 #include "engine/zones.h"
 
 namespace odec {
@@ -32,6 +32,7 @@ const CommandSpec& insitu_command() {
             if (!a.has("stress") && !a.has("xgrad") && !a.has("ygrad") && !a.has("zgrad")) {
                 fail(a.loc, "'insitu' needs 'stress sxx syy szz sxy sxz syz'", {}, "insitu");
             }
+            if (m.blocks.size() == 0) fail(a.loc, "there are no blocks to take the stress", {}, "insitu");
             auto six = [&](const char* k) {
                 Sym6 s = {0, 0, 0, 0, 0, 0};
                 if (const KeywordUse* u = a.find(k)) {
@@ -39,27 +40,18 @@ const CommandSpec& insitu_command() {
                 }
                 return s;
             };
-            // Zones first: a range that selects no zone leaves the contacts alone too. A model of
-            // rigid blocks only takes the stress on its joints (3DEC does the same).
-            if (m.zones.size() == 0) {
-                refresh_world_vertices(m);
-                detect_contacts(m);
-                const int nc = set_insitu_contact_stress(m, a.range, six("stress"), six("xgrad"), six("ygrad"), six("zgrad"));
-                if (nc == 0) {
-                    fail(a.loc, "there are no zones and the range selects no contact: nothing would take the stress",
-                         {"rigid blocks carry stress only on their joints; divide blocks into zones with 'gen edge e'"},
-                         "insitu");
-                }
-                if (!ctx.interp.quiet) ctx.out << "0 zones (rigid blocks) and " << nc << " contacts set\n";
-                return;
+            const StressField f{six("stress"), six("xgrad"), six("ygrad"), six("zgrad")};
+            // Rigid blocks the range selects take the field when they are zoned.
+            bool rigid = false;
+            for (int b : select_blocks(m, a.range)) rigid = rigid || !(m.blocks.flags[b] & kDeformable);
+            const InsituCount c = apply_insitu(m, a.range, f);
+            if (c.zones == 0 && c.contacts == 0 && c.no_stiffness == 0 && !rigid) {
+                m.insitu.pop_back();
+                fail(a.loc, "the range selects no zone, no contact and no block to zone later",
+                     {"zones are selected by their centroid, contacts by theirs"}, "insitu");
             }
-            const int n = set_insitu_stress(m, a.range, six("stress"), six("xgrad"), six("ygrad"), six("zgrad"));
-            if (n == 0) {
-                fail(a.loc, "the range selects no zone", {"zones are selected by their centroid; rigid blocks have none"},
-                     "insitu");
-            }
-            const int nc = set_insitu_contact_stress(m, a.range, six("stress"), six("xgrad"), six("ygrad"), six("zgrad"));
-            if (!ctx.interp.quiet) ctx.out << n << " zones and " << nc << " contacts set\n";
+            report_insitu(ctx, a.loc, c, "");
+            if (rigid && !ctx.interp.quiet) ctx.out << "the stress is kept for the zones 'gen' makes in the rigid blocks of the range\n";
         });
         return c;
     }();

@@ -308,6 +308,7 @@ TEST_F(Save, OlderFormatsStillRestore) {
     EXPECT_EQ(m.zones.size(), 0);
     EXPECT_EQ(m.gridpoints.size(), 0);
     EXPECT_TRUE(m.stress_boundary.faces.empty());
+    EXPECT_TRUE(m.insitu.empty());
     EXPECT_EQ(m.blocks.cons, std::vector<std::uint8_t>{odec::kZoneElastic});
     EXPECT_EQ(m.blocks.body, std::vector<int>{0});
     EXPECT_EQ(m.blocks.zone_edge, std::vector<double>{0.0});
@@ -611,7 +612,7 @@ constexpr size_t count_fields() {
 TEST(SaveLayout, EveryFieldIsSaved) {
     using namespace odec;
     const char* fix = "a field was added: save and restore it in src/io/save.cpp, then update this count";
-    EXPECT_EQ(count_fields<Model>(), 23u) << fix;
+    EXPECT_EQ(count_fields<Model>(), 24u) << fix;
     EXPECT_EQ(count_fields<BlockSet>(), 32u) << fix;
     EXPECT_EQ(count_fields<ZoneSet>(), 7u) << fix;
     EXPECT_EQ(count_fields<GridpointSet>(), 17u) << fix;
@@ -631,4 +632,8 @@ TEST(SaveLayout, EveryFieldIsSaved) {
     EXPECT_EQ(count_fields<Damping>(), 5u) << fix;
     EXPECT_EQ(count_fields<Settings>(), 6u) << fix;
     EXPECT_EQ(count_fields<Profile>(), 7u) << fix; // 6 stage times and the step count
+    EXPECT_EQ(count_fields<InsituRecord>(), 2u) << fix;
+    EXPECT_EQ(count_fields<StressField>(), 4u) << fix;
+    EXPECT_EQ(count_fields<Range>(), 1u) << fix;
+    EXPECT_EQ(count_fields<Filter>(), 9u) << fix;
 }
