@@ -9,22 +9,46 @@ namespace odec {
 
 const CommandSpec& insitu_command() {
     static const CommandSpec spec = [] {
-        CommandSpec c("insitu", 3, "set the initial stresses of zones");
+        CommandSpec c("insitu", 3, "set the initial stresses of zones and joints");
         c.keyword("stress", 3, "the stress tensor, Pa (tension positive)")
             .real("sxx").real("syy").real("szz").real("sxy").real("sxz").real("syz");
         c.keyword("xgrad", 2, "its change per metre of x, Pa/m").real("gxx").real("gyy").real("gzz").real("gxy").real("gxz").real("gyz");
         c.keyword("ygrad", 2, "its change per metre of y, Pa/m").real("gxx").real("gyy").real("gzz").real("gxy").real("gxz").real("gyz");
         c.keyword("zgrad", 2, "its change per metre of z, Pa/m").real("gxx").real("gyy").real("gzz").real("gxy").real("gxz").real("gyz");
-        c.range("which zones, by their centroid and block: see 'help range'");
+        c.range("which zones and contacts, by their centroid and block: see 'help range'");
         c.describe("Every zone of a deformable block whose centroid the range selects takes the stress "
                    "s + x xgrad + y ygrad + z zgrad, x, y, z its centroid. Stresses are tension positive, so "
                    "a rock mass under its own weight has negative szz growing with depth: with the surface at "
                    "z = 0, density rho and gravity g, 'insitu stress 0 0 0 0 0 0 zgrad k rho g, k rho g, "
-                   "rho g, 0 0 0' (z negative below the surface). Such a state in equilibrium with gravity and "
-                   "the boundaries starts without a jolt. The contacts (with a joint material) whose centroid "
-                   "the range selects take the same stress at each sub-contact: normal and shear stress, and the "
-                   "joint closure that carries it, so the joints start loaded too. Gridpoint displacements and "
-                   "velocities are not changed.");
+                   "rho g, 0 0 0' (z negative below the surface). "
+                   "The joints take the same field: every contact with a joint material whose centroid the "
+                   "range selects (contacts are found first when the model changed) carries, at each "
+                   "sub-contact, the traction sigma n of the field on the joint plane (n the contact normal), "
+                   "as a normal stress (compression positive) and a shear stress, and the joint closure that "
+                   "carries the normal stress (sn / jkn). This is so for joints between deformable blocks, "
+                   "between rigid ones and between the two kinds, and for joined joints, so a jointed model "
+                   "whose field is in equilibrium with gravity and its boundaries ('bound stress' with the same "
+                   "tensor on the outer faces, or velocities held there) starts at rest: rigid blocks inside the "
+                   "rock are held by their joints as the zones are. Only the face-to-face part of a joint is "
+                   "loaded; blocks that meet only along an edge or at a corner (where joint sets cross) start "
+                   "unloaded there, and the command counts those sub-contacts. Where meshes on the two sides of a "
+                   "joint do not match (blocks zoned in separate 'gen' commands, or faces that are not the same "
+                   "polygon on both sides), the joint still takes the field, but the gridpoints there start with "
+                   "small forces out of balance, and the model settles a little. "
+                   "A joint cannot start beyond its strength: where the field's shear stress exceeds its Coulomb "
+                   "strength (jcoh + sn tan jfric), the shear stress is capped there and the joint starts "
+                   "slipping; where the field pulls it apart beyond its tensile strength (jten), it starts open "
+                   "and unloaded; either way it fails, as the joint law would have it (cohesion and tension lost; "
+                   "residual friction under jcons 2), and a warning gives the number of such sub-contacts. A "
+                   "joined joint has no limits. A contact without a joint material with a normal stiffness "
+                   "cannot carry stress: it is left unloaded, with a warning. "
+                   "The model keeps the field (it is saved with the model): blocks zoned later by 'gen' give "
+                   "their new zones, and their joints, the fields given before, each over its own range, in "
+                   "order. So 'insitu' may come before 'gen', as with rigid blocks that are zoned later. "
+                   "Other contacts found later (blocks that come into contact as the model moves, blocks added "
+                   "or cut after 'insitu' and not zoned afterwards) start unloaded: they were not joints of the "
+                   "rock when its stress was given. Gridpoint displacements and velocities are not changed; 'insitu' given again sets the "
+                   "stresses again.");
         c.example("insitu stress -15e6 -15e6 -30e6 0 0 0");
         c.example("insitu stress 0 0 0 0 0 0 zgrad 1.3e4 1.3e4 2.6e4 0 0 0");
         c.handle([](CommandContext& ctx, const Args& a) {
