@@ -36,6 +36,36 @@ inline std::vector<int> blocks_to_change(CommandContext& ctx, const Args& args, 
     return blocks;
 }
 
+// What 'insitu' (or 'gen', applying the in-situ stress given before) set, said in a line, and
+// what the joints could not carry, as warnings.
+inline void report_insitu(CommandContext& ctx, const SourceLoc& loc, const InsituCount& c, const std::string& prefix) {
+    if (!ctx.interp.quiet) {
+        ctx.out << prefix << c.zones << " zone" << (c.zones == 1 ? "" : "s") << " and " << c.contacts << " contact"
+                << (c.contacts == 1 ? "" : "s") << " (" << c.subs << " sub-contact" << (c.subs == 1 ? "" : "s")
+                << ") set";
+        if (c.edge_subs > 0) {
+            ctx.out << "; " << c.edge_subs << " sub-contact" << (c.edge_subs == 1 ? "" : "s")
+                    << " where blocks meet only along an edge or at a corner left unloaded";
+        }
+        ctx.out << "\n";
+    }
+    if (c.slipping > 0) {
+        warn(ctx, loc, std::to_string(c.slipping) + " of " + std::to_string(c.subs) +
+                           " sub-contacts cannot carry the in-situ shear stress (beyond their joint's Coulomb strength): "
+                           "they start at that strength, slipping");
+    }
+    if (c.opened > 0) {
+        warn(ctx, loc, std::to_string(c.opened) + " of " + std::to_string(c.subs) +
+                           " sub-contacts are pulled apart by the in-situ stress (beyond their joint's tensile strength): "
+                           "they start open, unloaded");
+    }
+    if (c.no_stiffness > 0) {
+        warn(ctx, loc, std::to_string(c.no_stiffness) + " contact" + (c.no_stiffness == 1 ? " has" : "s have") +
+                           " no joint material with a normal stiffness and start" + (c.no_stiffness == 1 ? "s" : "") +
+                           " unloaded ('prop jmat=n jkn=... jks=...', 'change jmat=n')");
+    }
+}
+
 // A relative path given in a script is taken from that script's directory (at the prompt and
 // on the command line, from the working directory).
 inline std::string relative_to_script(const SourceLoc& loc, const std::string& path) {

@@ -8,6 +8,7 @@
 #include "common.h"
 #include "engine/blocks.h"
 #include "engine/contact.h"
+#include "engine/insitu.h"
 #include "engine/zones.h"
 #include "mesh/tet_mesh.h"
 
@@ -345,6 +346,11 @@ const CommandSpec& generate_command() {
                         << ", mean " << num(mesh.mean_quality) << "\n";
             }
             warn_of_poor_zones(ctx, blocks, edges, solids, mesh.solid_worst);
+            // The in-situ fields given before: the new zones and the joints of their blocks take them.
+            if (!m.insitu.empty()) {
+                const InsituCount ic = apply_kept_insitu(m, blocks);
+                report_insitu(ctx, a.loc, ic, "in-situ stress given before: ");
+            }
         });
         return c;
     }();

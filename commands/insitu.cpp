@@ -2,29 +2,53 @@
 #include "common.h"
 #include "engine/blocks.h"
 #include "engine/contact.h"
-#include "engine/contact.h"
+#include "engine/insitu.h"
 #include "engine/zones.h"
 
 namespace odec {
 
 const CommandSpec& insitu_command() {
     static const CommandSpec spec = [] {
-        CommandSpec c("insitu", 3, "set the initial stresses of zones");
+        CommandSpec c("insitu", 3, "set the initial stresses of zones and joints");
         c.keyword("stress", 3, "the stress tensor, Pa (tension positive)")
             .real("sxx").real("syy").real("szz").real("sxy").real("sxz").real("syz");
         c.keyword("xgrad", 2, "its change per metre of x, Pa/m").real("gxx").real("gyy").real("gzz").real("gxy").real("gxz").real("gyz");
         c.keyword("ygrad", 2, "its change per metre of y, Pa/m").real("gxx").real("gyy").real("gzz").real("gxy").real("gxz").real("gyz");
         c.keyword("zgrad", 2, "its change per metre of z, Pa/m").real("gxx").real("gyy").real("gzz").real("gxy").real("gxz").real("gyz");
-        c.range("which zones, by their centroid and block: see 'help range'");
+        c.range("which zones and contacts, by their centroid and block: see 'help range'");
         c.describe("Every zone of a deformable block whose centroid the range selects takes the stress "
                    "s + x xgrad + y ygrad + z zgrad, x, y, z its centroid. Stresses are tension positive, so "
                    "a rock mass under its own weight has negative szz growing with depth: with the surface at "
                    "z = 0, density rho and gravity g, 'insitu stress 0 0 0 0 0 0 zgrad k rho g, k rho g, "
-                   "rho g, 0 0 0' (z negative below the surface). Such a state in equilibrium with gravity and "
-                   "the boundaries starts without a jolt. The contacts (with a joint material) whose centroid "
-                   "the range selects take the same stress at each sub-contact: normal and shear stress, and the "
-                   "joint closure that carries it, so the joints start loaded too. Gridpoint displacements and "
-                   "velocities are not changed.");
+                   "rho g, 0 0 0' (z negative below the surface). "
+                   "The joints take the same field: every contact with a joint material whose centroid the "
+                   "range selects (contacts are found first when the model changed) carries, at each "
+                   "sub-contact, the traction sigma n of the field on the joint plane (n the contact normal), "
+                   "as a normal stress (compression positive) and a shear stress, and the joint closure that "
+                   "carries the normal stress (sn / jkn). This is so for joints between deformable blocks, "
+                   "between rigid ones and between the two kinds, and for joined joints, so a jointed model "
+                   "whose field is in equilibrium with gravity and its boundaries ('bound stress' with the same "
+                   "tensor on the outer faces, or velocities held there) starts at rest: rigid blocks inside the "
+                   "rock are held by their joints as the zones are. Only the face-to-face part of a joint is "
+                   "loaded; blocks that meet only along an edge or at a corner (where joint sets cross) start "
+                   "unloaded there, and the command counts those sub-contacts. Where meshes on the two sides of a "
+                   "joint do not match (blocks zoned in separate 'gen' commands, or faces that are not the same "
+                   "polygon on both sides), the joint still takes the field, but the gridpoints there start with "
+                   "small forces out of balance, and the model settles a little. "
+                   "A joint cannot start beyond its strength: where the field's shear stress exceeds its Coulomb "
+                   "strength (jcoh + sn tan jfric), the shear stress is capped there and the joint starts "
+                   "slipping; where the field pulls it apart beyond its tensile strength (jten), it starts open "
+                   "and unloaded; either way it fails, as the joint law would have it (cohesion and tension lost; "
+                   "residual friction under jcons 2), and a warning gives the number of such sub-contacts. A "
+                   "joined joint has no limits. A contact without a joint material with a normal stiffness "
+                   "cannot carry stress: it is left unloaded, with a warning. "
+                   "The model keeps the field (it is saved with the model): blocks zoned later by 'gen' give "
+                   "their new zones, and their joints, the fields given before, each over its own range, in "
+                   "order. So 'insitu' may come before 'gen', as with rigid blocks that are zoned later. "
+                   "Other contacts found later (blocks that come into contact as the model moves, blocks added "
+                   "or cut after 'insitu' and not zoned afterwards) start unloaded: they were not joints of the "
+                   "rock when its stress was given. Gridpoint displacements and velocities are not changed; 'insitu' given again sets the "
+                   "stresses again.");
         c.example("insitu stress -15e6 -15e6 -30e6 0 0 0");
         c.example("insitu stress 0 0 0 0 0 0 zgrad 1.3e4 1.3e4 2.6e4 0 0 0");
         c.handle([](CommandContext& ctx, const Args& a) {
@@ -32,6 +56,7 @@ const CommandSpec& insitu_command() {
             if (!a.has("stress") && !a.has("xgrad") && !a.has("ygrad") && !a.has("zgrad")) {
                 fail(a.loc, "'insitu' needs 'stress sxx syy szz sxy sxz syz'", {}, "insitu");
             }
+            if (m.blocks.size() == 0) fail(a.loc, "there are no blocks to take the stress", {}, "insitu");
             auto six = [&](const char* k) {
                 Sym6 s = {0, 0, 0, 0, 0, 0};
                 if (const KeywordUse* u = a.find(k)) {
@@ -39,27 +64,18 @@ const CommandSpec& insitu_command() {
                 }
                 return s;
             };
-            // Zones first: a range that selects no zone leaves the contacts alone too. A model of
-            // rigid blocks only takes the stress on its joints (3DEC does the same).
-            if (m.zones.size() == 0) {
-                refresh_world_vertices(m);
-                detect_contacts(m);
-                const int nc = set_insitu_contact_stress(m, a.range, six("stress"), six("xgrad"), six("ygrad"), six("zgrad"));
-                if (nc == 0) {
-                    fail(a.loc, "there are no zones and the range selects no contact: nothing would take the stress",
-                         {"rigid blocks carry stress only on their joints; divide blocks into zones with 'gen edge e'"},
-                         "insitu");
-                }
-                if (!ctx.interp.quiet) ctx.out << "0 zones (rigid blocks) and " << nc << " contacts set\n";
-                return;
+            const StressField f{six("stress"), six("xgrad"), six("ygrad"), six("zgrad")};
+            // Rigid blocks the range selects take the field when they are zoned.
+            bool rigid = false;
+            for (int b : select_blocks(m, a.range)) rigid = rigid || !(m.blocks.flags[b] & kDeformable);
+            const InsituCount c = apply_insitu(m, a.range, f);
+            if (c.zones == 0 && c.contacts == 0 && c.no_stiffness == 0 && !rigid) {
+                m.insitu.pop_back();
+                fail(a.loc, "the range selects no zone, no contact and no block to zone later",
+                     {"zones are selected by their centroid, contacts by theirs"}, "insitu");
             }
-            const int n = set_insitu_stress(m, a.range, six("stress"), six("xgrad"), six("ygrad"), six("zgrad"));
-            if (n == 0) {
-                fail(a.loc, "the range selects no zone", {"zones are selected by their centroid; rigid blocks have none"},
-                     "insitu");
-            }
-            const int nc = set_insitu_contact_stress(m, a.range, six("stress"), six("xgrad"), six("ygrad"), six("zgrad"));
-            if (!ctx.interp.quiet) ctx.out << n << " zones and " << nc << " contacts set\n";
+            report_insitu(ctx, a.loc, c, "");
+            if (rigid && !ctx.interp.quiet) ctx.out << "the stress is kept for the zones 'gen' makes in the rigid blocks of the range\n";
         });
         return c;
     }();

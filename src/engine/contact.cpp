@@ -133,42 +133,6 @@ int assign_joint_material(Model& m, const Range& r, int jmat, int jcons) {
     return changed;
 }
 
-int set_insitu_contact_stress(Model& m, const Range& r, const std::array<double, 6>& s0,
-                              const std::array<double, 6>& gx, const std::array<double, 6>& gy,
-                              const std::array<double, 6>& gz) {
-    ensure_detected(m);
-    ContactSet& cs = m.contacts;
-    int changed = 0;
-    for (int c = 0; c < cs.size(); ++c) {
-        const int jm = cs.jmat[c];
-        if (jm <= 0 || jm >= static_cast<int>(m.joint_materials.size()) || !m.joint_materials[jm].defined) continue;
-        const JointMaterial& j = m.joint_materials[jm];
-        if (!(j.kn > 0) || !(j.ks > 0)) continue;
-        const ContactInfo info = contact_info(m, c);
-        if (!r.contains_contact(m, info.centroid, cs.block_a[c], cs.block_b[c])) continue;
-        const Vec3 n = cs.normal[c];
-        for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
-            const Vec3 x = sub_point(m, c, k);
-            double t[6];
-            for (int i = 0; i < 6; ++i) t[i] = s0[i] + x.x() * gx[i] + x.y() * gy[i] + x.z() * gz[i];
-            Mat3 sigma;
-            sigma << t[0], t[3], t[4], t[3], t[1], t[5], t[4], t[5], t[2];
-            // Block b lies on the +n side: the rock pulls on it through the plane with the
-            // traction sigma (-n); the joint puts area (sn n + ss) on it.
-            const Vec3 traction = -(sigma * n);
-            const double sn = traction.dot(n);
-            cs.sub_sn[k] = sn;
-            cs.sub_ss[k] = traction - sn * n;
-            cs.sub_un[k] = sn / j.kn; // the closure that carries it (total form)
-            cs.sub_udil[k] = 0;
-            cs.sub_us[k].setZero();
-            cs.sub_flags[k] &= static_cast<std::uint8_t>(~(kSubOpen | kSubSlip));
-        }
-        ++changed;
-    }
-    return changed;
-}
-
 int join_blocks(Model& m, const std::vector<int>& block_indices) {
     ensure_detected(m);
     std::vector<char> sel(m.blocks.size(), 0);

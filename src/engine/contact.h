@@ -136,13 +136,6 @@ double contact_tolerance(const Model& m);
 // for region/group/id filters) the range selects. jmat or jcons <= 0 leaves that one alone.
 // Returns how many contacts changed.
 int assign_joint_material(Model& m, const Range& r, int jmat, int jcons);
-// `insitu stress ...`: every contact (with a joint material) whose centroid the range selects
-// starts carrying the stress s + x gx + y gy + z gz (xx yy zz xy xz yz, tension positive) at
-// each sub-contact point: normal stress, shear stress, and the closure that carries it.
-// Returns how many contacts were set.
-int set_insitu_contact_stress(Model& m, const Range& r, const std::array<double, 6>& s,
-                              const std::array<double, 6>& gx, const std::array<double, 6>& gy,
-                              const std::array<double, 6>& gz);
 // `join range ...`: glue every contact between two of these blocks. Returns how many.
 int join_blocks(Model& m, const std::vector<int>& block_indices);
 

@@ -13,6 +13,9 @@ namespace {
 
 // A gridpoint's stable step is 0.9 * 2 sqrt(m / k) (zones.h): m = k (dt / 1.8)^2 makes it dt.
 constexpr double kGridpointSpan = 1.8;
+// Static mode: every gridpoint runs at its own limit, so the joints' part of its stiffness (exact
+// on average, not where the meshes on a joint's two sides do not match) is doubled.
+constexpr double kJointMargin = 2.0;
 // Rigid blocks: m = s kt dt^2, I = s kr dt^2 (see the header).
 constexpr double kBlockFactor = 1.0 / (0.9 * 0.9);
 // The least a rigid block's mass and inertia are scaled to, as a fraction of the real ones.
@@ -203,7 +206,7 @@ std::string choose_timestep_and_masses(Model& m, double rigid_dt, double zone_dt
         }
         m.dt = dt;
         GridpointSet& g = m.gridpoints;
-        const std::vector<double> k = gridpoint_stiffness(m);
+        const std::vector<double> k = gridpoint_stiffness(m, kJointMargin);
         const double span2 = (dt / kGridpointSpan) * (dt / kGridpointSpan);
         for (int i = 0; i < g.size(); ++i) {
             const double mass = (g.mass[i] > 0 && k[i] > 0) ? k[i] * span2 : g.mass[i];

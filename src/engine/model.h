@@ -22,6 +22,7 @@
 
 #include "engine/contact.h"
 #include "engine/history.h"
+#include "engine/insitu.h"
 #include "engine/polyhedron.h"
 #include "engine/table.h"
 #include "engine/zones.h"
@@ -182,6 +183,7 @@ struct Model {
     ZoneSet zones;                              // tetrahedral zones of deformable blocks
     GridpointSet gridpoints;                    // their corners
     StressBoundary stress_boundary;             // faces loaded by `bound stress`
+    std::vector<InsituRecord> insitu;           // `insitu` fields, in order, for zones made later
     HistorySet histories;
     TableSet tables;
     Vec3 gravity = Vec3::Zero();  // m/s^2

@@ -368,10 +368,10 @@ std::vector<double> joint_stiffness_on_gridpoints(const Model& m) {
 
 } // namespace
 
-std::vector<double> gridpoint_stiffness(const Model& m) {
+std::vector<double> gridpoint_stiffness(const Model& m, double joint_factor) {
     std::vector<double> k = m.gridpoints.stiffness;
     const std::vector<double> joint = joint_stiffness_on_gridpoints(m);
-    for (size_t i = 0; i < joint.size() && i < k.size(); ++i) k[i] += joint[i];
+    for (size_t i = 0; i < joint.size() && i < k.size(); ++i) k[i] += joint_factor * joint[i];
     return k;
 }
 

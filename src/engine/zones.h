@@ -133,7 +133,9 @@ std::string zones_problem(const Model& m);
 
 // The stiffness of each gridpoint for the timestep, N/m: the zones' bound (`stiffness`) and the
 // joints that can press on it (see zone_critical_timestep).
-std::vector<double> gridpoint_stiffness(const Model& m);
+// joint_factor: a margin on the joints' part, whose bound holds on average over a joint but
+// not at every gridpoint where the meshes of its two sides do not match.
+std::vector<double> gridpoint_stiffness(const Model& m, double joint_factor = 1.0);
 
 // Largest stable timestep of the zones, s (0 when there are none). Where a deformable block
 // has something to touch, the stiffest joint material on its surface gridpoints counts too

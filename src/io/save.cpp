@@ -115,6 +115,38 @@ auto fields(IO& io, M& x) -> If<M, JointPlane> {
     io(x.set); io(x.joined); io(x.jmat);
 }
 
+// Format 6: the fields of `insitu`, with the ranges they were given for (a named range's
+// union nests ranges: a file may nest them no deeper than any script could).
+template <class IO, class M>
+auto fields(IO& io, M& x) -> If<M, Range>;
+
+template <class IO, class M>
+auto fields(IO& io, M& x) -> If<M, Filter> {
+    thread_local int depth = 0;
+    struct Nest {
+        Nest() { ++depth; }
+        ~Nest() { --depth; }
+    } nest;
+    io.check(depth <= 64, "ranges nest deeper than 64");
+    io.enumeration(x.kind, static_cast<int>(FilterKind::AnyOf) + 1);
+    io(x.negate); io(x.lo); io(x.hi); io(x.name); io(x.a); io(x.b); io(x.radius); io(x.any_of);
+}
+
+template <class IO, class M>
+auto fields(IO& io, M& x) -> If<M, Range> {
+    io(x.filters);
+}
+
+template <class IO, class M>
+auto fields(IO& io, M& x) -> If<M, StressField> {
+    io(x.s); io(x.gx); io(x.gy); io(x.gz);
+}
+
+template <class IO, class M>
+auto fields(IO& io, M& x) -> If<M, InsituRecord> {
+    io(x.range); io(x.field);
+}
+
 template <class IO, class M>
 auto fields(IO& io, M& x) -> If<M, Polyhedron> {
     io(x.vertices); io(x.face_offsets); io(x.face_vertices); io(x.face_joint);
@@ -272,6 +304,7 @@ void model_sections(IO& io, M& m) {
         io.section("SBND", [&] { io(m.stress_boundary); });
     }
     io.section("CONT", [&] { io(m.contacts); });
+    if (io.format >= 6) io.section("INSI", [&] { io(m.insitu); });
     io.section("HIST", [&] { io(m.histories); });
     io.section("TABL", [&] { io(m.tables); });
 }
@@ -1158,6 +1191,16 @@ std::string check_values(const Model& m) {
     for (const Quat& q : cs.ref_orientation) c.quat(q, "a detection orientation");
     for (const Quat& q : cs.geo_orientation) c.quat(q, "a refresh orientation");
     for (double r : cs.radius) c.at_least(r, 0, "a block radius");
+    // In-situ fields kept for zones made later.
+    for (size_t i = 0; i < m.insitu.size() && c.ok(); ++i) {
+        const Where w{"in-situ field", static_cast<long long>(i) + 1};
+        const StressField& f = m.insitu[i].field;
+        for (const Sym6* t : {&f.s, &f.gx, &f.gy, &f.gz}) {
+            for (double x : *t) {
+                if (!c.finite(x, w, "a stress component")) break;
+            }
+        }
+    }
     // Histories.
     const HistorySet& h = m.histories;
     if (h.ncyc < 1) c.fail("the history interval is below 1");

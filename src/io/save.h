@@ -17,7 +17,10 @@ namespace odec {
 // Version of the file layout. A file with a larger number is refused; a reader of a newer
 // layout may read older ones.
 // 2: histories follow a material point; 3: deformable blocks (zones, gridpoints, `bound stress`
-// faces, zone and reaction histories) and the zone stage of the profile.
+// faces, zone and reaction histories) and the zone stage of the profile; 4: contacts of
+// deformable blocks; 5: FISH histories; 6: static and dynamic analysis (the mode, the inertial
+// masses, the checks stage of the profile) and the `insitu` fields the model keeps for zones
+// made later (older files have none: their zones and joints keep the stresses they hold).
 constexpr std::uint32_t kSaveFormatVersion = 6;
 
 // Write the model to `path`. A model that restore would refuse (a velocity that is not a finite

@@ -308,6 +308,7 @@ TEST_F(Save, OlderFormatsStillRestore) {
     EXPECT_EQ(m.zones.size(), 0);
     EXPECT_EQ(m.gridpoints.size(), 0);
     EXPECT_TRUE(m.stress_boundary.faces.empty());
+    EXPECT_TRUE(m.insitu.empty());
     EXPECT_EQ(m.blocks.cons, std::vector<std::uint8_t>{odec::kZoneElastic});
     EXPECT_EQ(m.blocks.body, std::vector<int>{0});
     EXPECT_EQ(m.blocks.zone_edge, std::vector<double>{0.0});
@@ -611,9 +612,9 @@ constexpr size_t count_fields() {
 TEST(SaveLayout, EveryFieldIsSaved) {
     using namespace odec;
     const char* fix = "a field was added: save and restore it in src/io/save.cpp, then update this count";
-    // Model: 23 saved fields and the report of the last choice of masses (mass_scaling, said
+    // Model: 24 saved fields and the report of the last choice of masses (mass_scaling, said
     // by the commands once and chosen again before the next step).
-    EXPECT_EQ(count_fields<Model>(), 24u) << fix;
+    EXPECT_EQ(count_fields<Model>(), 25u) << fix;
     EXPECT_EQ(count_fields<BlockSet>(), 34u) << fix;
     EXPECT_EQ(count_fields<ZoneSet>(), 7u) << fix;
     EXPECT_EQ(count_fields<GridpointSet>(), 18u) << fix;
@@ -633,4 +634,8 @@ TEST(SaveLayout, EveryFieldIsSaved) {
     EXPECT_EQ(count_fields<Damping>(), 5u) << fix;
     EXPECT_EQ(count_fields<Settings>(), 9u) << fix;
     EXPECT_EQ(count_fields<Profile>(), 8u) << fix; // 7 stage times and the step count
+    EXPECT_EQ(count_fields<InsituRecord>(), 2u) << fix;
+    EXPECT_EQ(count_fields<StressField>(), 4u) << fix;
+    EXPECT_EQ(count_fields<Range>(), 1u) << fix;
+    EXPECT_EQ(count_fields<Filter>(), 9u) << fix;
 }
