@@ -4,6 +4,7 @@
 #include "engine/blocks.h"
 #include "engine/contact.h"
 #include "engine/cycle.h"
+#include "engine/parallel.h"
 #include "engine/verdict.h"
 #include "engine/zones.h"
 #include "mesh/tet_mesh.h"
@@ -372,6 +373,10 @@ void print_info(CommandContext& ctx) {
                                                     : "automatic, dtfrac " + num(m.settings.dtfrac))
       << (m.dt > 0 ? ", in use " + num(m.dt) + " s" : "") << "\n";
     o << "analysis:   " << analysis_mode_text(m) << "\n";
+    o << "threads:    " << thread_count()
+      << (threads_available() ? " ('set threads n' or ODEC_THREADS; the same results with any number)"
+                              : " (built without OpenMP)")
+      << "\n";
     o << "step:       " << m.step << "  time " << num(m.time) << " s" << (m.settings.dynamic ? "" : " (static: not real time)")
       << "\n";
     o << "histories:  " << m.histories.items.size() << " (every " << m.histories.ncyc << " steps, "

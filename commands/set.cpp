@@ -1,5 +1,6 @@
 #include "commands.h"
 #include "common.h"
+#include "engine/parallel.h"
 
 namespace odec {
 
@@ -20,6 +21,9 @@ const CommandSpec& set_command() {
         c.keyword("dynamic", 3, "'off': static analysis, masses scaled for convergence (and local damping if the "
                                 "damping set does not solve statically); 'on': dynamic analysis, real masses and "
                                 "real time (needs 'config dyn' first, as in 3DEC)").one_of("state", {"on", "off"});
+        c.keyword("threads", 3, "threads the cycle runs on (results are the same bits with any number; the default is "
+                                "the environment variable ODEC_THREADS, else every core)")
+            .integer("n", 1, 1024);
         c.keyword("large", 2, "large-strain mode (the default): zones follow their gridpoints' positions");
         c.keyword("small", 2, "small-strain mode: zone geometry stays as it was zoned (rigid blocks still move "
                               "by large displacements)");
@@ -99,6 +103,12 @@ const CommandSpec& set_command() {
             if (a.has("dynamic")) {
                 m.settings.dynamic = a.text("dynamic") == "on";
                 m.geometry_changed = true; // the masses are chosen again
+            }
+            if (a.has("threads")) {
+                set_thread_count(a.integer("threads"));
+                if (!threads_available()) {
+                    warn(ctx, a.find("threads")->loc, "this odec was built without OpenMP: the cycle runs on one thread");
+                }
             }
             if (a.has("echo")) ctx.interp.echo = a.text("echo") == "on";
             if (a.has("gravity")) m.gravity = a.vec("gravity");

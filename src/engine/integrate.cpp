@@ -2,8 +2,10 @@
 // damping law (see cycle.h for the law, mass_scaling.h for the masses).
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "engine/mass_scaling.h"
+#include "engine/parallel.h"
 #include "engine/stages.h"
 #include "engine/table.h"
 
@@ -148,44 +150,74 @@ int integrate(Model& m, double dt) {
 
 int integrate_gridpoints(Model& m, const Damping& d, double dt, double* damping_power, double* forcing_power) {
     GridpointSet& g = m.gridpoints;
-    int bad = -1;
-    for (int i = 0; i < g.size(); ++i) {
-        const double mass = g.inertial_mass[i];
-        if (!(g.mass[i] > 0) || !(mass > 0)) {
-            // Only null zones around it: it does not move.
-            g.vel[i].setZero();
-            continue;
-        }
-        const double kick = g.half_kick[i] ? 0.5 * dt : dt;
-        const double scale = g.vel_bc[i] ? m.table_factor(g.vel_bc_table[i]) : 1.0;
-        Vec3 v;
-        for (int k = 0; k < 3; ++k) {
-            if (g.vel_bc[i] & (1 << k)) {
-                v[k] = g.vel_bc_value[i][k] * scale;
+    const int ng = g.size();
+    // Fixed chunks, whatever the number of threads: their sums are added in order (parallel.h).
+    constexpr int kChunk = 2048;
+    const int n_chunks = (ng + kChunk - 1) / kChunk;
+    thread_local std::vector<double> chunk_damping, chunk_forcing;
+    thread_local std::vector<int> chunk_bad;
+    chunk_damping.assign(n_chunks, 0.0);
+    chunk_forcing.assign(n_chunks, 0.0);
+    chunk_bad.assign(n_chunks, -1);
+    double* cd = chunk_damping.data();
+    double* cf = chunk_forcing.data();
+    int* cb = chunk_bad.data();
+    const bool power = damping_power != nullptr;
+    const int threads = thread_count();
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && ng >= kParallelMinItems)
+    for (int chunk = 0; chunk < n_chunks; ++chunk) {
+        const int hi = std::min(ng, (chunk + 1) * kChunk);
+        double pd = 0, pf = 0;
+        int bad = -1;
+        for (int i = chunk * kChunk; i < hi; ++i) {
+            const double mass = g.inertial_mass[i];
+            if (!(g.mass[i] > 0) || !(mass > 0)) {
+                // Only null zones around it: it does not move.
+                g.vel[i].setZero();
                 continue;
             }
-            const double f = g.force[i][k], vk = g.vel[i][k];
-            double fd = f;
-            switch (d.mode) {
-            case DampingMode::Local: fd = f - d.local * std::abs(f) * sign(vk); break;
-            case DampingMode::Auto: fd = f - d.auto_coefficient * mass * vk; break;
-            case DampingMode::Rayleigh:
-                fd = f - 2.0 * d.rayleigh_fraction * 2.0 * M_PI * d.rayleigh_frequency * mass * vk;
-                break;
-            case DampingMode::Off: break;
+            const double kick = g.half_kick[i] ? 0.5 * dt : dt;
+            const double scale = g.vel_bc[i] ? m.table_factor(g.vel_bc_table[i]) : 1.0;
+            Vec3 v;
+            for (int k = 0; k < 3; ++k) {
+                if (g.vel_bc[i] & (1 << k)) {
+                    v[k] = g.vel_bc_value[i][k] * scale;
+                    continue;
+                }
+                const double f = g.force[i][k], vk = g.vel[i][k];
+                double fd = f;
+                switch (d.mode) {
+                case DampingMode::Local: fd = f - d.local * std::abs(f) * sign(vk); break;
+                case DampingMode::Auto: fd = f - d.auto_coefficient * mass * vk; break;
+                case DampingMode::Rayleigh:
+                    fd = f - 2.0 * d.rayleigh_fraction * 2.0 * M_PI * d.rayleigh_frequency * mass * vk;
+                    break;
+                case DampingMode::Off: break;
+                }
+                v[k] = vk + fd / mass * kick;
             }
-            v[k] = vk + fd / mass * kick;
+            if (power) {
+                pd += mass * g.vel[i].squaredNorm();
+                pf += std::abs(g.force[i].dot(g.vel[i]));
+            }
+            g.vel[i] = v;
+            const Vec3 dx = v * dt;
+            g.pos[i] += dx;
+            g.disp[i] += dx;
+            g.half_kick[i] = 0;
+            if (bad < 0 && !(v.allFinite() && g.pos[i].allFinite())) bad = i;
         }
-        if (damping_power) {
-            *damping_power += mass * g.vel[i].squaredNorm();
-            *forcing_power += std::abs(g.force[i].dot(g.vel[i]));
+        cd[chunk] = pd;
+        cf[chunk] = pf;
+        cb[chunk] = bad;
+    }
+    int bad = -1;
+    for (int chunk = 0; chunk < n_chunks; ++chunk) {
+        if (power) {
+            *damping_power += cd[chunk];
+            *forcing_power += cf[chunk];
         }
-        g.vel[i] = v;
-        const Vec3 dx = v * dt;
-        g.pos[i] += dx;
-        g.disp[i] += dx;
-        g.half_kick[i] = 0;
-        if (bad < 0 && !(v.allFinite() && g.pos[i].allFinite())) bad = i;
+        if (bad < 0) bad = cb[chunk];
     }
     return bad;
 }

@@ -12,6 +12,7 @@
 #include "engine/blocks.h"
 #include "engine/contact.h"
 #include "engine/model.h"
+#include "engine/parallel.h"
 #include "engine/range.h"
 #include "engine/table.h"
 #include "engine/zone_model.h"
@@ -124,6 +125,8 @@ void zone_blocks(Model& m, const std::vector<int>& blocks, const std::vector<int
         s.flags[b] &= static_cast<std::uint8_t>(~kFixed);
         s.body[b] = first_body + body[k];
     }
+    z.color_order.clear();
+    z.color_offset.clear();
     update_gridpoint_masses(m);
     m.geometry_changed = true;
 }
@@ -161,6 +164,8 @@ void remove_zones(Model& m, const std::vector<int>& blocks) {
     z.gp.resize(w); z.block.resize(w); z.model.resize(w); z.state.resize(w);
     z.stress.resize(w); z.volume.resize(w);
     z.grad.clear();
+    z.color_order.clear();
+    z.color_offset.clear();
     // Keep the gridpoints still used.
     std::vector<int> new_index(g.size(), -1);
     int n = 0;
@@ -396,6 +401,8 @@ namespace {
 void refresh_zone_geometry(ZoneSet& z, const std::vector<Vec3>& x) {
     const int nz = z.size();
     z.grad.resize(nz);
+    const int threads = thread_count();
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && nz >= kParallelMinItems)
     for (int i = 0; i < nz; ++i) {
         const auto& q = z.gp[i];
         const TetGeometry t = tet_geometry(x[q[0]], x[q[1]], x[q[2]], x[q[3]]);
@@ -411,11 +418,55 @@ void refresh_zone_geometry(ZoneSet& z, const std::vector<Vec3>& x) {
 
 } // namespace
 
+namespace {
+
+// Greedy colouring of the zones in index order: each takes the first colour none of its
+// gridpoints' zones has yet. Up to 256 colours (tetrahedral meshes need a few dozen); a zone
+// that finds none goes to a last colour, always there, run on one thread.
+void color_zones(ZoneSet& z, int n_gp) {
+    constexpr int kColors = 256, kWords = kColors / 64;
+    const int nz = z.size();
+    std::vector<std::array<std::uint64_t, kWords>> used(n_gp, std::array<std::uint64_t, kWords>{});
+    std::vector<int> color(nz);
+    std::vector<int> count(kColors + 1, 0);
+    for (int i = 0; i < nz; ++i) {
+        std::array<std::uint64_t, kWords> taken{};
+        for (int c : z.gp[i]) {
+            for (int w = 0; w < kWords; ++w) taken[w] |= used[c][w];
+        }
+        int col = kColors; // the serial colour
+        for (int w = 0; w < kWords && col == kColors; ++w) {
+            if (~taken[w]) col = 64 * w + __builtin_ctzll(~taken[w]);
+        }
+        color[i] = col;
+        ++count[col];
+        if (col < kColors) {
+            for (int c : z.gp[i]) used[c][col / 64] |= std::uint64_t{1} << (col % 64);
+        }
+    }
+    z.color_offset.assign(kColors + 2, 0);
+    for (int c = 0; c <= kColors; ++c) z.color_offset[c + 1] = z.color_offset[c] + count[c];
+    std::vector<int> next(z.color_offset.begin(), z.color_offset.end() - 1);
+    z.color_order.assign(nz, 0);
+    for (int i = 0; i < nz; ++i) z.color_order[next[color[i]]++] = i;
+    // Drop the empty colours (the serial one stays last).
+    std::vector<int> offsets{0};
+    for (int c = 0; c < kColors; ++c) {
+        if (z.color_offset[c + 1] > z.color_offset[c]) offsets.push_back(z.color_offset[c + 1]);
+    }
+    offsets.push_back(nz); // the serial colour, last, perhaps empty
+    z.color_offset = std::move(offsets);
+}
+
+} // namespace
+
 void zone_forces(Model& m, double dt) {
     GridpointSet& g = m.gridpoints;
     ZoneSet& z = m.zones;
     const int ng = g.size();
     const Vec3 grav = m.gravity;
+    const int threads = thread_count();
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && ng >= kParallelMinItems)
     for (int i = 0; i < ng; ++i) {
         const Vec3 w = g.mass[i] * grav;
         g.force[i] = w + g.applied[i] + g.traction[i];
@@ -429,17 +480,22 @@ void zone_forces(Model& m, double dt) {
     // In large strain the zones follow their corners; in small strain their geometry is that
     // of the model when zoned, computed once.
     if (large || z.grad.size() != static_cast<size_t>(nz)) refresh_zone_geometry(z, large ? g.pos : g.ref);
+    if (z.color_order.size() != static_cast<size_t>(nz)) color_zones(z, ng);
     // Material constants once per material; per zone whether it carries stress.
     thread_local std::vector<ZoneMaterialConstants> constants; // kept: no allocation per step
     constants.assign(m.materials.size(), ZoneMaterialConstants());
     for (size_t k = 0; k < m.materials.size(); ++k) {
         if (m.materials[k].defined) constants[k] = zone_constants(m.materials[k]);
     }
+    const ZoneMaterialConstants* cst = constants.data();
     const int* bmat = m.blocks.material.data();
     const Vec3* vel = g.vel.data();
+    const int* order = z.color_order.data();
+    const int n_colors = static_cast<int>(z.color_offset.size()) - 1;
+    // The last colour holds the zones that found no colour (usually none): one thread takes them.
     // Pass 1: volumetric strain rates, averaged at the gridpoints (volume-weighted).
-    for (int i = 0; i < nz; ++i) {
-        if (!zone_active(m, i)) continue;
+    auto pass1 = [&](int i) {
+        if (!zone_active(m, i)) return;
         const auto& q = z.gp[i];
         const auto& gr = z.grad[i];
         const Vec3 v0 = vel[q[0]];
@@ -451,13 +507,10 @@ void zone_forces(Model& m, double dt) {
             g.nmd_rate[q[k]] += vev;
             g.nmd_volume[q[k]] += z.volume[i];
         }
-    }
-    for (int i = 0; i < ng; ++i) {
-        if (g.nmd_volume[i] > 0) g.nmd_rate[i] /= g.nmd_volume[i];
-    }
+    };
     // Pass 2: strain increments, stresses and corner forces.
-    for (int i = 0; i < nz; ++i) {
-        if (!zone_active(m, i)) continue;
+    auto pass2 = [&](int i) {
+        if (!zone_active(m, i)) return;
         const auto& q = z.gp[i];
         const auto& gr = z.grad[i];
         // Velocity gradient L_ab = sum_k (v_k - v_0)_a grad_k,b over corners 1..3.
@@ -487,7 +540,7 @@ void zone_forces(Model& m, double dt) {
             s[4] = sxz + wxz * (szz - sxx) + wxy * syz - wyz * sxy;
             s[5] = syz + wyz * (szz - syy) - wxy * sxz - wxz * sxy;
         }
-        const ZoneMaterialConstants& c = constants[bmat[z.block[i]]];
+        const ZoneMaterialConstants& c = cst[bmat[z.block[i]]];
         if (z.model[i] == kZoneMohrCoulomb) {
             const std::uint8_t now = mohr_coulomb_increment(c, de, s);
             z.state[i] = static_cast<std::uint8_t>((z.state[i] & (kShearPast | kTensionPast)) | now |
@@ -509,6 +562,37 @@ void zone_forces(Model& m, double dt) {
         }
         g.force[q[0]] += f0;
         g.force_scale[q[0]] += f0.norm();
+    };
+    // Colour by colour: no two zones of a colour share a gridpoint, so the threads never add
+    // into the same number, and each gridpoint sums its zones in the same order however many
+    // threads there are.
+    const bool parallel = threads > 1 && nz >= kParallelMinItems;
+#pragma omp parallel num_threads(threads) if (parallel)
+    {
+        for (int c = 0; c < n_colors; ++c) {
+            const int lo = z.color_offset[c], hi = z.color_offset[c + 1];
+            if (c == n_colors - 1) {
+#pragma omp single
+                for (int k = lo; k < hi; ++k) pass1(order[k]);
+                continue;
+            }
+#pragma omp for schedule(static)
+            for (int k = lo; k < hi; ++k) pass1(order[k]);
+        }
+#pragma omp for schedule(static)
+        for (int i = 0; i < ng; ++i) {
+            if (g.nmd_volume[i] > 0) g.nmd_rate[i] /= g.nmd_volume[i];
+        }
+        for (int c = 0; c < n_colors; ++c) {
+            const int lo = z.color_offset[c], hi = z.color_offset[c + 1];
+            if (c == n_colors - 1) {
+#pragma omp single
+                for (int k = lo; k < hi; ++k) pass2(order[k]);
+                continue;
+            }
+#pragma omp for schedule(static)
+            for (int k = lo; k < hi; ++k) pass2(order[k]);
+        }
     }
 }
 

@@ -67,6 +67,11 @@ struct ZoneSet {
     // small strain) and refreshed when they change; empty until first needed.
     std::vector<std::array<double, 9>> grad; // (n_zones) 1/m, gradients of the shape functions of
                                           //            corners 1..3 (corner 0's is minus their sum)
+    // Derived (not saved), rebuilt when empty: the zones by colour, no two zones of one colour
+    // sharing a gridpoint, so that threads can add into the gridpoints colour by colour
+    // (parallel.h). Colours in order, zones in index order within each.
+    std::vector<int> color_order;        // (n_zones) zone indices
+    std::vector<int> color_offset;       // (n_colours + 1) first entry of each colour
 
     int size() const { return static_cast<int>(gp.size()); }
 };

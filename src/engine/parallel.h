@@ -1,0 +1,27 @@
+// Threads of the cycle (OpenMP from the compiler). Every parallel loop of the cycle gives the
+// same bits with any number of threads: work is split so that no two threads add into the same
+// number (zones by colour: no two zones of one colour share a gridpoint), and sums over many
+// items are taken in fixed chunks whose partial sums are added in order.
+#pragma once
+
+#include <string>
+
+namespace odec {
+
+// The most threads 'set threads' accepts.
+constexpr int kMaxThreads = 1024;
+
+// Threads the cycle uses: 'set threads n', else the environment variable ODEC_THREADS, else
+// every core.
+int thread_count();
+// n in 1..kMaxThreads.
+void set_thread_count(int n);
+// What ODEC_THREADS asks for, or every core; "" or the reason it was ignored in *why.
+int default_thread_count(std::string* why = nullptr);
+// Whether the program was built with OpenMP (otherwise the cycle runs on one thread).
+bool threads_available();
+
+// Loops shorter than this run on one thread (a parallel region costs a few microseconds).
+constexpr int kParallelMinItems = 4096;
+
+} // namespace odec
