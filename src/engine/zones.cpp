@@ -127,6 +127,7 @@ void zone_blocks(Model& m, const std::vector<int>& blocks, const std::vector<int
     }
     z.color_order.clear();
     z.color_offset.clear();
+    z.colored_zones = 0;
     update_gridpoint_masses(m);
     m.geometry_changed = true;
 }
@@ -166,6 +167,7 @@ void remove_zones(Model& m, const std::vector<int>& blocks) {
     z.grad.clear();
     z.color_order.clear();
     z.color_offset.clear();
+    z.colored_zones = 0;
     // Keep the gridpoints still used.
     std::vector<int> new_index(g.size(), -1);
     int n = 0;
@@ -420,42 +422,50 @@ void refresh_zone_geometry(ZoneSet& z, const std::vector<Vec3>& x) {
 
 namespace {
 
-// Greedy colouring of the zones in index order: each takes the first colour none of its
-// gridpoints' zones has yet. Up to 256 colours (tetrahedral meshes need a few dozen); a zone
-// that finds none goes to a last colour, always there, run on one thread.
+// Zones are taken in chunks of consecutive indices (the mesher numbers neighbours close
+// together, so a chunk is a compact piece of the mesh, and a thread walking it reuses what it
+// loaded). The chunks are coloured greedily in order: each takes the first colour that none of
+// the chunks sharing a gridpoint with it has. Up to 256 colours (a few dozen are usual); a
+// chunk that finds none goes to a last colour, always there, run on one thread.
 void color_zones(ZoneSet& z, int n_gp) {
     constexpr int kColors = 256, kWords = kColors / 64;
     const int nz = z.size();
+    const int n_chunks = (nz + kZoneChunk - 1) / kZoneChunk;
     std::vector<std::array<std::uint64_t, kWords>> used(n_gp, std::array<std::uint64_t, kWords>{});
-    std::vector<int> color(nz);
+    std::vector<int> color(n_chunks);
     std::vector<int> count(kColors + 1, 0);
-    for (int i = 0; i < nz; ++i) {
+    for (int ch = 0; ch < n_chunks; ++ch) {
+        const int lo = ch * kZoneChunk, hi = std::min(nz, lo + kZoneChunk);
         std::array<std::uint64_t, kWords> taken{};
-        for (int c : z.gp[i]) {
-            for (int w = 0; w < kWords; ++w) taken[w] |= used[c][w];
+        for (int i = lo; i < hi; ++i) {
+            for (int c : z.gp[i]) {
+                for (int w = 0; w < kWords; ++w) taken[w] |= used[c][w];
+            }
         }
         int col = kColors; // the serial colour
         for (int w = 0; w < kWords && col == kColors; ++w) {
             if (~taken[w]) col = 64 * w + __builtin_ctzll(~taken[w]);
         }
-        color[i] = col;
+        color[ch] = col;
         ++count[col];
         if (col < kColors) {
-            for (int c : z.gp[i]) used[c][col / 64] |= std::uint64_t{1} << (col % 64);
+            for (int i = lo; i < hi; ++i) {
+                for (int c : z.gp[i]) used[c][col / 64] |= std::uint64_t{1} << (col % 64);
+            }
         }
     }
-    z.color_offset.assign(kColors + 2, 0);
-    for (int c = 0; c <= kColors; ++c) z.color_offset[c + 1] = z.color_offset[c] + count[c];
-    std::vector<int> next(z.color_offset.begin(), z.color_offset.end() - 1);
-    z.color_order.assign(nz, 0);
-    for (int i = 0; i < nz; ++i) z.color_order[next[color[i]]++] = i;
+    std::vector<int> start(kColors + 2, 0);
+    for (int c = 0; c <= kColors; ++c) start[c + 1] = start[c] + count[c];
+    std::vector<int> next(start.begin(), start.end() - 1);
+    z.color_order.assign(n_chunks, 0);
+    for (int ch = 0; ch < n_chunks; ++ch) z.color_order[next[color[ch]]++] = ch;
     // Drop the empty colours (the serial one stays last).
-    std::vector<int> offsets{0};
+    z.color_offset.assign(1, 0);
     for (int c = 0; c < kColors; ++c) {
-        if (z.color_offset[c + 1] > z.color_offset[c]) offsets.push_back(z.color_offset[c + 1]);
+        if (start[c + 1] > start[c]) z.color_offset.push_back(start[c + 1]);
     }
-    offsets.push_back(nz); // the serial colour, last, perhaps empty
-    z.color_offset = std::move(offsets);
+    z.color_offset.push_back(n_chunks);
+    z.colored_zones = nz;
 }
 
 } // namespace
@@ -480,7 +490,7 @@ void zone_forces(Model& m, double dt) {
     // In large strain the zones follow their corners; in small strain their geometry is that
     // of the model when zoned, computed once.
     if (large || z.grad.size() != static_cast<size_t>(nz)) refresh_zone_geometry(z, large ? g.pos : g.ref);
-    if (z.color_order.size() != static_cast<size_t>(nz)) color_zones(z, ng);
+    if (z.colored_zones != nz || z.color_offset.empty()) color_zones(z, ng);
     // Material constants once per material; per zone whether it carries stress.
     thread_local std::vector<ZoneMaterialConstants> constants; // kept: no allocation per step
     constants.assign(m.materials.size(), ZoneMaterialConstants());
@@ -563,9 +573,13 @@ void zone_forces(Model& m, double dt) {
         g.force[q[0]] += f0;
         g.force_scale[q[0]] += f0.norm();
     };
-    // Colour by colour: no two zones of a colour share a gridpoint, so the threads never add
-    // into the same number, and each gridpoint sums its zones in the same order however many
-    // threads there are.
+    // Colour by colour: no two chunks of a colour share a gridpoint, so the threads never add
+    // into the same number, and each gridpoint sums its zones in the same order (colour, then
+    // zone) however many threads there are and however the chunks are shared out.
+    auto chunk_range = [&](int ch, auto&& body) {
+        const int lo = ch * kZoneChunk, hi = std::min(nz, lo + kZoneChunk);
+        for (int i = lo; i < hi; ++i) body(i);
+    };
     const bool parallel = threads > 1 && nz >= kParallelMinItems;
 #pragma omp parallel num_threads(threads) if (parallel)
     {
@@ -573,11 +587,11 @@ void zone_forces(Model& m, double dt) {
             const int lo = z.color_offset[c], hi = z.color_offset[c + 1];
             if (c == n_colors - 1) {
 #pragma omp single
-                for (int k = lo; k < hi; ++k) pass1(order[k]);
+                for (int k = lo; k < hi; ++k) chunk_range(order[k], pass1);
                 continue;
             }
-#pragma omp for schedule(static)
-            for (int k = lo; k < hi; ++k) pass1(order[k]);
+#pragma omp for schedule(dynamic, 1)
+            for (int k = lo; k < hi; ++k) chunk_range(order[k], pass1);
         }
 #pragma omp for schedule(static)
         for (int i = 0; i < ng; ++i) {
@@ -587,11 +601,11 @@ void zone_forces(Model& m, double dt) {
             const int lo = z.color_offset[c], hi = z.color_offset[c + 1];
             if (c == n_colors - 1) {
 #pragma omp single
-                for (int k = lo; k < hi; ++k) pass2(order[k]);
+                for (int k = lo; k < hi; ++k) chunk_range(order[k], pass2);
                 continue;
             }
-#pragma omp for schedule(static)
-            for (int k = lo; k < hi; ++k) pass2(order[k]);
+#pragma omp for schedule(dynamic, 1)
+            for (int k = lo; k < hi; ++k) chunk_range(order[k], pass2);
         }
     }
 }

@@ -56,6 +56,9 @@ enum ZoneState : std::uint8_t {
 // Stress or strain as six components: xx yy zz xy xz yz.
 using Sym6 = std::array<double, 6>;
 
+// Zones per chunk of the zone stage's colouring (see ZoneSet::color_order).
+constexpr int kZoneChunk = 64;
+
 struct ZoneSet {
     std::vector<std::array<int, 4>> gp;  // (n_zones) gridpoint indices, positive orientation
     std::vector<int> block;              // (n_zones) block index
@@ -67,11 +70,12 @@ struct ZoneSet {
     // small strain) and refreshed when they change; empty until first needed.
     std::vector<std::array<double, 9>> grad; // (n_zones) 1/m, gradients of the shape functions of
                                           //            corners 1..3 (corner 0's is minus their sum)
-    // Derived (not saved), rebuilt when empty: the zones by colour, no two zones of one colour
-    // sharing a gridpoint, so that threads can add into the gridpoints colour by colour
-    // (parallel.h). Colours in order, zones in index order within each.
-    std::vector<int> color_order;        // (n_zones) zone indices
+    // Derived (not saved), rebuilt when stale: chunks of kZoneChunk consecutive zones by colour,
+    // no two chunks of one colour sharing a gridpoint, so that threads can add into the
+    // gridpoints colour by colour (parallel.h). Colours in order, chunks in order within each.
+    std::vector<int> color_order;        // (n_chunks) chunk indices
     std::vector<int> color_offset;       // (n_colours + 1) first entry of each colour
+    int colored_zones = 0;               // the number of zones they were made for
 
     int size() const { return static_cast<int>(gp.size()); }
 };
