@@ -57,7 +57,7 @@ enum ZoneState : std::uint8_t {
 using Sym6 = std::array<double, 6>;
 
 // Zones per chunk of the zone stage's colouring (see ZoneSet::color_order).
-constexpr int kZoneChunk = 64;
+constexpr int kZoneChunk = 256;
 
 struct ZoneSet {
     std::vector<std::array<int, 4>> gp;  // (n_zones) gridpoint indices, positive orientation
