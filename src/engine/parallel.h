@@ -22,6 +22,9 @@ int default_thread_count(std::string* why = nullptr);
 bool threads_available();
 
 // Loops shorter than this run on one thread (a parallel region costs a few microseconds).
-constexpr int kParallelMinItems = 4096;
+constexpr int kParallelMinItems = 8192;
+// The zone stage runs colour by colour, a barrier after each: below this many zones the
+// colours hold too few chunks to share out, and one thread is as fast.
+constexpr int kParallelMinZones = 32768;
 
 } // namespace odec

@@ -580,7 +580,7 @@ void zone_forces(Model& m, double dt) {
         const int lo = ch * kZoneChunk, hi = std::min(nz, lo + kZoneChunk);
         for (int i = lo; i < hi; ++i) body(i);
     };
-    const bool parallel = threads > 1 && nz >= kParallelMinItems;
+    const bool parallel = threads > 1 && nz >= kParallelMinZones;
 #pragma omp parallel num_threads(threads) if (parallel)
     {
         for (int c = 0; c < n_colors; ++c) {
