@@ -54,9 +54,9 @@ std::string runaway_after_step(EnergyWatch& watch, const Model& m) {
     const int runaway = watch.check(m, energy, available, jumper);
     if (jumper >= 0) {
         return "the motion of block " + std::to_string(m.blocks.id[jumper]) + " has run away (step " +
-                      std::to_string(m.step) + "): it moved " + num_text(m.blocks.vel[jumper].stableNorm() * m.dt) +
-                      " m in one step, more than half its size, passing through the blocks in its way "
-                      "unseen; likely cause: " + runaway_cause(m, jumper);
+               std::to_string(m.step) + "): it moved " + num_text(m.blocks.vel[jumper].stableNorm() * m.dt) +
+               " m in one step, more than half its size, passing through the blocks in its way "
+               "unseen; likely cause: " + runaway_cause(m, jumper);
     }
     double depth = 0;
     const int deep = runaway < 0 ? watch.sunk(m, depth) : -1;
@@ -71,19 +71,19 @@ std::string runaway_after_step(EnergyWatch& watch, const Model& m) {
         const int jm = cs.jmat[deep];
         const bool has_jmat = jm > 0 && jm < static_cast<int>(m.joint_materials.size());
         return "the motion of block " + std::to_string(s.id[mover]) + " has run away (step " +
-                      std::to_string(m.step) + "): it has sunk " + num_text(depth) + " m into block " +
-                      std::to_string(s.id[other]) + ", more than half the smaller block's size; likely cause: " +
-                      (has_jmat ? "the joints (jmat " + std::to_string(jm) + ", jkn " +
-                                      num_text(m.joint_materials[jm].kn) + " Pa/m) are too soft for the load on them"
-                                : std::string("the contact has no joint material to hold it")) +
-                      (m.settings.dt_fixed > 0 ? ", or the forced timestep is too large" : "");
+               std::to_string(m.step) + "): it has sunk " + num_text(depth) + " m into block " +
+               std::to_string(s.id[other]) + ", more than half the smaller block's size; likely cause: " +
+               (has_jmat ? "the joints (jmat " + std::to_string(jm) + ", jkn " +
+                               num_text(m.joint_materials[jm].kn) + " Pa/m) are too soft for the load on them"
+                         : std::string("the contact has no joint material to hold it")) +
+               (m.settings.dt_fixed > 0 ? ", or the forced timestep is too large" : "");
     }
     if (runaway >= 0) {
         return "the motion of block " + std::to_string(m.blocks.id[runaway]) + " has run away (step " +
-                      std::to_string(m.step) + "): the kinetic energy, " + num_text(energy) +
-                      " J, is far beyond the " + num_text(available) +
-                      " J that the loads and the initial state could have given; likely cause: " +
-                      runaway_cause(m, runaway);
+               std::to_string(m.step) + "): the kinetic energy, " + num_text(energy) +
+               " J, is far beyond the " + num_text(available) +
+               " J that the loads and the initial state could have given; likely cause: " +
+               runaway_cause(m, runaway);
     }
     return "";
 }

@@ -6,8 +6,11 @@
 //   zones            zone stresses -> gridpoint forces, with gravity and loads (zones.h)
 //   update_contacts  relative motion -> joint stresses -> forces on both blocks (or on
 //                    the gridpoints of deformable ones)
-//   integrate        central differences: velocity at t+dt/2, position at t+dt
+//   integrate        central differences: velocity at t+dt/2, position at t+dt, with the masses
+//                    of the analysis' mode (mass_scaling.h)
 //   record           histories every ncyc steps
+//   checks           run-aways (speed, sinking, energy) and the unbalanced-force ratio
+// Each stage lives in a file of its own (stages.h); this file orders and times them.
 //
 // Central differences store velocity half a step behind position. When a block's
 // velocity is given at a time (creation, `ini xvel`, `reset vel`), its first kick is

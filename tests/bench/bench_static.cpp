@@ -6,6 +6,7 @@
 // Usage: bench_static [--quick] [model ...]
 //        (models: kirsch tunnel-stress prandtl footing-slab jointed-tunnel)
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -18,6 +19,7 @@
 
 #include "commands.h"
 #include "engine/model.h"
+#include "engine/parallel.h"
 #include "engine/zones.h"
 #include "lang/interpreter.h"
 
@@ -105,8 +107,9 @@ int main(int argc, char** argv) {
         {"jointed-tunnel", "tutorial/jointed-tunnel-insitu.dat", "crown displacement after excavation, m", 0,
          [](const Model& m) { return -gp_disp(m, {0, 0.5, 3}, 2); }},
     };
-    std::printf("%-14s %-24s %9s %9s %11s %14s %12s  %s\n", "model", "way", "steps", "cpu s", "dt s", "answer",
-                "analytic", "quantity");
+    std::printf("threads: %d (ODEC_THREADS; cpu s sums them)\n", thread_count());
+    std::printf("%-14s %-24s %9s %9s %9s %11s %14s %12s  %s\n", "model", "way", "steps", "cpu s", "wall s", "dt s",
+                "answer", "analytic", "quantity");
     for (const Model_& mod : models) {
         if (!only.empty() && std::find(only.begin(), only.end(), mod.name) == only.end()) continue;
         if (quick && std::string(mod.name) != "tunnel-stress") continue;
@@ -122,19 +125,22 @@ int main(int argc, char** argv) {
             Interpreter in(m, command_table(), out, err);
             in.quiet = true;
             const double t0 = cpu_seconds();
-            std::string script = variant(text, way);
+            const auto w0 = std::chrono::steady_clock::now();
+            std::string script = text;
             if (mod.file.empty()) {
                 const size_t at = script.find("STEPS");
                 script.replace(at, 5, way == Way::Dynamic ? "step 15200" : "step 7200");
             }
+            script = variant(script, way);
             const bool ok = in.run_text(mod.file.empty() ? "footing-slab" : mod.file, script, false);
             const double t = cpu_seconds() - t0;
+            const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
             if (!ok) {
                 std::printf("%-14s %-24s failed: %s\n", mod.name, way_name(way), err.str().c_str());
                 continue;
             }
-            std::printf("%-14s %-24s %9ld %9.2f %11.4g %14.6g %12.6g  %s\n", mod.name, way_name(way), m.step, t, m.dt,
-                        mod.answer(m), mod.analytic, mod.quantity);
+            std::printf("%-14s %-24s %9ld %9.2f %9.2f %11.4g %14.6g %12.6g  %s\n", mod.name, way_name(way), m.step, t,
+                        wall, m.dt, mod.answer(m), mod.analytic, mod.quantity);
             std::fflush(stdout);
         }
     }
