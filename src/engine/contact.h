@@ -106,6 +106,11 @@ struct ContactSet {
     std::vector<int> surface_offset;              // (n_blocks + 1) first triangle of each block
     bool surface_ready = false;
 
+    // Derived each step by update_contacts in static mode (not saved): the joint stiffness each
+    // block feels, for its mass (mass_scaling.h).
+    std::vector<double> joint_kt;                 // (n_blocks) N/m, sum of k times area
+    std::vector<double> joint_kr;                 // (n_blocks) N m, the same times the squared lever
+
     int size() const { return static_cast<int>(block_a.size()); }
     int n_subs() const { return static_cast<int>(sub_contact.size()); }
     void clear();

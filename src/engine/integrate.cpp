@@ -61,7 +61,7 @@ int integrate(Model& m, double dt) {
     AutoDampingPower power;
     int bad = -1;
     // Static mode: the blocks' masses follow their joints as they are this step.
-    if (!m.settings.dynamic) scale_block_masses(m);
+    if (!m.settings.dynamic) scale_block_masses(m, true);
     for (int b = 0; b < s.size(); ++b) {
         if (!is_rigid_active(s, b)) continue;
         if (s.flags[b] & kFixed) {

@@ -33,6 +33,7 @@
 #include <cmath>
 
 #include "engine/contact.h"
+#include "engine/parallel.h"
 #include "engine/model.h"
 
 namespace odec {
@@ -147,14 +148,73 @@ void update_contacts(Model& m, double dt) {
         params[2 * j + 1] = law_params(m, j, 2);
     }
     const LawParams none;
-    for (int c = 0; c < cs.size(); ++c) {
-        const int a = cs.block_a[c], b = cs.block_b[c];
-        if ((s.flags[a] | s.flags[b]) & kExcavated) continue;
+    // The threads reach the caller's thread_local arrays through these pointers (a thread_local
+    // named inside the parallel loop would be each worker's own, empty).
+    const LawParams* law = params.data();
+    const Mat3* rot_of = rot.data();
+    const Vec3* vel_of = vel.data();
+    const Vec3* spin_of = spin.data();
+    auto law_of = [&](int c) -> const LawParams& {
         const int jm = cs.jmat[c];
-        const LawParams& p = (jm > 0 && jm < n_jmat) ? params[2 * jm + (cs.jcons[c] == 2 ? 1 : 0)] : none;
+        return (jm > 0 && jm < n_jmat) ? law[2 * jm + (cs.jcons[c] == 2 ? 1 : 0)] : none;
+    };
+    // Static mode: the joint stiffness each rigid block feels, for its mass (mass_scaling.h).
+    const bool stiffness = !m.settings.dynamic;
+    if (stiffness) {
+        cs.joint_kt.assign(n, 0.0);
+        cs.joint_kr.assign(n, 0.0);
+    }
+    // Pass 1, on the threads: the contacts between rigid blocks, each into its own result (each
+    // sub-contact belongs to one contact, so the joint law's state is never shared).
+    struct Result {
+        Vec3 fa, ma, fb, mb;
+        double scale, kt, kra, krb;
+    };
+    thread_local std::vector<Result> results;
+    const int nc = cs.size();
+    results.resize(nc);
+    Result* res = results.data();
+    const int threads = thread_count();
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && nc >= kParallelMinItems)
+    for (int c = 0; c < nc; ++c) {
+        const int a = cs.block_a[c], b = cs.block_b[c];
+        if ((s.flags[a] | s.flags[b]) & (kExcavated | kDeformable)) continue;
+        const LawParams& p = law_of(c);
         const bool joined = cs.joined[c] != 0;
         const Vec3 nrm = cs.normal[c];
+        const Vec3 ca = s.centroid[a], cb = s.centroid[b];
+        const Vec3 va = vel_of[a], wa = spin_of[a], vb = vel_of[b], wb = spin_of[b];
+        const double k = std::max(p.kn, p.ks);
+        Result r{Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), 0.0, 0.0, 0.0, 0.0};
+        for (int q = cs.sub_offset[c]; q < cs.sub_offset[c + 1]; ++q) {
+            const int owner = cs.sub_side[q] == 1 ? b : a;
+            const Vec3 x = s.centroid[owner] + rot_of[owner] * cs.sub_local[q];
+            const Vec3 ra = x - ca, rb = x - cb;
+            const Vec3 f = joint_step(cs, q, p, joined, nrm, (vb + wb.cross(rb) - va - wa.cross(ra)) * dt);
+            r.fb += f;
+            r.mb += rb.cross(f);
+            r.fa -= f;
+            r.ma -= ra.cross(f);
+            r.scale += f.norm();
+            if (stiffness) {
+                const double kq = k * cs.sub_area[q];
+                r.kt += kq;
+                r.kra += kq * ra.squaredNorm();
+                r.krb += kq * rb.squaredNorm();
+            }
+        }
+        res[c] = r;
+    }
+    // Pass 2, in contact order (the same sums whatever the threads): the forces into the blocks,
+    // and the contacts of deformable blocks.
+    for (int c = 0; c < nc; ++c) {
+        const int a = cs.block_a[c], b = cs.block_b[c];
+        if ((s.flags[a] | s.flags[b]) & kExcavated) continue;
         if ((s.flags[a] | s.flags[b]) & kDeformable) {
+            const LawParams& p = law_of(c);
+            const bool joined = cs.joined[c] != 0;
+            const Vec3 nrm = cs.normal[c];
+            const double kj = std::max(p.kn, p.ks);
             // Gridpoints against the other block's surface (contact_gridpoint.h).
             for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
                 const bool of_a = cs.sub_side[k] == 3;
@@ -184,31 +244,28 @@ void update_contacts(Model& m, double dt) {
                     s.force[o] -= fg;
                     s.moment[o] -= lever.cross(fg);
                     s.force_scale[o] += fn;
+                    if (stiffness) {
+                        const double kq = kj * cs.sub_area[k];
+                        cs.joint_kt[o] += kq;
+                        cs.joint_kr[o] += kq * lever.squaredNorm();
+                    }
                 }
             }
             continue;
         }
-        const Vec3 ca = s.centroid[a], cb = s.centroid[b];
-        const Vec3 va = vel[a], wa = spin[a], vb = vel[b], wb = spin[b];
-        Vec3 fa = Vec3::Zero(), ma = Vec3::Zero(), fb = Vec3::Zero(), mb = Vec3::Zero();
-        double scale = 0;
-        for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
-            const int owner = cs.sub_side[k] == 1 ? b : a;
-            const Vec3 x = s.centroid[owner] + rot[owner] * cs.sub_local[k];
-            const Vec3 ra = x - ca, rb = x - cb;
-            const Vec3 f = joint_step(cs, k, p, joined, nrm, (vb + wb.cross(rb) - va - wa.cross(ra)) * dt);
-            fb += f;
-            mb += rb.cross(f);
-            fa -= f;
-            ma -= ra.cross(f);
-            scale += f.norm();
+        const Result& r = res[c];
+        s.force[a] += r.fa;
+        s.moment[a] += r.ma;
+        s.force[b] += r.fb;
+        s.moment[b] += r.mb;
+        s.force_scale[a] += r.scale;
+        s.force_scale[b] += r.scale;
+        if (stiffness) {
+            cs.joint_kt[a] += r.kt;
+            cs.joint_kr[a] += r.kra;
+            cs.joint_kt[b] += r.kt;
+            cs.joint_kr[b] += r.krb;
         }
-        s.force[a] += fa;
-        s.moment[a] += ma;
-        s.force[b] += fb;
-        s.moment[b] += mb;
-        s.force_scale[a] += scale;
-        s.force_scale[b] += scale;
     }
 }
 

@@ -21,6 +21,8 @@ constexpr double kBlockFactor = 1.0 / (0.9 * 0.9);
 // The least a rigid block's mass and inertia are scaled to, as a fraction of the real ones.
 constexpr double kBlockFloor = 1.0 / 16.0;
 
+void assign_block_masses(Model& m, const std::vector<double>& kt, const std::vector<double>& kr);
+
 bool moves_as_rigid(const BlockSet& s, int b) {
     return !(s.flags[b] & (kExcavated | kDeformable | kFixed)) && s.mass[b] > 0;
 }
@@ -136,11 +138,17 @@ void partial_scaling(Model& m, double target, MassScalingReport& r) {
 
 } // namespace
 
-void scale_block_masses(Model& m) {
+void scale_block_masses(Model& m, bool from_contact_update) {
     BlockSet& s = m.blocks;
     const ContactSet& cs = m.contacts;
     const int n = s.size();
-    thread_local std::vector<double> kt, kr;
+    thread_local std::vector<double> walked_kt, walked_kr;
+    if (from_contact_update && static_cast<int>(cs.joint_kt.size()) == n && static_cast<int>(cs.joint_kr.size()) == n) {
+        assign_block_masses(m, cs.joint_kt, cs.joint_kr);
+        return;
+    }
+    std::vector<double>& kt = walked_kt;
+    std::vector<double>& kr = walked_kr;
     kt.assign(n, 0.0);
     kr.assign(n, 0.0);
     const int n_jmat = static_cast<int>(m.joint_materials.size());
@@ -148,6 +156,7 @@ void scale_block_masses(Model& m) {
         const int jm = cs.jmat[c];
         if (jm <= 0 || jm >= n_jmat || !m.joint_materials[jm].defined) continue;
         const int a = cs.block_a[c], b = cs.block_b[c];
+        if ((s.flags[a] | s.flags[b]) & kExcavated) continue;
         const bool ra = moves_as_rigid(s, a), rb = moves_as_rigid(s, b);
         if (!ra && !rb) continue;
         const double k = std::max(m.joint_materials[jm].kn, m.joint_materials[jm].ks);
@@ -165,6 +174,14 @@ void scale_block_masses(Model& m) {
             }
         }
     }
+    assign_block_masses(m, kt, kr);
+}
+
+namespace {
+
+void assign_block_masses(Model& m, const std::vector<double>& kt, const std::vector<double>& kr) {
+    BlockSet& s = m.blocks;
+    const int n = s.size();
     const double dt2 = m.dt * m.dt;
     for (int b = 0; b < n; ++b) {
         if (!moves_as_rigid(s, b)) continue;
@@ -184,6 +201,8 @@ void scale_block_masses(Model& m) {
         if (mass != s.inertial_mass[b] || moment != s.inertial_moment[b]) set_block(s, b, mass, moment);
     }
 }
+
+} // namespace
 
 std::string choose_timestep_and_masses(Model& m, double rigid_dt, double zone_dt) {
     MassScalingReport r;
@@ -212,7 +231,7 @@ std::string choose_timestep_and_masses(Model& m, double rigid_dt, double zone_dt
             const double mass = (g.mass[i] > 0 && k[i] > 0) ? k[i] * span2 : g.mass[i];
             if (mass != g.inertial_mass[i]) set_gridpoint(g, i, mass);
         }
-        scale_block_masses(m);
+        scale_block_masses(m, false);
     } else {
         real_masses(m);
         dt = m.settings.dt_fixed > 0 ? m.settings.dt_fixed : real_dt;

@@ -42,8 +42,9 @@ struct Model;
 // returns "" or why no timestep can be chosen.
 std::string choose_timestep_and_masses(Model& m, double rigid_dt, double zone_dt);
 
-// Static mode, every step after the contacts were updated: the rigid blocks' inertial masses
-// from their joints as they are now.
-void scale_block_masses(Model& m);
+// Static mode: the rigid blocks' inertial masses from their joints as they are now; every step
+// from the stiffness the contact update summed (from_contact_update), else by walking the
+// sub-contacts (before the first step).
+void scale_block_masses(Model& m, bool from_contact_update);
 
 } // namespace odec
