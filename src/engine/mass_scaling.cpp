@@ -38,18 +38,20 @@ double current_moment(const BlockSet& s, int b) {
     return f * s.inertia_body[b].trace() / 3.0;
 }
 
+// A velocity just given ('ini', creation: half_kick) is kept as given.
 void set_block(BlockSet& s, int b, double mass, double moment) {
-    const double fv = velocity_factor(s.inertial_mass[b], mass);
-    const double fw = velocity_factor(current_moment(s, b), moment > 0 ? moment : current_moment(s, b) * mass /
-                                                                                   std::max(s.inertial_mass[b], 1e-300));
-    s.vel[b] *= fv;
-    s.ang_vel[b] *= fw;
+    if (!s.half_kick[b]) {
+        const double next_moment =
+            moment > 0 ? moment : (s.mass[b] > 0 ? mass / s.mass[b] : 1.0) * s.inertia_body[b].trace() / 3.0;
+        s.vel[b] *= velocity_factor(s.inertial_mass[b], mass);
+        s.ang_vel[b] *= velocity_factor(current_moment(s, b), next_moment);
+    }
     s.inertial_mass[b] = mass;
     s.inertial_moment[b] = moment;
 }
 
 void set_gridpoint(GridpointSet& g, int i, double mass) {
-    g.vel[i] *= velocity_factor(g.inertial_mass[i], mass);
+    if (!g.half_kick[i]) g.vel[i] *= velocity_factor(g.inertial_mass[i], mass);
     g.inertial_mass[i] = mass;
 }
 

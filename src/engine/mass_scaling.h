@@ -23,7 +23,8 @@
 // shrinks to nothing as it slides off would otherwise be thrown by its own weight. Block masses
 // follow the contacts every step; a block that touches nothing keeps its real mass (it falls
 // as it would). When a mass grows, the velocity keeps the momentum; when it shrinks, the
-// velocity is kept: kinetic energy never rises from the change.
+// velocity is kept: kinetic energy never rises from the change (a velocity just given with
+// 'ini' is kept as given).
 // The timestep in static mode is the median of the gridpoints' own stable steps (so that no
 // sliver zone sets the pace) and the blocks' automatic step; `set dt` may force any step.
 // Model time then counts steps of that size but is not real time: velocities prescribed by

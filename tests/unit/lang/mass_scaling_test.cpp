@@ -129,6 +129,18 @@ TEST(MassScaling, MscaleRaisesOnlyWhatHoldsTheStepDown) {
     EXPECT_NEAR(s.model.dt, real_dt, 1e-9 * real_dt);
 }
 
+// A velocity given with 'ini' is what the static masses start from, not slowed by their choice.
+TEST(MassScaling, AGivenVelocityIsKept) {
+    Session s;
+    ASSERT_TRUE(s.run("poly brick 0 1 0 1 0 1\nprop mat=1 dens=2000 ymod=1e9 prat=0.25\ngen edge 0.3\n"
+                      "ini xvel 0.1\nstep 3"))
+        << s.error();
+    EXPECT_FALSE(s.model.settings.dynamic);
+    for (int i = 0; i < s.model.gridpoints.size(); ++i) {
+        ASSERT_NEAR(s.model.gridpoints.vel[i].x(), 0.1, 1e-12) << "gridpoint " << i + 1;
+    }
+}
+
 TEST(MassScaling, MscaleOnAnEmptyModelIsRefused) {
     Session s;
     EXPECT_FALSE(s.run("mscale 1e-5"));
