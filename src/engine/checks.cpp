@@ -1,13 +1,8 @@
 // The checks stage: run-aways told by speed, by sinking and by energy; the unbalanced force.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <cstdio>
 
-#include "engine/blocks.h"
 #include "engine/contact.h"
-#include "engine/contact_gridpoint.h"
-#include "engine/mass_scaling.h"
 #include "engine/stages.h"
 
 namespace odec {
@@ -88,25 +83,29 @@ std::string runaway_after_step(EnergyWatch& watch, const Model& m) {
     return "";
 }
 
+namespace {
+
+// The part of an unbalanced force along the directions a boundary condition leaves free.
+inline Vec3 free_part(Vec3 f, std::uint8_t held) {
+    for (int i = 0; i < 3; ++i) {
+        if (held & (1 << i)) f[i] = 0;
+    }
+    return f;
+}
+
+} // namespace
+
 double max_unbalanced_force(const Model& m) {
     const BlockSet& s = m.blocks;
     double fmax = 0;
     for (int b = 0; b < s.size(); ++b) {
         if (!is_rigid_active(s, b) || (s.flags[b] & kFixed)) continue;
-        Vec3 f = s.force[b];
-        for (int i = 0; i < 3; ++i) {
-            if (s.vel_bc[b] & (1 << i)) f[i] = 0;
-        }
-        fmax = std::max(fmax, f.norm());
+        fmax = std::max(fmax, free_part(s.force[b], s.vel_bc[b]).norm());
     }
     const GridpointSet& g = m.gridpoints;
     for (int i = 0; i < g.size(); ++i) {
         if (!(g.mass[i] > 0) || g.vel_bc[i] == 7) continue;
-        Vec3 f = g.force[i];
-        for (int k = 0; k < 3; ++k) {
-            if (g.vel_bc[i] & (1 << k)) f[k] = 0;
-        }
-        fmax = std::max(fmax, f.norm());
+        fmax = std::max(fmax, free_part(g.force[i], g.vel_bc[i]).norm());
     }
     return fmax;
 }
@@ -122,11 +121,7 @@ double unbalanced_ratio(const Model& m) {
     const GridpointSet& g = m.gridpoints;
     for (int i = 0; i < g.size(); ++i) {
         if (!(g.mass[i] > 0) || g.vel_bc[i] == 7) continue;
-        Vec3 f = g.force[i];
-        for (int k = 0; k < 3; ++k) {
-            if (g.vel_bc[i] & (1 << k)) f[k] = 0;
-        }
-        unbal += f.norm();
+        unbal += free_part(g.force[i], g.vel_bc[i]).norm();
         total += g.force_scale[i];
     }
     return total > 0 ? unbal / total : 0.0;

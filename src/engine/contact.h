@@ -126,6 +126,8 @@ void update_contacts(Model& m, double dt);
 // With no contacts yet it is estimated from the stiffest joint material and the largest
 // face; 0 when there is nothing to estimate from.
 double contact_critical_timestep(const Model& m);
+// The stiffest contact, N/m: its joint material's larger stiffness times its area (0: none).
+double stiffest_contact(const Model& m);
 // The largest timestep at which the explicit cycle is still stable, s, unscaled by dtfrac:
 // per free block, 2 / omega with omega^2 the larger of (sum of the contact stiffnesses on it)
 // / mass and (sum of stiffness times squared lever arm) / smallest principal inertia; the

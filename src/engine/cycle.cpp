@@ -3,12 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 
 #include "engine/blocks.h"
 #include "engine/contact.h"
-#include "engine/contact_gridpoint.h"
-#include "engine/mass_scaling.h"
 #include "engine/stages.h"
 
 namespace odec {

@@ -269,16 +269,8 @@ void update_contacts(Model& m, double dt) {
     }
 }
 
-double contact_critical_timestep(const Model& m) {
-    const BlockSet& s = m.blocks;
+double stiffest_contact(const Model& m) {
     const ContactSet& cs = m.contacts;
-    double m_min = 0;
-    for (int b = 0; b < s.size(); ++b) {
-        // A deformable block's own mass does not move as one: its gridpoints set the zones' step.
-        if ((s.flags[b] & (kExcavated | kFixed | kDeformable)) || !(s.mass[b] > 0)) continue;
-        if (m_min == 0 || s.mass[b] < m_min) m_min = s.mass[b];
-    }
-    if (!(m_min > 0)) return 0;
     double k_max = 0;
     for (int c = 0; c < cs.size(); ++c) {
         const int jm = cs.jmat[c];
@@ -288,6 +280,19 @@ double contact_critical_timestep(const Model& m) {
         for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) area += cs.sub_area[k];
         k_max = std::max(k_max, std::max(j.kn, j.ks) * area);
     }
+    return k_max;
+}
+
+double contact_critical_timestep(const Model& m) {
+    const BlockSet& s = m.blocks;
+    double m_min = 0;
+    for (int b = 0; b < s.size(); ++b) {
+        // A deformable block's own mass does not move as one: its gridpoints set the zones' step.
+        if ((s.flags[b] & (kExcavated | kFixed | kDeformable)) || !(s.mass[b] > 0)) continue;
+        if (m_min == 0 || s.mass[b] < m_min) m_min = s.mass[b];
+    }
+    if (!(m_min > 0)) return 0;
+    double k_max = stiffest_contact(m);
     if (!(k_max > 0)) {
         double kj = 0, face = 0;
         for (const JointMaterial& j : m.joint_materials) {

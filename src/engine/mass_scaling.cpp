@@ -116,16 +116,7 @@ void partial_scaling(Model& m, double target, MassScalingReport& r) {
     }
     // Blocks: the automatic step is dtfrac * 2 sqrt(m / k) with k the stiffest contact.
     BlockSet& s = m.blocks;
-    const ContactSet& cs = m.contacts;
-    double k_max = 0;
-    for (int c = 0; c < cs.size(); ++c) {
-        const int jm = cs.jmat[c];
-        if (jm <= 0 || jm >= static_cast<int>(m.joint_materials.size()) || !m.joint_materials[jm].defined) continue;
-        const JointMaterial& j = m.joint_materials[jm];
-        double area = 0;
-        for (int i = cs.sub_offset[c]; i < cs.sub_offset[c + 1]; ++i) area += cs.sub_area[i];
-        k_max = std::max(k_max, std::max(j.kn, j.ks) * area);
-    }
+    const double k_max = stiffest_contact(m);
     if (k_max > 0) {
         const double span = 2.0 * m.settings.dtfrac;
         const double need = k_max * (target / span) * (target / span);

@@ -1,9 +1,7 @@
 // Preparing the cycle: the model can cycle, contacts match the geometry, the timestep and the
 // masses are chosen.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <cstdio>
 
 #include "engine/blocks.h"
 #include "engine/contact.h"

@@ -21,8 +21,6 @@ namespace odec {
 
 namespace {
 
-double sign(double x) { return (x > 0) - (x < 0); }
-
 // Gradients of the shape functions of corners 1..3 of a tetrahedron (rows of the inverse of
 // its edge matrix), and its volume; corner 0's gradient is minus their sum.
 struct TetGeometry {
@@ -581,32 +579,27 @@ void zone_forces(Model& m, double dt) {
         for (int i = lo; i < hi; ++i) body(i);
     };
     const bool parallel = threads > 1 && nz >= kParallelMinZones;
-#pragma omp parallel num_threads(threads) if (parallel)
-    {
+    // Inside the parallel region, on every thread: the colours in order, a barrier after each.
+    auto by_colour = [&](auto&& pass) {
         for (int c = 0; c < n_colors; ++c) {
             const int lo = z.color_offset[c], hi = z.color_offset[c + 1];
             if (c == n_colors - 1) {
 #pragma omp single
-                for (int k = lo; k < hi; ++k) chunk_range(order[k], pass1);
+                for (int k = lo; k < hi; ++k) chunk_range(order[k], pass);
                 continue;
             }
 #pragma omp for schedule(dynamic, 1)
-            for (int k = lo; k < hi; ++k) chunk_range(order[k], pass1);
+            for (int k = lo; k < hi; ++k) chunk_range(order[k], pass);
         }
+    };
+#pragma omp parallel num_threads(threads) if (parallel)
+    {
+        by_colour(pass1);
 #pragma omp for schedule(static)
         for (int i = 0; i < ng; ++i) {
             if (g.nmd_volume[i] > 0) g.nmd_rate[i] /= g.nmd_volume[i];
         }
-        for (int c = 0; c < n_colors; ++c) {
-            const int lo = z.color_offset[c], hi = z.color_offset[c + 1];
-            if (c == n_colors - 1) {
-#pragma omp single
-                for (int k = lo; k < hi; ++k) chunk_range(order[k], pass2);
-                continue;
-            }
-#pragma omp for schedule(dynamic, 1)
-            for (int k = lo; k < hi; ++k) chunk_range(order[k], pass2);
-        }
+        by_colour(pass2);
     }
 }
 

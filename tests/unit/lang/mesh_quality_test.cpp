@@ -11,7 +11,7 @@
 // nodes besides their corners, and a thin or sharp one may then get a poor zone (a
 // wedge 0.86 m thick of the slope, zoned at 4 m): 'gen' warns of it (last test below). The quick test
 // takes a few sizes of each model, those that gave slivers among them; the full sweep is
-// MeshQuality.SweepOfEdgeLengths, a long test that prints the worst ratio for each size.
+// MeshQuality.SweepOfEdgeLengths and ...AroundATunnelAndInASlope, long tests that print the worst ratio for each size.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -130,15 +130,23 @@ TEST(MeshQuality, NoSliversInOrdinaryBlocks) {
     check(cases, false);
 }
 
+// Edges from `from` down to `to`, each 0.8 of the one before.
+void sweep(std::vector<Case>& cases, const std::string& name, const std::string& geometry, double from, double to) {
+    for (double e = from; e >= to * 0.999; e *= 0.8) cases.push_back({name + ", edge " + text(e), geometry, gen(e)});
+}
+
+// In two halves, each well under a minute.
 TEST(MeshQuality, SweepOfEdgeLengths) {
     std::vector<Case> cases;
-    auto sweep = [&](const std::string& name, const std::string& geometry, double from, double to) {
-        for (double e = from; e >= to * 0.999; e *= 0.8) cases.push_back({name + ", edge " + text(e), geometry, gen(e)});
-    };
-    sweep("slab", kSlab, 0.8, 0.05);     // 4 x its thickness down to 1/200 of its length
-    sweep("cube", kCube, 0.5, 0.02);     // 1/2 down to 1/50 of its side
-    sweep("tunnel", kTunnel, 2.0, 0.16); // 4 x the slice thickness down to 1/125 of the model
-    sweep("slope", kSlope, 2.5, 0.3);    // 1/2 of its larger blocks down to 1/67 of its length
+    sweep(cases, "slab", kSlab, 0.8, 0.05); // 4 x its thickness down to 1/200 of its length
+    sweep(cases, "cube", kCube, 0.5, 0.02); // 1/2 down to 1/50 of its side
+    check(cases, true);
+}
+
+TEST(MeshQuality, SweepOfEdgeLengthsAroundATunnelAndInASlope) {
+    std::vector<Case> cases;
+    sweep(cases, "tunnel", kTunnel, 2.0, 0.16); // 4 x the slice thickness down to 1/125 of the model
+    sweep(cases, "slope", kSlope, 2.5, 0.3);    // 1/2 of its larger blocks down to 1/67 of its length
     for (double e : {0.4, 0.2, 0.1, 0.05}) cases.push_back({"tunnel, Kirsch grading, " + text(e), kTunnel, kirsch_grading(e)});
     check(cases, true);
 }
