@@ -404,6 +404,22 @@ void swap_arrays(ContactSet& x, ContactSet& y) {
     x.sub_ss.swap(y.sub_ss); x.sub_flags.swap(y.sub_flags); x.sub_tri.swap(y.sub_tri);
 }
 
+// Give the arrays' memory back (a buffer that held a whole contact set must not be kept).
+void release_arrays(ContactSet& x) {
+    ContactSet empty;
+    swap_arrays(x, empty);
+}
+
+// Trim the arrays to their size (push_back may leave up to twice as much reserved).
+void shrink_arrays(ContactSet& x) {
+    x.id.shrink_to_fit(); x.block_a.shrink_to_fit(); x.block_b.shrink_to_fit(); x.normal.shrink_to_fit();
+    x.point.shrink_to_fit(); x.gap.shrink_to_fit(); x.jmat.shrink_to_fit(); x.jcons.shrink_to_fit();
+    x.joined.shrink_to_fit(); x.sub_offset.shrink_to_fit(); x.sub_contact.shrink_to_fit(); x.sub_side.shrink_to_fit();
+    x.sub_key.shrink_to_fit(); x.sub_vertex.shrink_to_fit(); x.sub_area.shrink_to_fit(); x.sub_local.shrink_to_fit();
+    x.sub_un.shrink_to_fit(); x.sub_udil.shrink_to_fit(); x.sub_sn.shrink_to_fit(); x.sub_us.shrink_to_fit();
+    x.sub_ss.shrink_to_fit(); x.sub_flags.shrink_to_fit(); x.sub_tri.shrink_to_fit();
+}
+
 void clear_arrays(ContactSet& x) {
     x.id.clear(); x.block_a.clear(); x.block_b.clear(); x.normal.clear(); x.point.clear(); x.gap.clear();
     x.jmat.clear(); x.jcons.clear(); x.joined.clear(); x.sub_offset.assign(1, 0);
@@ -539,7 +555,7 @@ bool apply_plan_in_place(ContactSet& cs, const ContactSet& fresh, const std::vec
 // The fallback: assemble the arrays anew, unchanged runs of contacts copied in bulk.
 void apply_plan_copy(ContactSet& cs, const ContactSet& fresh, const std::vector<int>& plan) {
     const int np = static_cast<int>(plan.size());
-    thread_local ContactSet out;
+    ContactSet out; // freed on return: it ends holding the old arrays
     clear_arrays(out);
     const std::size_t nc = plan.size(), ns = cs.sub_contact.size() + fresh.sub_contact.size();
     out.id.reserve(nc); out.block_a.reserve(nc); out.block_b.reserve(nc); out.normal.reserve(nc);
@@ -913,6 +929,7 @@ void detect_contacts(Model& m) {
     Detector d{m, cs, next, cs.ctol, {}, {}, {}, {}, {}, {}, {}, {}};
     plan.clear();
     clear_arrays(next);
+    bool rebuilt_all = false; // every contact built anew into `next`, in order
 
     if (full) {
         // From scratch when the model changed or the caches do not fit; otherwise only the
@@ -936,6 +953,7 @@ void detect_contacts(Model& m) {
             if (have && !moved[a] && !moved[b]) plan.push_back(oc);
             else if (d.build(a, b, have ? oc : -1, true)) plan.push_back(~(next.size() - 1));
         }
+        rebuilt_all = scratch;
         cs.ref_centroid = s.centroid;
         cs.ref_orientation = s.orientation;
         if (scratch) {
@@ -1009,7 +1027,19 @@ void detect_contacts(Model& m) {
             if (moved[b]) { geo_c[b] = s.centroid[b]; geo_q[b] = s.orientation[b]; }
         }
     }
+    if (rebuilt_all) {
+        // The plan is `next` itself: take its arrays, trimmed, and free the old ones.
+        swap_arrays(cs, next);
+        shrink_arrays(cs);
+        release_arrays(next);
+        return;
+    }
     apply_plan(cs, next, plan);
+    // `next` is a buffer for the contacts rebuilt in one pass, kept so that passes allocate
+    // nothing; after a pass that rebuilt most of the model it would hold a second contact set.
+    if (next.sub_contact.capacity() > 4096 + cs.sub_contact.size() / 8 || next.id.capacity() > 4096 + cs.id.size() / 8) {
+        release_arrays(next);
+    }
 }
 
 } // namespace odec

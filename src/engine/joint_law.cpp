@@ -170,101 +170,106 @@ void update_contacts(Model& m, double dt) {
         Vec3 fa, ma, fb, mb;
         double scale, kt, kra, krb;
     };
+    // The contacts go in batches, so that the results never take more memory than one batch.
+    constexpr int kBatch = 32768;
     thread_local std::vector<Result> results;
     const int nc = cs.size();
-    results.resize(nc);
-    Result* res = results.data();
+    results.resize(std::min(nc, kBatch));
     const int threads = thread_count();
+    for (int c0 = 0; c0 < nc; c0 += kBatch) {
+        const int c1 = std::min(nc, c0 + kBatch);
+        Result* res = results.data(); // res[c - c0]
 #pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && nc >= kParallelMinItems)
-    for (int c = 0; c < nc; ++c) {
-        const int a = cs.block_a[c], b = cs.block_b[c];
-        if ((s.flags[a] | s.flags[b]) & (kExcavated | kDeformable)) continue;
-        const LawParams& p = law_of(c);
-        const bool joined = cs.joined[c] != 0;
-        const Vec3 nrm = cs.normal[c];
-        const Vec3 ca = s.centroid[a], cb = s.centroid[b];
-        const Vec3 va = vel_of[a], wa = spin_of[a], vb = vel_of[b], wb = spin_of[b];
-        const double k = std::max(p.kn, p.ks);
-        Result r{Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), 0.0, 0.0, 0.0, 0.0};
-        for (int q = cs.sub_offset[c]; q < cs.sub_offset[c + 1]; ++q) {
-            const int owner = cs.sub_side[q] == 1 ? b : a;
-            const Vec3 x = s.centroid[owner] + rot_of[owner] * cs.sub_local[q];
-            const Vec3 ra = x - ca, rb = x - cb;
-            const Vec3 f = joint_step(cs, q, p, joined, nrm, (vb + wb.cross(rb) - va - wa.cross(ra)) * dt);
-            r.fb += f;
-            r.mb += rb.cross(f);
-            r.fa -= f;
-            r.ma -= ra.cross(f);
-            r.scale += f.norm();
-            if (stiffness) {
-                const double kq = k * cs.sub_area[q];
-                r.kt += kq;
-                r.kra += kq * ra.squaredNorm();
-                r.krb += kq * rb.squaredNorm();
-            }
-        }
-        res[c] = r;
-    }
-    // Pass 2, in contact order (the same sums whatever the threads): the forces into the blocks,
-    // and the contacts of deformable blocks.
-    for (int c = 0; c < nc; ++c) {
-        const int a = cs.block_a[c], b = cs.block_b[c];
-        if ((s.flags[a] | s.flags[b]) & kExcavated) continue;
-        if ((s.flags[a] | s.flags[b]) & kDeformable) {
+        for (int c = c0; c < c1; ++c) {
+            const int a = cs.block_a[c], b = cs.block_b[c];
+            if ((s.flags[a] | s.flags[b]) & (kExcavated | kDeformable)) continue;
             const LawParams& p = law_of(c);
             const bool joined = cs.joined[c] != 0;
             const Vec3 nrm = cs.normal[c];
-            const double kj = std::max(p.kn, p.ks);
-            // Gridpoints against the other block's surface (contact_gridpoint.h).
-            for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
-                const bool of_a = cs.sub_side[k] == 3;
-                const int gp = cs.sub_vertex[k];
-                const int o = of_a ? b : a;
-                const auto& tri = cs.sub_tri[k];
-                const Vec3& w = cs.sub_local[k];
-                Vec3 vo, lever = Vec3::Zero();
-                if (tri[0] >= 0) {
-                    vo = w[0] * gp_vel(tri[0]) + w[1] * gp_vel(tri[1]) + w[2] * gp_vel(tri[2]);
-                } else {
-                    lever = rot[o] * cs.sub_local[k];
-                    vo = vel[o] + spin[o].cross(lever);
-                }
-                const Vec3 vg = gp_vel(gp);
-                const Vec3 f = joint_step(cs, k, p, joined, nrm, (of_a ? vo - vg : vg - vo) * dt);
-                const Vec3 fg = of_a ? Vec3(-f) : f; // on the gridpoint; its partner takes -fg
-                const double fn = f.norm();
-                g.force[gp] += fg;
-                g.force_scale[gp] += fn;
-                if (tri[0] >= 0) {
-                    for (int i = 0; i < 3; ++i) {
-                        g.force[tri[i]] -= w[i] * fg;
-                        g.force_scale[tri[i]] += w[i] * fn;
-                    }
-                } else {
-                    s.force[o] -= fg;
-                    s.moment[o] -= lever.cross(fg);
-                    s.force_scale[o] += fn;
-                    if (stiffness) {
-                        const double kq = kj * cs.sub_area[k];
-                        cs.joint_kt[o] += kq;
-                        cs.joint_kr[o] += kq * lever.squaredNorm();
-                    }
+            const Vec3 ca = s.centroid[a], cb = s.centroid[b];
+            const Vec3 va = vel_of[a], wa = spin_of[a], vb = vel_of[b], wb = spin_of[b];
+            const double k = std::max(p.kn, p.ks);
+            Result r{Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), 0.0, 0.0, 0.0, 0.0};
+            for (int q = cs.sub_offset[c]; q < cs.sub_offset[c + 1]; ++q) {
+                const int owner = cs.sub_side[q] == 1 ? b : a;
+                const Vec3 x = s.centroid[owner] + rot_of[owner] * cs.sub_local[q];
+                const Vec3 ra = x - ca, rb = x - cb;
+                const Vec3 f = joint_step(cs, q, p, joined, nrm, (vb + wb.cross(rb) - va - wa.cross(ra)) * dt);
+                r.fb += f;
+                r.mb += rb.cross(f);
+                r.fa -= f;
+                r.ma -= ra.cross(f);
+                r.scale += f.norm();
+                if (stiffness) {
+                    const double kq = k * cs.sub_area[q];
+                    r.kt += kq;
+                    r.kra += kq * ra.squaredNorm();
+                    r.krb += kq * rb.squaredNorm();
                 }
             }
-            continue;
+            res[c - c0] = r;
         }
-        const Result& r = res[c];
-        s.force[a] += r.fa;
-        s.moment[a] += r.ma;
-        s.force[b] += r.fb;
-        s.moment[b] += r.mb;
-        s.force_scale[a] += r.scale;
-        s.force_scale[b] += r.scale;
-        if (stiffness) {
-            cs.joint_kt[a] += r.kt;
-            cs.joint_kr[a] += r.kra;
-            cs.joint_kt[b] += r.kt;
-            cs.joint_kr[b] += r.krb;
+        // Pass 2, in contact order (the same sums whatever the threads): the forces into the blocks,
+        // and the contacts of deformable blocks.
+        for (int c = c0; c < c1; ++c) {
+            const int a = cs.block_a[c], b = cs.block_b[c];
+            if ((s.flags[a] | s.flags[b]) & kExcavated) continue;
+            if ((s.flags[a] | s.flags[b]) & kDeformable) {
+                const LawParams& p = law_of(c);
+                const bool joined = cs.joined[c] != 0;
+                const Vec3 nrm = cs.normal[c];
+                const double kj = std::max(p.kn, p.ks);
+                // Gridpoints against the other block's surface (contact_gridpoint.h).
+                for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
+                    const bool of_a = cs.sub_side[k] == 3;
+                    const int gp = cs.sub_vertex[k];
+                    const int o = of_a ? b : a;
+                    const auto& tri = cs.sub_tri[k];
+                    const Vec3& w = cs.sub_local[k];
+                    Vec3 vo, lever = Vec3::Zero();
+                    if (tri[0] >= 0) {
+                        vo = w[0] * gp_vel(tri[0]) + w[1] * gp_vel(tri[1]) + w[2] * gp_vel(tri[2]);
+                    } else {
+                        lever = rot[o] * cs.sub_local[k];
+                        vo = vel[o] + spin[o].cross(lever);
+                    }
+                    const Vec3 vg = gp_vel(gp);
+                    const Vec3 f = joint_step(cs, k, p, joined, nrm, (of_a ? vo - vg : vg - vo) * dt);
+                    const Vec3 fg = of_a ? Vec3(-f) : f; // on the gridpoint; its partner takes -fg
+                    const double fn = f.norm();
+                    g.force[gp] += fg;
+                    g.force_scale[gp] += fn;
+                    if (tri[0] >= 0) {
+                        for (int i = 0; i < 3; ++i) {
+                            g.force[tri[i]] -= w[i] * fg;
+                            g.force_scale[tri[i]] += w[i] * fn;
+                        }
+                    } else {
+                        s.force[o] -= fg;
+                        s.moment[o] -= lever.cross(fg);
+                        s.force_scale[o] += fn;
+                        if (stiffness) {
+                            const double kq = kj * cs.sub_area[k];
+                            cs.joint_kt[o] += kq;
+                            cs.joint_kr[o] += kq * lever.squaredNorm();
+                        }
+                    }
+                }
+                continue;
+            }
+            const Result& r = res[c - c0];
+            s.force[a] += r.fa;
+            s.moment[a] += r.ma;
+            s.force[b] += r.fb;
+            s.moment[b] += r.mb;
+            s.force_scale[a] += r.scale;
+            s.force_scale[b] += r.scale;
+            if (stiffness) {
+                cs.joint_kt[a] += r.kt;
+                cs.joint_kr[a] += r.kra;
+                cs.joint_kt[b] += r.kt;
+                cs.joint_kr[b] += r.krb;
+            }
         }
     }
 }

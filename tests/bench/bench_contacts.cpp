@@ -2,12 +2,18 @@
 // of spacing 1 m into n^3 blocks (by the same code as `jset`), settling under gravity on a
 // fixed base. Prints blocks, contacts,
 // sub-contacts, steps per second, sub-contact updates per second and the share of time in
-// each cycle stage. Usage: bench_contacts [n ...] [--steps s]   (default n = 10 20 30)
+// each cycle stage, and memory: heap in use after the blocks are made (bytes per block), the
+// heap the contacts add at its largest (bytes per sub-contact, their per-contact records
+// included) and the peak resident memory of the process. Usage: bench_contacts [n ...] [--steps s]   (default n = 10 20 30)
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <vector>
+
+#include <malloc.h>
+#include <sys/resource.h>
 
 #include "engine/blocks.h"
 #include "engine/contact.h"
@@ -19,6 +25,18 @@
 using namespace odec;
 
 namespace {
+
+// Bytes of heap in use now.
+double heap_bytes() {
+    const struct mallinfo2 mi = mallinfo2();
+    return static_cast<double>(mi.uordblks + mi.hblkhd);
+}
+// Peak resident memory of the process so far, bytes.
+double peak_rss_bytes() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return 1024.0 * static_cast<double>(u.ru_maxrss);
+}
 
 void run(int n, long steps) {
     Model m;
@@ -57,6 +75,8 @@ void run(int n, long steps) {
     const double t_cut = std::chrono::duration<double>(std::chrono::steady_clock::now() - c0).count();
     std::printf("jset: %d blocks cut in %.3f s\n", m.blocks.size() - 1, t_cut);
 
+    malloc_trim(0);
+    const double heap_blocks = heap_bytes(); // the model without contacts
     using Clock = std::chrono::steady_clock;
     const auto t0 = Clock::now();
     const std::string err = prepare_cycle(m);
@@ -65,11 +85,18 @@ void run(int n, long steps) {
         return;
     }
     const double t_detect = std::chrono::duration<double>(Clock::now() - t0).count();
+    double heap_most = heap_bytes();
+    std::printf("  after first detection: heap %.1f MB, peak resident %.1f MB\n", heap_most / 1e6, peak_rss_bytes() / 1e6);
     m.profile = Profile{};
     CycleLimits lim;
     lim.max_steps = steps;
     const auto t1 = Clock::now();
+    lim.max_steps = 1;
+    cycle(m, lim); // the first step sizes the cycle's buffers
+    heap_most = std::max(heap_most, heap_bytes());
+    lim.max_steps = steps - 1;
     cycle(m, lim);
+    heap_most = std::max(heap_most, heap_bytes());
     const double t = std::chrono::duration<double>(Clock::now() - t1).count();
     const double total_stage = [&] {
         double s = 0;
@@ -84,7 +111,12 @@ void run(int n, long steps) {
     for (int s = 0; s < static_cast<int>(Stage::Count); ++s) {
         std::printf(" %s %.1f%%", stage_name(static_cast<Stage>(s)), 100.0 * m.profile.seconds[s] / total_stage);
     }
-    std::printf("\n  unbalanced ratio %.3g, largest unbalanced force %.3g N\n", unbalanced_ratio(m),
+    std::printf("\n  memory: %.0f bytes per block (model without contacts), %.0f bytes per sub-contact (contacts at "
+                "their largest, %.0f per contact record), peak resident %.1f MB = %.0f bytes per block\n",
+                heap_blocks / m.blocks.size(), (heap_most - heap_blocks) / std::max(1, m.contacts.n_subs()),
+                (heap_most - heap_blocks) / std::max(1, m.contacts.size()), peak_rss_bytes() / 1e6,
+                peak_rss_bytes() / m.blocks.size());
+    std::printf("  unbalanced ratio %.3g, largest unbalanced force %.3g N\n", unbalanced_ratio(m),
                 max_unbalanced_force(m));
 }
 
