@@ -57,11 +57,13 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 
 #include "engine/common_plane.h"
 #include "engine/contact.h"
 #include "engine/contact_gridpoint.h"
 #include "engine/model.h"
+#include "engine/parallel.h"
 
 namespace odec {
 
@@ -410,16 +412,6 @@ void release_arrays(ContactSet& x) {
     swap_arrays(x, empty);
 }
 
-// Trim the arrays to their size (push_back may leave up to twice as much reserved).
-void shrink_arrays(ContactSet& x) {
-    x.id.shrink_to_fit(); x.block_a.shrink_to_fit(); x.block_b.shrink_to_fit(); x.normal.shrink_to_fit();
-    x.point.shrink_to_fit(); x.gap.shrink_to_fit(); x.jmat.shrink_to_fit(); x.jcons.shrink_to_fit();
-    x.joined.shrink_to_fit(); x.sub_offset.shrink_to_fit(); x.sub_contact.shrink_to_fit(); x.sub_side.shrink_to_fit();
-    x.sub_key.shrink_to_fit(); x.sub_vertex.shrink_to_fit(); x.sub_area.shrink_to_fit(); x.sub_local.shrink_to_fit();
-    x.sub_un.shrink_to_fit(); x.sub_udil.shrink_to_fit(); x.sub_sn.shrink_to_fit(); x.sub_us.shrink_to_fit();
-    x.sub_ss.shrink_to_fit(); x.sub_flags.shrink_to_fit(); x.sub_tri.shrink_to_fit();
-}
-
 void clear_arrays(ContactSet& x) {
     x.id.clear(); x.block_a.clear(); x.block_b.clear(); x.normal.clear(); x.point.clear(); x.gap.clear();
     x.jmat.clear(); x.jcons.clear(); x.joined.clear(); x.sub_offset.assign(1, 0);
@@ -482,21 +474,34 @@ void copy_run(const ContactSet& from, int c0, int c1, ContactSet& to) {
     app(to.sub_flags, from.sub_flags, k0, k1); app(to.sub_tri, from.sub_tri, k0, k1);
 }
 
+// The contacts one pass rebuilt, built on the threads: the jobs (contacts to build) go in
+// chunks, chunk p into parts[p], so fresh contact f (numbered in job order) is contact
+// local[f] of parts[part[f]]. A contact new to the model has id 0 here: it takes its id when
+// it joins the contact set, in job order (take_id), so the ids never depend on the threads.
+struct Rebuilt {
+    std::vector<ContactSet> parts;
+    std::vector<int> part, local;
+    const ContactSet& set(int f) const { return parts[part[f]]; }
+    int n_subs(int f) const { const ContactSet& x = set(f); return x.sub_offset[local[f] + 1] - x.sub_offset[local[f]]; }
+};
+
+int take_id(ContactSet& cs, int id) { return id > 0 ? id : cs.next_id++; }
+
 // Make cs the contacts `plan` lists, in its order: entry c >= 0 keeps old contact c as it
-// is, entry ~f takes contact f of `fresh`. Usually this is done in place, front to back:
+// is, entry ~f takes fresh contact f. Usually this is done in place, front to back:
 // kept contacts that have not shifted are not touched at all, and the rest move down
 // (rebuilt contacts tend to keep or lose sub-contacts, seldom gain). That works as long
 // as nothing is written over old data not yet read, which the first loop checks; when it
 // fails the arrays are assembled anew, unchanged runs of contacts copied in bulk. Either
 // way the result is the same arrays.
-bool apply_plan_in_place(ContactSet& cs, const ContactSet& fresh, const std::vector<int>& plan) {
+bool apply_plan_in_place(ContactSet& cs, const Rebuilt& rb, const std::vector<int>& plan) {
     int wc = 0, wk = 0;
     for (const int e : plan) {
         if (e >= 0) {
             if (wc > e || wk > cs.sub_offset[e]) return false;
             wk += cs.sub_offset[e + 1] - cs.sub_offset[e];
         } else {
-            wk += fresh.sub_offset[~e + 1] - fresh.sub_offset[~e];
+            wk += rb.n_subs(~e);
         }
         ++wc;
     }
@@ -531,8 +536,9 @@ bool apply_plan_in_place(ContactSet& cs, const ContactSet& fresh, const std::vec
             }
             wk += k1 - k0;
         } else {
-            const int f = ~e;
-            cs.id[wc] = fresh.id[f]; cs.block_a[wc] = fresh.block_a[f]; cs.block_b[wc] = fresh.block_b[f];
+            const ContactSet& fresh = rb.set(~e);
+            const int f = rb.local[~e];
+            cs.id[wc] = take_id(cs, fresh.id[f]); cs.block_a[wc] = fresh.block_a[f]; cs.block_b[wc] = fresh.block_b[f];
             cs.normal[wc] = fresh.normal[f]; cs.point[wc] = fresh.point[f]; cs.gap[wc] = fresh.gap[f];
             cs.jmat[wc] = fresh.jmat[f]; cs.jcons[wc] = fresh.jcons[f]; cs.joined[wc] = fresh.joined[f];
             for (int j = fresh.sub_offset[f]; j < fresh.sub_offset[f + 1]; ++j, ++wk) {
@@ -553,11 +559,13 @@ bool apply_plan_in_place(ContactSet& cs, const ContactSet& fresh, const std::vec
 }
 
 // The fallback: assemble the arrays anew, unchanged runs of contacts copied in bulk.
-void apply_plan_copy(ContactSet& cs, const ContactSet& fresh, const std::vector<int>& plan) {
+void apply_plan_copy(ContactSet& cs, const Rebuilt& rb, const std::vector<int>& plan) {
     const int np = static_cast<int>(plan.size());
     ContactSet out; // freed on return: it ends holding the old arrays
     clear_arrays(out);
-    const std::size_t nc = plan.size(), ns = cs.sub_contact.size() + fresh.sub_contact.size();
+    std::size_t ns = 0;
+    for (const int e : plan) ns += e >= 0 ? cs.sub_offset[e + 1] - cs.sub_offset[e] : rb.n_subs(~e);
+    const std::size_t nc = plan.size();
     out.id.reserve(nc); out.block_a.reserve(nc); out.block_b.reserve(nc); out.normal.reserve(nc);
     out.point.reserve(nc); out.gap.reserve(nc); out.jmat.reserve(nc); out.jcons.reserve(nc);
     out.joined.reserve(nc); out.sub_offset.reserve(nc + 1);
@@ -567,7 +575,8 @@ void apply_plan_copy(ContactSet& cs, const ContactSet& fresh, const std::vector<
     out.sub_tri.reserve(ns);
     for (int i = 0; i < np;) {
         if (plan[i] < 0) {
-            copy_contact(fresh, ~plan[i], out);
+            copy_contact(rb.set(~plan[i]), rb.local[~plan[i]], out);
+            out.id.back() = take_id(cs, out.id.back());
             ++i;
             continue;
         }
@@ -579,8 +588,57 @@ void apply_plan_copy(ContactSet& cs, const ContactSet& fresh, const std::vector<
     swap_arrays(cs, out);
 }
 
-void apply_plan(ContactSet& cs, const ContactSet& fresh, const std::vector<int>& plan) {
-    if (!apply_plan_in_place(cs, fresh, plan)) apply_plan_copy(cs, fresh, plan);
+void apply_plan(ContactSet& cs, const Rebuilt& rb, const std::vector<int>& plan) {
+    if (!apply_plan_in_place(cs, rb, plan)) apply_plan_copy(cs, rb, plan);
+}
+
+// Make cs the fresh contacts alone, in order (a pass that rebuilt every contact). One array at
+// a time, each part's share freed as soon as it is copied: at no time are two whole contact
+// sets held.
+void take_all(ContactSet& cs, Rebuilt& rb) {
+    auto gather = [&](auto member) {
+        auto& to = cs.*member;
+        decltype(cs.id.size()) n = 0;
+        for (ContactSet& x : rb.parts) n += (x.*member).size();
+        std::remove_reference_t<decltype(to)>().swap(to);
+        to.reserve(n);
+        for (ContactSet& x : rb.parts) {
+            to.insert(to.end(), (x.*member).begin(), (x.*member).end());
+            std::remove_reference_t<decltype(to)>().swap(x.*member);
+        }
+    };
+    // Owners and offsets first: they need every part's sizes.
+    std::vector<int> owner, offset(1, 0);
+    {
+        std::size_t nc = 0, ns = 0;
+        for (const ContactSet& x : rb.parts) {
+            nc += x.size();
+            ns += x.n_subs();
+        }
+        owner.reserve(ns);
+        offset.reserve(nc + 1);
+        int c0 = 0;
+        for (const ContactSet& x : rb.parts) {
+            for (int c = 0; c < x.size(); ++c) offset.push_back(offset.back() + x.sub_offset[c + 1] - x.sub_offset[c]);
+            for (const int c : x.sub_contact) owner.push_back(c0 + c);
+            c0 += x.size();
+        }
+    }
+    cs.sub_offset.swap(offset);
+    cs.sub_contact.swap(owner);
+    for (ContactSet& x : rb.parts) {
+        std::vector<int>().swap(x.sub_offset);
+        std::vector<int>().swap(x.sub_contact);
+    }
+    gather(&ContactSet::id); gather(&ContactSet::block_a); gather(&ContactSet::block_b);
+    gather(&ContactSet::normal); gather(&ContactSet::point); gather(&ContactSet::gap); gather(&ContactSet::jmat);
+    gather(&ContactSet::jcons); gather(&ContactSet::joined); gather(&ContactSet::sub_side);
+    gather(&ContactSet::sub_key); gather(&ContactSet::sub_vertex); gather(&ContactSet::sub_area);
+    gather(&ContactSet::sub_local); gather(&ContactSet::sub_un); gather(&ContactSet::sub_udil);
+    gather(&ContactSet::sub_sn); gather(&ContactSet::sub_us); gather(&ContactSet::sub_ss);
+    gather(&ContactSet::sub_flags); gather(&ContactSet::sub_tri);
+    for (int& id : cs.id) id = take_id(cs, id);
+    rb = Rebuilt{};
 }
 
 // Carry a tangential vector onto the tangent plane of the new normal, keeping its length.
@@ -683,7 +741,7 @@ struct Detector {
             next.jcons.push_back(cs.jcons[oc]);
             next.joined.push_back(cs.joined[oc]);
         } else {
-            next.id.push_back(cs.next_id++);
+            next.id.push_back(0); // its id comes when it joins the contact set (take_id)
             int jmat = m.settings.default_jmat, jcons = m.settings.default_jcons;
             bool joined = false;
             // The joint plane the contact lies on, from the faces carrying most area.
@@ -778,6 +836,47 @@ struct Detector {
         return true;
     }
 };
+
+// One contact to build in a pass: blocks a < b, carrying the history of old contact oc (-1: new).
+struct Job {
+    int a, b, oc;
+};
+
+// Build the jobs into rb, on the threads. fresh[j] is the fresh index of job j's contact, or -1
+// when its blocks were farther apart than ctol. Each contact is built alone from the old set
+// and the blocks, so the result is the same whatever the threads.
+void build_jobs(Model& m, ContactSet& cs, const std::vector<Job>& jobs, Rebuilt& rb, std::vector<int>& fresh) {
+    const int nj = static_cast<int>(jobs.size());
+    const int threads = thread_count();
+    const bool on_threads = threads > 1 && nj >= kParallelMinBuilds;
+    const int n_parts = on_threads ? std::min(nj, 8 * threads) : 1;
+    if (static_cast<int>(rb.parts.size()) < n_parts) rb.parts.resize(n_parts);
+    for (ContactSet& x : rb.parts) clear_arrays(x);
+    fresh.assign(nj, -1);
+    ContactSet* parts = rb.parts.data();
+    int* where = fresh.data();
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 1) if (on_threads)
+    for (int p = 0; p < n_parts; ++p) {
+        const int j0 = static_cast<int>(static_cast<long>(nj) * p / n_parts);
+        const int j1 = static_cast<int>(static_cast<long>(nj) * (p + 1) / n_parts);
+        Detector d{m, cs, parts[p], cs.ctol, {}, {}, {}, {}, {}, {}, {}, {}};
+        for (int j = j0; j < j1; ++j) {
+            if (d.build(jobs[j].a, jobs[j].b, jobs[j].oc, true)) where[j] = parts[p].size() - 1;
+        }
+    }
+    rb.part.clear();
+    rb.local.clear();
+    for (int p = 0; p < n_parts; ++p) {
+        const int j0 = static_cast<int>(static_cast<long>(nj) * p / n_parts);
+        const int j1 = static_cast<int>(static_cast<long>(nj) * (p + 1) / n_parts);
+        for (int j = j0; j < j1; ++j) {
+            if (fresh[j] < 0) continue;
+            rb.part.push_back(p);
+            rb.local.push_back(fresh[j]);
+            fresh[j] = static_cast<int>(rb.part.size()) - 1;
+        }
+    }
+}
 
 // Candidate pairs (a < b) from the cell grid, sorted.
 void broad_phase(const Model& m, double tol, std::vector<std::int64_t>& pairs) {
@@ -899,12 +998,14 @@ void detect_contacts(Model& m) {
     if (full_needed) cs.surface_ready = false; // the zones may have changed
     refresh_contact_surface(m);
 
-    thread_local ContactSet next;
+    thread_local Rebuilt rebuilt;
+    thread_local std::vector<Job> jobs;
+    thread_local std::vector<int> fresh; // per job: its fresh contact, or -1
     thread_local std::vector<std::int64_t> pairs;
     thread_local std::vector<char> moved;
     thread_local std::vector<char> stirred; // moved more than ctol/100 since the last refresh
     thread_local std::vector<double> motion; // m, movement since the last refresh
-    thread_local std::vector<int> plan; // per contact of the result: old index, or ~index in `next`
+    thread_local std::vector<int> plan; // per contact of the result: old index, or ~job
     std::vector<Vec3>& geo_c = cs.geo_centroid;
     std::vector<Quat>& geo_q = cs.geo_orientation;
 
@@ -926,10 +1027,14 @@ void detect_contacts(Model& m) {
             cs.radius[b] = r;
         }
     }
-    Detector d{m, cs, next, cs.ctol, {}, {}, {}, {}, {}, {}, {}, {}};
     plan.clear();
-    clear_arrays(next);
-    bool rebuilt_all = false; // every contact built anew into `next`, in order
+    jobs.clear();
+    bool rebuilt_all = false; // every contact built anew, in order
+    // Plan an old contact kept as it is, or a contact (re)built.
+    auto rebuild = [&](int a, int b, int oc) {
+        plan.push_back(~static_cast<int>(jobs.size()));
+        jobs.push_back(Job{a, b, oc});
+    };
 
     if (full) {
         // From scratch when the model changed or the caches do not fit; otherwise only the
@@ -951,7 +1056,7 @@ void detect_contacts(Model& m) {
             while (oc < n_old && (cs.block_a[oc] < a || (cs.block_a[oc] == a && cs.block_b[oc] < b))) ++oc;
             const bool have = oc < n_old && cs.block_a[oc] == a && cs.block_b[oc] == b;
             if (have && !moved[a] && !moved[b]) plan.push_back(oc);
-            else if (d.build(a, b, have ? oc : -1, true)) plan.push_back(~(next.size() - 1));
+            else rebuild(a, b, have ? oc : -1);
         }
         rebuilt_all = scratch;
         cs.ref_centroid = s.centroid;
@@ -1021,25 +1126,27 @@ void detect_contacts(Model& m) {
         for (int c = 0; c < cs.size(); ++c) {
             const int a = cs.block_a[c], b = cs.block_b[c];
             if (!(moved[a] || moved[b]) && !closing_in(c)) plan.push_back(c);
-            else if (d.build(a, b, c, true)) plan.push_back(~(next.size() - 1));
+            else rebuild(a, b, c);
         }
         for (int b = 0; b < n; ++b) {
             if (moved[b]) { geo_c[b] = s.centroid[b]; geo_q[b] = s.orientation[b]; }
         }
     }
-    if (rebuilt_all) {
-        // The plan is `next` itself: take its arrays, trimmed, and free the old ones.
-        swap_arrays(cs, next);
-        shrink_arrays(cs);
-        release_arrays(next);
-        return;
+    build_jobs(m, cs, jobs, rebuilt, fresh);
+    // The plan in terms of fresh contacts; a job whose blocks were too far apart drops out.
+    int w = 0;
+    for (const int e : plan) {
+        if (e >= 0) plan[w++] = e;
+        else if (fresh[~e] >= 0) plan[w++] = ~fresh[~e];
     }
-    apply_plan(cs, next, plan);
-    // `next` is a buffer for the contacts rebuilt in one pass, kept so that passes allocate
-    // nothing; after a pass that rebuilt most of the model it would hold a second contact set.
-    if (next.sub_contact.capacity() > 4096 + cs.sub_contact.size() / 8 || next.id.capacity() > 4096 + cs.id.size() / 8) {
-        release_arrays(next);
-    }
+    plan.resize(w);
+    if (rebuilt_all) take_all(cs, rebuilt); // the plan is every fresh contact, in order
+    else apply_plan(cs, rebuilt, plan);
+    // The parts are buffers for the contacts rebuilt in one pass, kept so that passes allocate
+    // nothing; after a pass that rebuilt most of the model they would hold a second contact set.
+    std::size_t held = 0;
+    for (const ContactSet& x : rebuilt.parts) held += x.sub_contact.capacity() + x.id.capacity();
+    if (held > 8192 + (cs.sub_contact.size() + cs.id.size()) / 8) rebuilt = Rebuilt{};
 }
 
 } // namespace odec

@@ -23,6 +23,9 @@ bool threads_available();
 
 // Loops shorter than this run on one thread (a parallel region costs a few microseconds).
 constexpr int kParallelMinItems = 8192;
+// Contact builds (a common plane and its sub-contacts, some microseconds each) fewer than this
+// in one detection pass run on one thread.
+constexpr int kParallelMinBuilds = 64;
 // The zone stage runs colour by colour, a barrier after each: below this many zones the
 // colours hold too few chunks to share out, and one thread is as fast.
 constexpr int kParallelMinZones = 32768;
