@@ -28,6 +28,7 @@ void ContactSet::clear() {
     sub_flags.clear(); sub_tri.clear();
     detected = false;
     surface_ready = false;
+    colored = false;
     ref_centroid.clear(); ref_orientation.clear(); geo_centroid.clear(); geo_orientation.clear();
     radius.clear();
 }

@@ -111,6 +111,14 @@ struct ContactSet {
     std::vector<double> joint_kt;                 // (n_blocks) N/m, sum of k times area
     std::vector<double> joint_kr;                 // (n_blocks) N m, the same times the squared lever
 
+    // Derived (not saved), made again whenever detection changes which pairs are in contact:
+    // the contacts by colour, no two contacts of one colour sharing a block, so that the
+    // contact update adds their forces straight into the blocks on the threads.
+    std::vector<int> color_order;                 // (n_contacts) colour by colour, each in contact
+                                                  //   order, then those no colour could take
+    std::vector<int> color_offset;                // (n_colours + 1) first entry of each colour
+    bool colored = false;
+
     int size() const { return static_cast<int>(block_a.size()); }
     int n_subs() const { return static_cast<int>(sub_contact.size()); }
     void clear();
@@ -120,6 +128,8 @@ struct ContactSet {
 // areas), when some block has moved more than a fraction of ctol since the last time, or
 // the model changed (Model::geometry_changed).
 void detect_contacts(Model& m);
+// Colour the contacts (ContactSet::color_order): done by update_contacts when needed.
+void color_contacts(ContactSet& cs, int n_blocks);
 // Relative motion -> joint stresses -> forces and moments on both blocks.
 void update_contacts(Model& m, double dt);
 // Largest stable timestep the contacts allow: dtfrac * 2 sqrt(m_min / k_max).

@@ -1134,12 +1134,22 @@ void detect_contacts(Model& m) {
     }
     build_jobs(m, cs, jobs, rebuilt, fresh);
     // The plan in terms of fresh contacts; a job whose blocks were too far apart drops out.
+    // The pairs in contact stay as they were when every old contact keeps its place.
+    bool same_pairs = static_cast<int>(plan.size()) == cs.size();
     int w = 0;
     for (const int e : plan) {
-        if (e >= 0) plan[w++] = e;
-        else if (fresh[~e] >= 0) plan[w++] = ~fresh[~e];
+        if (e >= 0) {
+            same_pairs = same_pairs && e == w;
+            plan[w++] = e;
+        } else if (fresh[~e] >= 0) {
+            same_pairs = same_pairs && jobs[~e].oc == w;
+            plan[w++] = ~fresh[~e];
+        } else {
+            same_pairs = false;
+        }
     }
     plan.resize(w);
+    if (!same_pairs) cs.colored = false;
     if (rebuilt_all) take_all(cs, rebuilt); // the plan is every fresh contact, in order
     else apply_plan(cs, rebuilt, plan);
     // The parts are buffers for the contacts rebuilt in one pass, kept so that passes allocate

@@ -58,93 +58,114 @@ int integrate(Model& m, double dt) {
     const Damping& d = m.damping;
     const bool auto_damp = d.mode == DampingMode::Auto;
     if (auto_damp && !(m.damping.auto_coefficient > 0)) m.damping.auto_coefficient = 0.02 / dt;
-    AutoDampingPower power;
-    int bad = -1;
+    AutoDampingPower total;
     // Static mode: the blocks' masses follow their joints as they are this step.
     if (!m.settings.dynamic) scale_block_masses(m, true);
-    for (int b = 0; b < s.size(); ++b) {
-        if (!is_rigid_active(s, b)) continue;
-        if (s.flags[b] & kFixed) {
-            // Held still, except for the velocity components a boundary condition drives
-            // (the fixed base of a shake table moves as its table says, without turning).
-            Vec3 v = Vec3::Zero();
+    // Fixed chunks of blocks, whatever the number of threads: their sums are added in order.
+    constexpr int kChunk = 512;
+    const int nb = s.size();
+    const int n_chunks = (nb + kChunk - 1) / kChunk;
+    thread_local std::vector<AutoDampingPower> chunk_power;
+    thread_local std::vector<int> chunk_bad;
+    chunk_power.assign(n_chunks, AutoDampingPower{});
+    chunk_bad.assign(n_chunks, -1);
+    AutoDampingPower* cp = chunk_power.data();
+    int* cb = chunk_bad.data();
+    const int threads = thread_count();
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && nb >= kParallelMinBlocks)
+    for (int chunk = 0; chunk < n_chunks; ++chunk) {
+        AutoDampingPower& power = cp[chunk];
+        int& bad = cb[chunk];
+        for (int b = chunk * kChunk; b < std::min(nb, (chunk + 1) * kChunk); ++b) {
+            if (!is_rigid_active(s, b)) continue;
+            if (s.flags[b] & kFixed) {
+                // Held still, except for the velocity components a boundary condition drives
+                // (the fixed base of a shake table moves as its table says, without turning).
+                Vec3 v = Vec3::Zero();
+                if (s.vel_bc[b]) {
+                    const double scale = m.table_factor(m.blocks.vel_bc_table[b]);
+                    for (int i = 0; i < 3; ++i) {
+                        if (s.vel_bc[b] & (1 << i)) v[i] = s.vel_bc_value[b][i] * scale;
+                    }
+                    const Vec3 dx = v * dt;
+                    s.centroid[b] += dx;
+                    s.disp[b] += dx;
+                }
+                s.vel[b] = v;
+                s.ang_vel[b].setZero();
+                s.accel[b].setZero();
+                s.ang_accel[b].setZero();
+                s.half_kick[b] = 0;
+                continue;
+            }
+            const double mass = s.inertial_mass[b];
+            const double kick = s.half_kick[b] ? 0.5 * dt : dt;
+            if (auto_damp) {
+                power.damping += mass * s.vel[b].squaredNorm();
+                power.forcing += std::abs(s.force[b].dot(s.vel[b])) + std::abs(s.moment[b].dot(s.ang_vel[b]));
+            }
+            // Translation.
+            Vec3 a;
+            for (int i = 0; i < 3; ++i) {
+                a[i] = damp_component(d, s.force[b][i], s.vel[b][i], mass, dt) / mass;
+            }
+            Vec3 v = s.vel[b] + a * kick;
             if (s.vel_bc[b]) {
                 const double scale = m.table_factor(m.blocks.vel_bc_table[b]);
                 for (int i = 0; i < 3; ++i) {
-                    if (s.vel_bc[b] & (1 << i)) v[i] = s.vel_bc_value[b][i] * scale;
+                    if (s.vel_bc[b] & (1 << i)) {
+                        v[i] = s.vel_bc_value[b][i] * scale;
+                        a[i] = 0;
+                    }
                 }
-                const Vec3 dx = v * dt;
-                s.centroid[b] += dx;
-                s.disp[b] += dx;
             }
             s.vel[b] = v;
-            s.ang_vel[b].setZero();
-            s.accel[b].setZero();
-            s.ang_accel[b].setZero();
-            s.half_kick[b] = 0;
-            continue;
-        }
-        const double mass = s.inertial_mass[b];
-        const double kick = s.half_kick[b] ? 0.5 * dt : dt;
-        if (auto_damp) {
-            power.damping += mass * s.vel[b].squaredNorm();
-            power.forcing += std::abs(s.force[b].dot(s.vel[b])) + std::abs(s.moment[b].dot(s.ang_vel[b]));
-        }
-        // Translation.
-        Vec3 a;
-        for (int i = 0; i < 3; ++i) {
-            a[i] = damp_component(d, s.force[b][i], s.vel[b][i], mass, dt) / mass;
-        }
-        Vec3 v = s.vel[b] + a * kick;
-        if (s.vel_bc[b]) {
-            const double scale = m.table_factor(m.blocks.vel_bc_table[b]);
+            s.accel[b] = a;
+            const Vec3 dx = v * dt;
+            s.centroid[b] += dx;
+            s.disp[b] += dx;
+            // Rotation: angular acceleration from the world inertia tensor (gyroscopic term
+            // neglected, as usual for quasi-static block analysis).
+            // Static mode gives an isotropic inertia chosen from the joints (mass_scaling.h).
+            const double iso = s.inertial_moment[b];
+            Mat3 inertia;
+            if (iso > 0) {
+                inertia = iso * Mat3::Identity();
+            } else {
+                const Mat3 r = s.orientation[b].toRotationMatrix();
+                inertia = (mass / s.mass[b]) * (r * s.inertia_body[b] * r.transpose());
+            }
+            Vec3 mom;
             for (int i = 0; i < 3; ++i) {
-                if (s.vel_bc[b] & (1 << i)) {
-                    v[i] = s.vel_bc_value[b][i] * scale;
-                    a[i] = 0;
-                }
+                mom[i] = damp_component(d, s.moment[b][i], s.ang_vel[b][i], inertia(i, i), dt);
+            }
+            if (auto_damp) power.damping += s.ang_vel[b].dot(inertia.diagonal().cwiseProduct(s.ang_vel[b]));
+            const Vec3 alpha = iso > 0 ? Vec3(mom / iso) : Vec3(inertia.ldlt().solve(mom));
+            const Vec3 w = s.ang_vel[b] + alpha * kick;
+            s.ang_vel[b] = w;
+            s.ang_accel[b] = alpha;
+            const Vec3 dtheta = w * dt;
+            const double angle = dtheta.norm();
+            if (angle > 0) {
+                s.orientation[b] = (Quat(Eigen::AngleAxisd(angle, dtheta / angle)) * s.orientation[b]).normalized();
+                s.rotation[b] += dtheta;
+            }
+            s.half_kick[b] = 0;
+            // Not finite: the integration has become unstable.
+            if (bad < 0 && !(v.allFinite() && w.allFinite() && s.centroid[b].allFinite())) {
+                bad = b;
             }
         }
-        s.vel[b] = v;
-        s.accel[b] = a;
-        const Vec3 dx = v * dt;
-        s.centroid[b] += dx;
-        s.disp[b] += dx;
-        // Rotation: angular acceleration from the world inertia tensor (gyroscopic term
-        // neglected, as usual for quasi-static block analysis).
-        // Static mode gives an isotropic inertia chosen from the joints (mass_scaling.h).
-        const double iso = s.inertial_moment[b];
-        Mat3 inertia;
-        if (iso > 0) {
-            inertia = iso * Mat3::Identity();
-        } else {
-            const Mat3 r = s.orientation[b].toRotationMatrix();
-            inertia = (mass / s.mass[b]) * (r * s.inertia_body[b] * r.transpose());
-        }
-        Vec3 mom;
-        for (int i = 0; i < 3; ++i) {
-            mom[i] = damp_component(d, s.moment[b][i], s.ang_vel[b][i], inertia(i, i), dt);
-        }
-        if (auto_damp) power.damping += s.ang_vel[b].dot(inertia.diagonal().cwiseProduct(s.ang_vel[b]));
-        const Vec3 alpha = iso > 0 ? Vec3(mom / iso) : Vec3(inertia.ldlt().solve(mom));
-        const Vec3 w = s.ang_vel[b] + alpha * kick;
-        s.ang_vel[b] = w;
-        s.ang_accel[b] = alpha;
-        const Vec3 dtheta = w * dt;
-        const double angle = dtheta.norm();
-        if (angle > 0) {
-            s.orientation[b] = (Quat(Eigen::AngleAxisd(angle, dtheta / angle)) * s.orientation[b]).normalized();
-            s.rotation[b] += dtheta;
-        }
-        s.half_kick[b] = 0;
-        // Not finite: the integration has become unstable.
-        if (bad < 0 && !(v.allFinite() && w.allFinite() && s.centroid[b].allFinite())) {
-            bad = b;
-        }
     }
-    const int bad_gp = integrate_gridpoints(m, d, dt, auto_damp ? &power.damping : nullptr, &power.forcing);
+    int bad = -1;
+    for (int chunk = 0; chunk < n_chunks; ++chunk) {
+        total.damping += cp[chunk].damping;
+        total.forcing += cp[chunk].forcing;
+        if (bad < 0) bad = cb[chunk];
+    }
+    const int bad_gp = integrate_gridpoints(m, d, dt, auto_damp ? &total.damping : nullptr, &total.forcing);
     if (bad < 0 && bad_gp >= 0) bad = m.gridpoints.block[bad_gp];
-    if (auto_damp) adjust_auto_damping(m.damping, power, m.step, dt);
+    if (auto_damp) adjust_auto_damping(m.damping, total, m.step, dt);
     return bad;
 }
 

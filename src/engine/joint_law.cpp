@@ -120,6 +120,37 @@ inline Vec3 joint_step(ContactSet& cs, int k, const LawParams& p, bool joined, c
 
 } // namespace
 
+void color_contacts(ContactSet& cs, int n_blocks) {
+    // Greedy: each contact, in order, takes the lowest of 64 colours that neither of its blocks
+    // has yet; a contact whose blocks have used them all goes to the list after the colours.
+    constexpr int kColors = 64;
+    const int nc = cs.size();
+    std::vector<std::uint64_t> used(n_blocks, 0);
+    std::vector<int> color(nc);
+    std::vector<int> count(kColors + 1, 0);
+    for (int c = 0; c < nc; ++c) {
+        const std::uint64_t free = ~(used[cs.block_a[c]] | used[cs.block_b[c]]);
+        const int k = free ? __builtin_ctzll(free) : kColors;
+        if (k < kColors) {
+            used[cs.block_a[c]] |= std::uint64_t{1} << k;
+            used[cs.block_b[c]] |= std::uint64_t{1} << k;
+        }
+        color[c] = k;
+        ++count[k];
+    }
+    int n_colors = 0;
+    for (int k = 0; k < kColors; ++k) {
+        if (count[k] > 0) n_colors = k + 1;
+    }
+    cs.color_offset.assign(n_colors + 1, 0);
+    for (int k = 0; k < n_colors; ++k) cs.color_offset[k + 1] = cs.color_offset[k] + count[k];
+    std::vector<int> fill(cs.color_offset.begin(), cs.color_offset.end() - 1);
+    fill.push_back(cs.color_offset.back()); // the uncoloured, after the colours
+    cs.color_order.assign(nc, 0);
+    for (int c = 0; c < nc; ++c) cs.color_order[fill[std::min(color[c], n_colors)]++] = c;
+    cs.colored = true;
+}
+
 void update_contacts(Model& m, double dt) {
     ContactSet& cs = m.contacts;
     BlockSet& s = m.blocks;
@@ -164,111 +195,108 @@ void update_contacts(Model& m, double dt) {
         cs.joint_kt.assign(n, 0.0);
         cs.joint_kr.assign(n, 0.0);
     }
-    // Pass 1, on the threads: the contacts between rigid blocks, each into its own result (each
-    // sub-contact belongs to one contact, so the joint law's state is never shared).
-    struct Result {
-        Vec3 fa, ma, fb, mb;
-        double scale, kt, kra, krb;
+    // The contacts between rigid blocks, on the threads, colour by colour: no two contacts of a
+    // colour share a block, so each adds its forces straight into its blocks, and every block
+    // takes its contacts' forces in colour order, whatever the threads (each sub-contact belongs
+    // to one contact, so the joint law's state is never shared either).
+    if (!cs.colored) color_contacts(cs, n);
+    auto rigid_contact = [&](int c) {
+        const int a = cs.block_a[c], b = cs.block_b[c];
+        if ((s.flags[a] | s.flags[b]) & (kExcavated | kDeformable)) return;
+        const LawParams& p = law_of(c);
+        const bool joined = cs.joined[c] != 0;
+        const Vec3 nrm = cs.normal[c];
+        const Vec3 ca = s.centroid[a], cb = s.centroid[b];
+        const Vec3 va = vel_of[a], wa = spin_of[a], vb = vel_of[b], wb = spin_of[b];
+        const double k = std::max(p.kn, p.ks);
+        Vec3 fb = Vec3::Zero(), ma = Vec3::Zero(), mb = Vec3::Zero();
+        double scale = 0, kt = 0, kra = 0, krb = 0;
+        for (int q = cs.sub_offset[c]; q < cs.sub_offset[c + 1]; ++q) {
+            const int owner = cs.sub_side[q] == 1 ? b : a;
+            const Vec3 x = s.centroid[owner] + rot_of[owner] * cs.sub_local[q];
+            const Vec3 ra = x - ca, rb = x - cb;
+            const Vec3 f = joint_step(cs, q, p, joined, nrm, (vb + wb.cross(rb) - va - wa.cross(ra)) * dt);
+            fb += f;
+            mb += rb.cross(f);
+            ma -= ra.cross(f);
+            scale += f.norm();
+            if (stiffness) {
+                const double kq = k * cs.sub_area[q];
+                kt += kq;
+                kra += kq * ra.squaredNorm();
+                krb += kq * rb.squaredNorm();
+            }
+        }
+        s.force[a] -= fb;
+        s.moment[a] += ma;
+        s.force[b] += fb;
+        s.moment[b] += mb;
+        s.force_scale[a] += scale;
+        s.force_scale[b] += scale;
+        if (stiffness) {
+            cs.joint_kt[a] += kt;
+            cs.joint_kr[a] += kra;
+            cs.joint_kt[b] += kt;
+            cs.joint_kr[b] += krb;
+        }
     };
-    // The contacts go in batches, so that the results never take more memory than one batch.
-    constexpr int kBatch = 32768;
-    thread_local std::vector<Result> results;
-    const int nc = cs.size();
-    results.resize(std::min(nc, kBatch));
+    const int n_colors = static_cast<int>(cs.color_offset.size()) - 1;
+    const int* order = cs.color_order.data();
+    const int* offset = cs.color_offset.data();
     const int threads = thread_count();
-    for (int c0 = 0; c0 < nc; c0 += kBatch) {
-        const int c1 = std::min(nc, c0 + kBatch);
-        Result* res = results.data(); // res[c - c0]
-#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && nc >= kParallelMinItems)
-        for (int c = c0; c < c1; ++c) {
-            const int a = cs.block_a[c], b = cs.block_b[c];
-            if ((s.flags[a] | s.flags[b]) & (kExcavated | kDeformable)) continue;
+#pragma omp parallel num_threads(threads) if (threads > 1 && cs.size() >= kParallelMinItems)
+    for (int col = 0; col < n_colors; ++col) {
+#pragma omp for schedule(static)
+        for (int i = offset[col]; i < offset[col + 1]; ++i) rigid_contact(order[i]);
+    }
+    // Then, in contact order: the contacts no colour could take (a block with more contacts
+    // than there are colours), and those of deformable blocks.
+    for (int i = n_colors >= 0 ? offset[n_colors] : 0; i < static_cast<int>(cs.color_order.size()); ++i) {
+        rigid_contact(order[i]);
+    }
+    for (int c = 0; c < cs.size(); ++c) {
+        const int a = cs.block_a[c], b = cs.block_b[c];
+        if ((s.flags[a] | s.flags[b]) & kExcavated) continue;
+        if ((s.flags[a] | s.flags[b]) & kDeformable) {
             const LawParams& p = law_of(c);
             const bool joined = cs.joined[c] != 0;
             const Vec3 nrm = cs.normal[c];
-            const Vec3 ca = s.centroid[a], cb = s.centroid[b];
-            const Vec3 va = vel_of[a], wa = spin_of[a], vb = vel_of[b], wb = spin_of[b];
-            const double k = std::max(p.kn, p.ks);
-            Result r{Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), 0.0, 0.0, 0.0, 0.0};
-            for (int q = cs.sub_offset[c]; q < cs.sub_offset[c + 1]; ++q) {
-                const int owner = cs.sub_side[q] == 1 ? b : a;
-                const Vec3 x = s.centroid[owner] + rot_of[owner] * cs.sub_local[q];
-                const Vec3 ra = x - ca, rb = x - cb;
-                const Vec3 f = joint_step(cs, q, p, joined, nrm, (vb + wb.cross(rb) - va - wa.cross(ra)) * dt);
-                r.fb += f;
-                r.mb += rb.cross(f);
-                r.fa -= f;
-                r.ma -= ra.cross(f);
-                r.scale += f.norm();
-                if (stiffness) {
-                    const double kq = k * cs.sub_area[q];
-                    r.kt += kq;
-                    r.kra += kq * ra.squaredNorm();
-                    r.krb += kq * rb.squaredNorm();
+            const double kj = std::max(p.kn, p.ks);
+            // Gridpoints against the other block's surface (contact_gridpoint.h).
+            for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
+                const bool of_a = cs.sub_side[k] == 3;
+                const int gp = cs.sub_vertex[k];
+                const int o = of_a ? b : a;
+                const auto& tri = cs.sub_tri[k];
+                const Vec3& w = cs.sub_local[k];
+                Vec3 vo, lever = Vec3::Zero();
+                if (tri[0] >= 0) {
+                    vo = w[0] * gp_vel(tri[0]) + w[1] * gp_vel(tri[1]) + w[2] * gp_vel(tri[2]);
+                } else {
+                    lever = rot[o] * cs.sub_local[k];
+                    vo = vel[o] + spin[o].cross(lever);
                 }
-            }
-            res[c - c0] = r;
-        }
-        // Pass 2, in contact order (the same sums whatever the threads): the forces into the blocks,
-        // and the contacts of deformable blocks.
-        for (int c = c0; c < c1; ++c) {
-            const int a = cs.block_a[c], b = cs.block_b[c];
-            if ((s.flags[a] | s.flags[b]) & kExcavated) continue;
-            if ((s.flags[a] | s.flags[b]) & kDeformable) {
-                const LawParams& p = law_of(c);
-                const bool joined = cs.joined[c] != 0;
-                const Vec3 nrm = cs.normal[c];
-                const double kj = std::max(p.kn, p.ks);
-                // Gridpoints against the other block's surface (contact_gridpoint.h).
-                for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
-                    const bool of_a = cs.sub_side[k] == 3;
-                    const int gp = cs.sub_vertex[k];
-                    const int o = of_a ? b : a;
-                    const auto& tri = cs.sub_tri[k];
-                    const Vec3& w = cs.sub_local[k];
-                    Vec3 vo, lever = Vec3::Zero();
-                    if (tri[0] >= 0) {
-                        vo = w[0] * gp_vel(tri[0]) + w[1] * gp_vel(tri[1]) + w[2] * gp_vel(tri[2]);
-                    } else {
-                        lever = rot[o] * cs.sub_local[k];
-                        vo = vel[o] + spin[o].cross(lever);
+                const Vec3 vg = gp_vel(gp);
+                const Vec3 f = joint_step(cs, k, p, joined, nrm, (of_a ? vo - vg : vg - vo) * dt);
+                const Vec3 fg = of_a ? Vec3(-f) : f; // on the gridpoint; its partner takes -fg
+                const double fn = f.norm();
+                g.force[gp] += fg;
+                g.force_scale[gp] += fn;
+                if (tri[0] >= 0) {
+                    for (int i = 0; i < 3; ++i) {
+                        g.force[tri[i]] -= w[i] * fg;
+                        g.force_scale[tri[i]] += w[i] * fn;
                     }
-                    const Vec3 vg = gp_vel(gp);
-                    const Vec3 f = joint_step(cs, k, p, joined, nrm, (of_a ? vo - vg : vg - vo) * dt);
-                    const Vec3 fg = of_a ? Vec3(-f) : f; // on the gridpoint; its partner takes -fg
-                    const double fn = f.norm();
-                    g.force[gp] += fg;
-                    g.force_scale[gp] += fn;
-                    if (tri[0] >= 0) {
-                        for (int i = 0; i < 3; ++i) {
-                            g.force[tri[i]] -= w[i] * fg;
-                            g.force_scale[tri[i]] += w[i] * fn;
-                        }
-                    } else {
-                        s.force[o] -= fg;
-                        s.moment[o] -= lever.cross(fg);
-                        s.force_scale[o] += fn;
-                        if (stiffness) {
-                            const double kq = kj * cs.sub_area[k];
-                            cs.joint_kt[o] += kq;
-                            cs.joint_kr[o] += kq * lever.squaredNorm();
-                        }
+                } else {
+                    s.force[o] -= fg;
+                    s.moment[o] -= lever.cross(fg);
+                    s.force_scale[o] += fn;
+                    if (stiffness) {
+                        const double kq = kj * cs.sub_area[k];
+                        cs.joint_kt[o] += kq;
+                        cs.joint_kr[o] += kq * lever.squaredNorm();
                     }
                 }
-                continue;
-            }
-            const Result& r = res[c - c0];
-            s.force[a] += r.fa;
-            s.moment[a] += r.ma;
-            s.force[b] += r.fb;
-            s.moment[b] += r.mb;
-            s.force_scale[a] += r.scale;
-            s.force_scale[b] += r.scale;
-            if (stiffness) {
-                cs.joint_kt[a] += r.kt;
-                cs.joint_kr[a] += r.kra;
-                cs.joint_kt[b] += r.kt;
-                cs.joint_kr[b] += r.krb;
             }
         }
     }

@@ -5,6 +5,7 @@
 
 #include "engine/contact.h"
 #include "engine/model.h"
+#include "engine/parallel.h"
 #include "engine/zones.h"
 
 namespace odec {
@@ -176,6 +177,9 @@ void assign_block_masses(Model& m, const std::vector<double>& kt, const std::vec
     BlockSet& s = m.blocks;
     const int n = s.size();
     const double dt2 = m.dt * m.dt;
+    const int threads = thread_count();
+    // Each block alone: on the threads in a large model.
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && n >= kParallelMinBlocks)
     for (int b = 0; b < n; ++b) {
         if (!moves_as_rigid(s, b)) continue;
         if (!(kt[b] > 0) || !std::isfinite(kt[b])) {

@@ -23,6 +23,8 @@ bool threads_available();
 
 // Loops shorter than this run on one thread (a parallel region costs a few microseconds).
 constexpr int kParallelMinItems = 8192;
+// Rigid blocks fewer than this integrate on one thread.
+constexpr int kParallelMinBlocks = 4096;
 // Contact builds (a common plane and its sub-contacts, some microseconds each) fewer than this
 // in one detection pass run on one thread.
 constexpr int kParallelMinBuilds = 64;

@@ -621,9 +621,9 @@ TEST(SaveLayout, EveryFieldIsSaved) {
     EXPECT_EQ(count_fields<GridpointSet>(), 18u) << fix;
     EXPECT_EQ(count_fields<StressBoundary>(), 1u) << fix;
     EXPECT_EQ(count_fields<BoundaryFace>(), 2u) << fix;
-    // ContactSet: 32 saved fields and 6 derived ones (surface_*: rebuilt from the zones; joint_k*:
-    // rebuilt every step).
-    EXPECT_EQ(count_fields<ContactSet>(), 38u) << fix;
+    // ContactSet: 32 saved fields and 9 derived ones (surface_*: rebuilt from the zones; joint_k*:
+    // rebuilt every step; color_*, colored: rebuilt when the pairs in contact change).
+    EXPECT_EQ(count_fields<ContactSet>(), 41u) << fix;
     EXPECT_EQ(count_fields<Polyhedron>(), 4u) << fix;
     EXPECT_EQ(count_fields<Material>(), 8u) << fix;
     EXPECT_EQ(count_fields<JointMaterial>(), 9u) << fix;

@@ -15,6 +15,8 @@
 
 #include <unistd.h>
 
+#include "../time_scale.h"
+
 #include "engine/blocks.h"
 #include "engine/verdict.h"
 #include "fish/runtime.h"
@@ -211,22 +213,38 @@ TEST(SolveVerdict, TimeLimitAndInterruptionKeepTheirMessages) {
     ASSERT_TRUE(s.run("print info")) << s.error();
     EXPECT_NE(s.said().find("last solve: no ratio limit, no step limit, time limit 0.05 s"), std::string::npos)
         << s.said();
-    // Ctrl-C: the flag raised again and again (solve lowers it as it starts) while a long solve
-    // of a sliding block runs. A raise that comes before the command starts stops the script
-    // before it instead: then the solve is tried again.
+    // Ctrl-C: each try raises the flag again and again, starting a while after the solve was
+    // asked for (solve lowers the flag as it starts), while the long solve of a sliding block
+    // runs. A raise that comes before the command starts stops the script before it instead:
+    // then the solve is tried again, the raises starting later (a loaded machine starts late).
     Talking t;
     // Real masses: in a static analysis the sliding block's light masses would soon run it away.
     ASSERT_TRUE(t.run("config dyn\n" + std::string(kIncline) + "solve\nprop jmat=1 jfric=20")) << t.error();
     std::atomic<bool> done{false};
+    std::atomic<int> wait_ms{10};
+    std::atomic<long> asked{0}; // tries asked for; the thread serves each once
     std::thread ctrl_c([&] {
+        long served = 0;
         while (!done) {
-            t.interp.interrupt = true;
-            std::this_thread::sleep_for(std::chrono::milliseconds(1));
+            if (asked == served) {
+                std::this_thread::sleep_for(std::chrono::milliseconds(1));
+                continue;
+            }
+            served = asked;
+            std::this_thread::sleep_for(std::chrono::milliseconds(wait_ms));
+            while (!done && asked == served) {
+                t.interp.interrupt = true;
+                std::this_thread::sleep_for(std::chrono::milliseconds(1));
+            }
         }
     });
-    for (int k = 0; k < 200; ++k) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(60.0 * odec::test::time_scale());
+    while (std::chrono::steady_clock::now() < deadline) {
+        ++asked;
+        t.interp.interrupt = false; // a raise of the try before
         t.run("solve cycles 2000000000");
         if (t.interp.last_solve && t.interp.last_solve->outcome == SolveOutcome::Interrupted) break;
+        wait_ms = std::min(2000, 2 * wait_ms);
     }
     done = true;
     ctrl_c.join();
