@@ -1003,7 +1003,7 @@ void detect_contacts(Model& m) {
     thread_local std::vector<int> fresh; // per job: its fresh contact, or -1
     thread_local std::vector<std::int64_t> pairs;
     thread_local std::vector<char> moved;
-    thread_local std::vector<char> stirred; // moved more than ctol/100 since the last refresh
+    thread_local std::vector<char> closing; // per contact: touching nowhere and now overlapping
     thread_local std::vector<double> motion; // m, movement since the last refresh
     thread_local std::vector<int> plan; // per contact of the result: old index, or ~job
     std::vector<Vec3>& geo_c = cs.geo_centroid;
@@ -1074,15 +1074,13 @@ void detect_contacts(Model& m) {
     } else {
         const double limit = 0.1 * cs.ctol;
         moved.assign(n, 0);
-        stirred.assign(n, 0);
         motion.assign(n, 0.0);
-        bool any = false, any_stirred = false, any_motion = false;
+        bool any = false, any_motion = false;
         for (int b = 0; b < n; ++b) {
             if (s.flags[b] & kExcavated) continue;
             const double mv = movement(cs, s, b, geo_c, geo_q);
             motion[b] = mv;
             if (mv > limit) moved[b] = any = 1;
-            if (mv > 0.01 * cs.ctol) stirred[b] = any_stirred = 1;
             if (mv > 1e-3 * cs.ctol) any_motion = true;
         }
         // An edge or corner that presses into a face touches over an area that grows with
@@ -1102,30 +1100,75 @@ void detect_contacts(Model& m) {
                 if (tracked && motion[a] + motion[b] > 0.25 * deepest + 1e-3 * cs.ctol) moved[a] = moved[b] = any = 1;
             }
         }
-        // A contact that touches nowhere has no sub-contacts to feel its blocks closing in:
-        // once one of them has stirred, it is rebuilt as soon as they overlap across its
-        // plane, rather than at the next refresh (ctol/10 of motion), which would start
-        // its force from a sudden overlap.
-        auto closing_in = [&](int c) {
-            if (cs.sub_offset[c + 1] != cs.sub_offset[c]) return false;
-            // Built overlapping and still without area: looking again would find the same.
-            if (cs.gap[c] < -1e-3 * cs.ctol) return false;
+        // A contact that touches nowhere has no sub-contacts to feel its blocks closing in
+        // (blocks meeting along an edge or at a corner carry nothing while they only touch):
+        // it is rebuilt as soon as they overlap across its plane, by a millionth of ctol more
+        // than when it was built, rather than at the next refresh (ctol/10 of motion). Left
+        // to the refresh, a toe that lifts off for a moment would sink back unseen, and its
+        // force would start from the overlap it reached: on stiff joints a kick that throws
+        // the block off its pivot.
+        const double depth_min = 1e-6 * cs.ctol;
+        const int nc = cs.size();
+        closing.assign(nc, 0);
+        // The threads reach these thread_local arrays through pointers (named in the loop, a
+        // thread_local would be each worker's own).
+        char* close_mark = closing.data();
+        const double* mot = motion.data();
+        const int threads = thread_count();
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && nc >= kParallelMinItems)
+        for (int c = 0; c < nc; ++c) {
+            const int k0 = cs.sub_offset[c], k1 = cs.sub_offset[c + 1];
+            if (k1 - k0 > 2) continue; // a face on a face: the tracking rule above
+            // Built overlapping and still without area (edges along one line): looking again
+            // would find the same.
+            if (k1 == k0 && cs.gap[c] < -depth_min) continue;
             const int a = cs.block_a[c], b = cs.block_b[c];
-            if (!(stirred[a] || stirred[b])) return false;
+            if (!(mot[a] + mot[b] > 0)) continue;
             const Vec3& nrm = cs.normal[c];
+            const int a0 = s.vertex_offset[a], a1 = s.vertex_offset[a + 1];
+            const int b0 = s.vertex_offset[b], b1 = s.vertex_offset[b + 1];
             double hi_a = -std::numeric_limits<double>::infinity(), lo_b = -hi_a;
-            for (int i = s.vertex_offset[a]; i < s.vertex_offset[a + 1]; ++i) hi_a = std::max(hi_a, nrm.dot(s.world_vertices[i]));
-            for (int i = s.vertex_offset[b]; i < s.vertex_offset[b + 1]; ++i) lo_b = std::min(lo_b, nrm.dot(s.world_vertices[i]));
-            return lo_b - hi_a < -1e-3 * cs.ctol;
-        };
-        if (!any) {
-            bool need = false;
-            for (int c = 0; c < cs.size() && any_stirred && !need; ++c) need = closing_in(c);
-            if (!need) return;
+            for (int i = a0; i < a1; ++i) hi_a = std::max(hi_a, nrm.dot(s.world_vertices[i]));
+            for (int i = b0; i < b1; ++i) lo_b = std::min(lo_b, nrm.dot(s.world_vertices[i]));
+            const double deeper = std::max(-cs.gap[c], 0.0) + depth_min; // than when it was built
+            if (hi_a - lo_b <= deeper) continue;
+            if (k1 == k0) {
+                close_mark[c] = 1;
+                continue;
+            }
+            // An edge or a corner on a face (one or two sub-contacts): a vertex that carries
+            // none and has gone into the other block (the other corner of a toe coming down)
+            // counts as well.
+            auto tracked = [&](int side, int vertex) {
+                for (int k = k0; k < k1; ++k) {
+                    if (cs.sub_side[k] == side && cs.sub_vertex[k] == vertex) return true;
+                }
+                return false;
+            };
+            // How far x is inside the block (negative: outside).
+            auto inside = [&](int blk, const Vec3& x) {
+                const BlockView view{s.world_vertices.data() + s.vertex_offset[blk], &s.shape[blk]};
+                double depth = std::numeric_limits<double>::infinity();
+                for (int f = 0; f < view.topo->n_faces() && depth > deeper; ++f) {
+                    depth = std::min(depth, -world_face_normal(view, f).dot(x - view.v[view.topo->face_vertex(f, 0)]));
+                }
+                return depth;
+            };
+            bool found = false;
+            for (int i = a0; i < a1 && !found; ++i) {
+                const Vec3& x = s.world_vertices[i];
+                found = nrm.dot(x) - lo_b > deeper && !tracked(0, i - a0) && inside(b, x) > deeper;
+            }
+            for (int i = b0; i < b1 && !found; ++i) {
+                const Vec3& x = s.world_vertices[i];
+                found = hi_a - nrm.dot(x) > deeper && !tracked(1, i - b0) && inside(a, x) > deeper;
+            }
+            close_mark[c] = found;
         }
-        for (int c = 0; c < cs.size(); ++c) {
+        if (!any && std::find(closing.begin(), closing.end(), 1) == closing.end()) return;
+        for (int c = 0; c < nc; ++c) {
             const int a = cs.block_a[c], b = cs.block_b[c];
-            if (!(moved[a] || moved[b]) && !closing_in(c)) plan.push_back(c);
+            if (!(moved[a] || moved[b]) && !closing[c]) plan.push_back(c);
             else rebuild(a, b, c);
         }
         for (int b = 0; b < n; ++b) {

@@ -151,15 +151,17 @@ std::string jointed_slope(int friction) {
 
 TEST(SolveVerdict, AStableButSlowSlopeDoesNotReadLikeAFailingOne) {
     Talking stable;
-    // Real masses: density scaling brings this slope to rest within the 1000 steps.
-    ASSERT_TRUE(stable.run("config dyn\n" + jointed_slope(25) + "solve cycles 1000")) << stable.error();
+    // Real masses: density scaling brings this slope to rest within the 2000 steps. (In its first
+    // 1000 steps a corner of block 14 presses into block 22 and is pushed back out, a short
+    // steady slide; then the slope settles.)
+    ASSERT_TRUE(stable.run("config dyn\n" + jointed_slope(25) + "solve cycles 2000")) << stable.error();
     const odec::SolveVerdict a = *stable.interp.last_solve;
     EXPECT_EQ(a.outcome, SolveOutcome::NotConverged);
     ASSERT_TRUE(a.trend_known);
     EXPECT_LT(a.decades_per_step, 0);
     EXPECT_GT(a.steps_to_limit, 0);
     EXPECT_TRUE(a.moving.empty());
-    EXPECT_NE(stable.said().find("solve: not converged within the step limit (1000 steps): ratio "), std::string::npos)
+    EXPECT_NE(stable.said().find("solve: not converged within the step limit (2000 steps): ratio "), std::string::npos)
         << stable.said();
     EXPECT_NE(stable.said().find(" the ratio fell from "), std::string::npos) << stable.said();
     ASSERT_TRUE(stable.run("solve")) << stable.error();
