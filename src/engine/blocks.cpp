@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <limits>
 
+#include "engine/parallel.h"
+
 namespace odec {
 
 // Every per-block array, so that adding and removing blocks cannot forget one.
@@ -200,6 +202,8 @@ void refresh_world_vertices(Model& m) {
     }
     s.vertex_offset[n] = total;
     s.world_vertices.resize(total);
+    const int threads = thread_count();
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && n >= kParallelMinBlocks)
     for (int b = 0; b < n; ++b) {
         const Mat3 r = s.orientation[b].toRotationMatrix();
         const Vec3& c = s.centroid[b];

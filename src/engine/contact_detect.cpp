@@ -406,12 +406,6 @@ void swap_arrays(ContactSet& x, ContactSet& y) {
     x.sub_ss.swap(y.sub_ss); x.sub_flags.swap(y.sub_flags); x.sub_tri.swap(y.sub_tri);
 }
 
-// Give the arrays' memory back (a buffer that held a whole contact set must not be kept).
-void release_arrays(ContactSet& x) {
-    ContactSet empty;
-    swap_arrays(x, empty);
-}
-
 void clear_arrays(ContactSet& x) {
     x.id.clear(); x.block_a.clear(); x.block_b.clear(); x.normal.clear(); x.point.clear(); x.gap.clear();
     x.jmat.clear(); x.jcons.clear(); x.joined.clear(); x.sub_offset.assign(1, 0);
@@ -1004,18 +998,24 @@ void detect_contacts(Model& m) {
     thread_local std::vector<std::int64_t> pairs;
     thread_local std::vector<char> moved;
     thread_local std::vector<char> closing; // per contact: touching nowhere and now overlapping
+    thread_local std::vector<char> grown;   // per contact: its overlap grew past its area
     thread_local std::vector<double> motion; // m, movement since the last refresh
     thread_local std::vector<int> plan; // per contact of the result: old index, or ~job
     std::vector<Vec3>& geo_c = cs.geo_centroid;
     std::vector<Quat>& geo_q = cs.geo_orientation;
 
     bool full = full_needed;
+    const int threads = thread_count();
     if (!full) {
+        // Each block's movement since the last broad phase, on the threads in a large model.
         const double limit = 0.5 * cs.ctol;
-        for (int b = 0; b < n && !full; ++b) {
+        int far = 0;
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(| : far) if (threads > 1 && n >= kParallelMinBlocks)
+        for (int b = 0; b < n; ++b) {
             if (s.flags[b] & kExcavated) continue;
-            full = movement(cs, s, b, cs.ref_centroid, cs.ref_orientation) > limit;
+            if (movement(cs, s, b, cs.ref_centroid, cs.ref_orientation) > limit) far |= 1;
         }
+        full = far != 0;
     }
     const double old_ctol = cs.ctol;
     if (full) {
@@ -1075,29 +1075,44 @@ void detect_contacts(Model& m) {
         const double limit = 0.1 * cs.ctol;
         moved.assign(n, 0);
         motion.assign(n, 0.0);
-        bool any = false, any_motion = false;
-        for (int b = 0; b < n; ++b) {
-            if (s.flags[b] & kExcavated) continue;
-            const double mv = movement(cs, s, b, geo_c, geo_q);
-            motion[b] = mv;
-            if (mv > limit) moved[b] = any = 1;
-            if (mv > 1e-3 * cs.ctol) any_motion = true;
+        int any_moved = 0, any_stirred = 0;
+        {
+            char* mv_of = moved.data();
+            double* motion_of = motion.data();
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(| : any_moved, any_stirred) if (threads > 1 && n >= kParallelMinBlocks)
+            for (int b = 0; b < n; ++b) {
+                if (s.flags[b] & kExcavated) continue;
+                const double mv = movement(cs, s, b, geo_c, geo_q);
+                motion_of[b] = mv;
+                if (mv > limit) mv_of[b] = 1, any_moved |= 1;
+                if (mv > 1e-3 * cs.ctol) any_stirred |= 1;
+            }
         }
+        bool any = any_moved != 0;
+        const bool any_motion = any_stirred != 0;
         // An edge or corner that presses into a face touches over an area that grows with
         // the overlap: its contact is rebuilt once its blocks have moved a quarter of that
         // overlap, so the area follows the penetration (a force that depended on the path
         // would make or lose energy), and both blocks take their pose as the new reference.
         if (any_motion) {
-            for (int c = 0; c < cs.size(); ++c) {
+            // Marked on the threads, then applied in order (the same blocks whatever the threads).
+            const int nc = cs.size();
+            grown.assign(nc, 0);
+            char* grown_of = grown.data();
+            const double* motion_of = motion.data();
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && nc >= kParallelMinItems)
+            for (int c = 0; c < nc; ++c) {
                 const int a = cs.block_a[c], b = cs.block_b[c];
-                if (moved[a] && moved[b]) continue;
                 double deepest = 0;
                 bool tracked = false;
                 for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
                     tracked |= on_touch_line(cs.sub_key[k]);
                     deepest = std::max(deepest, cs.sub_un[k] + cs.sub_udil[k]);
                 }
-                if (tracked && motion[a] + motion[b] > 0.25 * deepest + 1e-3 * cs.ctol) moved[a] = moved[b] = any = 1;
+                grown_of[c] = tracked && motion_of[a] + motion_of[b] > 0.25 * deepest + 1e-3 * cs.ctol;
+            }
+            for (int c = 0; c < nc; ++c) {
+                if (grown[c]) moved[cs.block_a[c]] = moved[cs.block_b[c]] = any = 1;
             }
         }
         // A contact that touches nowhere has no sub-contacts to feel its blocks closing in
@@ -1114,7 +1129,6 @@ void detect_contacts(Model& m) {
         // thread_local would be each worker's own).
         char* close_mark = closing.data();
         const double* mot = motion.data();
-        const int threads = thread_count();
 #pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && nc >= kParallelMinItems)
         for (int c = 0; c < nc; ++c) {
             const int k0 = cs.sub_offset[c], k1 = cs.sub_offset[c + 1];
