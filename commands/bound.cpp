@@ -64,14 +64,15 @@ FaceTraction face_traction(const Polyhedron& w, int f, const Vec3& c, const Stre
     return r;
 }
 
-// Set the given components of the load of this kind at this point with this table on a
-// block (a new load when it has none there); loads left with no force and no couple go.
-void set_block_load(std::vector<BlockLoad>& loads, LoadKind kind, int table, const Vec3& lever, const bool given[6],
-                    const double value[6]) {
+// Set the given components of the load of this kind at this point (within tol, m) with this
+// table on a block (a new load when it has none there); loads left with no force and no couple go.
+void set_block_load(std::vector<BlockLoad>& loads, LoadKind kind, int table, const Vec3& lever, double tol,
+                    const bool given[6], const double value[6]) {
     BlockLoad* l = nullptr;
     for (BlockLoad& x : loads) {
-        if (x.kind == kind && x.table == table && x.lever == lever) l = &x;
+        if (x.kind == kind && x.table == table && (x.lever - lever).stableNorm() <= tol) l = &x;
     }
+    if (l) l->lever = lever;
     if (!l) {
         BlockLoad fresh;
         fresh.kind = kind;
@@ -152,8 +153,9 @@ const CommandSpec& bound_command() {
                    "block, which moves and turns with it, so that the load's moment about the centroid, "
                    "r x F, follows the block as it rocks. Without a range, 'point' loads the one rigid block "
                    "holding the point. A force and a couple ('xmoment' ...) keep their directions in world "
-                   "axes. A load replaces the components given of an earlier load at the same point with the "
-                   "same table; loads at other points, or with other tables, add to it. 'stress' on a rigid "
+                   "axes. A load replaces the components given of an earlier load at the same point (within a "
+                   "thousandth of the block's size of where that load's point is now) with the same table; loads "
+                   "at other points, or with other tables, add to it. 'stress' on a rigid "
                    "block loads each of its faces that no other block covers and whose centroid the range "
                    "selects with the resultant of the traction over the face, at the face, computed for the "
                    "block where it is when the command is given (the force keeps its direction as the block "
@@ -401,7 +403,10 @@ const CommandSpec& bound_command() {
             }
             if (any_load || any_moment) {
                 for (size_t k = 0; k < rigid.size(); ++k) {
-                    set_block_load(s.loads[rigid[k]], LoadKind::Point, table, levers[k], given, value);
+                    const int b = rigid[k];
+                    // The same point as an earlier load, though the block has moved a little since.
+                    const double tol = levers[k].isZero(0) ? 0.0 : 1e-3 * std::cbrt(s.volume[b]);
+                    set_block_load(s.loads[b], LoadKind::Point, table, levers[k], tol, given, value);
                 }
             }
             if (stress) {
@@ -410,7 +415,8 @@ const CommandSpec& bound_command() {
                 for (const FaceLoadOf& fl : face_loads) {
                     const double v[6] = {fl.force.x(), fl.force.y(), fl.force.z(),
                                          fl.couple.x(), fl.couple.y(), fl.couple.z()};
-                    set_block_load(s.loads[fl.block], LoadKind::Face, table, fl.lever, all, v);
+                    set_block_load(s.loads[fl.block], LoadKind::Face, table, fl.lever,
+                                   1e-3 * std::cbrt(s.volume[fl.block]), all, v);
                 }
                 n += static_cast<int>(face_loads.size());
                 if (n == 0) warn(ctx, a.find("stress")->loc, "the range selects no boundary face, nothing loaded");

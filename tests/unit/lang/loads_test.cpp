@@ -235,6 +235,15 @@ TEST(Loads, LoadsAtAPointReplaceAndAdd) {
     // A load set to zero goes.
     ASSERT_TRUE(s.run("bound zload 0 point 2,0.5,0.5")) << s.error();
     EXPECT_EQ(s.model.blocks.loads[0].size(), 2u);
+    // Given again at the same point after the block has moved a little (here 0.1 mm and a
+    // few micro-radians), a load replaces the one there.
+    ASSERT_TRUE(s.run("bound free\nbound xload 100 point 2,0.5,0.5\nbound zload 100 point 0,0.5,0.5\n"
+                      "prop mat=1 dens=1000\nconfig dyn\ndamp off\nset dt 1e-3\nstep 100")) << s.error();
+    ASSERT_GT(s.model.blocks.disp[0].norm(), 1e-4);
+    ASSERT_GT(s.model.blocks.rotation[0].norm(), 1e-6);
+    ASSERT_TRUE(s.run("bound xload 50 point 2,0.5,0.5")) << s.error();
+    ASSERT_EQ(s.model.blocks.loads[0].size(), 2u);
+    EXPECT_EQ(s.model.blocks.loads[0][0].force, Vec3(50, 0, 0));
 }
 
 TEST(Loads, BadLoadsAreRefusedAndChangeNothing) {
