@@ -304,3 +304,14 @@ TEST(Loads, CuttingALoadedBlockKeepsItsLoads) {
     // About the old centroid: the point load's moment; the shared centroid load's vanishes.
     EXPECT_NEAR((total_m - Vec3(0.5, 0, 0.5).cross(Vec3(0, 0, -10))).norm(), 0, 1e-12);
 }
+
+TEST(Loads, ZoningABlockRemovesItsRigidLoadsAndSaysSo) {
+    Session s;
+    ASSERT_TRUE(s.run("poly brick 0 1 0 1 0 1\nprop mat=1 dens=1000 bulk 1e8 shear 1e8\n"
+                      "bound zload 5 point 0.5,0.5,1\ngen edge 0.5")) << s.error();
+    EXPECT_TRUE(s.model.blocks.loads[0].empty());
+    EXPECT_NE(s.error().find("warning: the loads given to block 1 while rigid ('bound xload ...', 'bound stress') are "
+                             "removed"),
+              std::string::npos)
+        << s.error();
+}
