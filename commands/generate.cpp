@@ -346,6 +346,23 @@ const CommandSpec& generate_command() {
                         << ", mean " << num(mesh.mean_quality) << "\n";
             }
             warn_of_poor_zones(ctx, blocks, edges, solids, mesh.solid_worst);
+            // Loads given to a block while rigid act on its centroid or points of it, which a
+            // deformable block no longer has: they go, and the warning says so.
+            std::vector<int> loaded;
+            for (int b : blocks) {
+                if (m.blocks.loads[b].empty()) continue;
+                loaded.push_back(m.blocks.id[b]);
+                m.blocks.loads[b].clear();
+            }
+            if (!loaded.empty()) {
+                std::string ids;
+                for (size_t k = 0; k < loaded.size() && k < 8; ++k) ids += (k ? ", " : "") + std::to_string(loaded[k]);
+                if (loaded.size() > 8) ids += ", ...";
+                warn(ctx, a.loc,
+                     "the loads given to block" + std::string(loaded.size() == 1 ? " " : "s ") + ids +
+                         " while rigid ('bound xload ...', 'bound stress') are removed: a deformable block takes "
+                         "loads on its gridpoints and faces (give them again with 'bound' after zoning)");
+            }
             // The in-situ fields given before: the new zones and the joints of their blocks take them.
             if (!m.insitu.empty()) {
                 const InsituCount ic = apply_kept_insitu(m, blocks);

@@ -140,6 +140,11 @@ const CommandSpec& hist_command() {
                 if (!h.source.empty() && h.source[0] == '@') h.source.erase(0, 1);
                 std::string lower = h.source;
                 for (char& ch : lower) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+                if (ctx.interp.fish().command_local(lower)) {
+                    fail(v.loc, "'" + h.source + "' is an argument or local of '" + ctx.interp.fish().command_function() +
+                                    "', gone when it returns: a history samples a global as the model cycles",
+                         {"assign the value to a global and record that"}, "history");
+                }
                 const fish::Symbol* s = ctx.interp.fish().find(lower);
                 if (!s && !fish::find_intrinsic(lower)) {
                     fail(v.loc, "'" + h.source + "' is no FISH variable or function",

@@ -10,8 +10,9 @@ const CommandSpec& list_command() {
         CommandSpec c("list", 3, "print FISH variables: their names and values");
         c.positional.word("name").optional("every FISH variable").repeat();
         c.describe("Each name (written with or without '@') is printed with its value; a function is "
-                   "run first and its value printed. Without names, every FISH variable and function "
-                   "is listed with its current value (functions are not run).");
+                   "run first and its value printed. In a function's 'command ... endcommand' block, a name "
+                   "is first the function's argument or local. Without names, every FISH variable and "
+                   "function is listed with its current value (functions are not run).");
         c.example("list @sf_sum2");
         c.handle([](CommandContext& ctx, const Args& a) {
             fish::Runtime& rt = ctx.interp.fish();
@@ -33,7 +34,7 @@ const CommandSpec& list_command() {
                 if (!n.empty() && n[0] == '@') n.erase(0, 1);
                 std::string lower = n;
                 for (char& ch : lower) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-                if (!rt.is_symbol(lower) && !fish::find_intrinsic(lower)) {
+                if (!rt.command_local(lower) && !rt.is_symbol(lower) && !fish::find_intrinsic(lower)) {
                     fail(v.loc, "'" + n + "' is no FISH variable or function", {"'list' alone lists them"}, "list");
                 }
                 names.push_back(n);

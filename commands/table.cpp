@@ -14,8 +14,10 @@ const CommandSpec& table_command() {
         c.keyword("read", 3, "read the points from a text file: two numbers a line").string("file");
         c.keyword("delete", 3, "remove the table");
         c.describe("Points follow the table number as x1 y1 x2 y2 ...; x must increase. Between points the "
-                   "value is linear, beyond the ends it is held. Tables drive boundary velocities in time "
-                   "('bound xvel v hist table n').");
+                   "value is linear, beyond the ends it is held. Tables drive boundary velocities, loads and "
+                   "stresses in time ('bound ... hist table n'): x is then the model time, s (not real time in "
+                   "a static analysis), y the factor on the value given. A boundary condition whose table is "
+                   "deleted is 0 from then on.");
         c.example("table 1 0,0 0.5,1 1,0");
         c.handle([](CommandContext& ctx, const Args& a) {
             Model& m = ctx.model;
@@ -23,6 +25,23 @@ const CommandSpec& table_command() {
             if (a.has("delete")) {
                 if (a.positional.size() > 1 || a.has("read")) fail(a.find("delete")->loc, "'delete' takes no points", {}, "table");
                 m.tables.tables.erase(n);
+                // What followed the table is now 0: say so.
+                int users = 0;
+                const BlockSet& s = m.blocks;
+                for (int b = 0; b < s.size(); ++b) {
+                    users += s.vel_bc[b] && s.vel_bc_table[b] == n ? 1 : 0;
+                    for (const BlockLoad& l : s.loads[b]) users += l.table == n ? 1 : 0;
+                }
+                const GridpointSet& g = m.gridpoints;
+                for (int i = 0; i < g.size(); ++i) {
+                    users += (g.vel_bc[i] && g.vel_bc_table[i] == n) || g.applied_table[i] == n ? 1 : 0;
+                }
+                for (const BoundaryFace& f : m.stress_boundary.faces) users += f.table == n ? 1 : 0;
+                if (users > 0) {
+                    warn(ctx, a.find("delete")->loc,
+                         std::to_string(users) + " boundary condition" + (users == 1 ? "" : "s") + " ('bound ... hist table " +
+                             std::to_string(n) + "') followed table " + std::to_string(n) + (users == 1 ? ": it is" : ": they are") + " 0 from now on");
+                }
                 return;
             }
             Table t;

@@ -13,7 +13,7 @@ namespace odec {
 template <class F>
 static void for_each_array(BlockSet& s, F&& f) {
     f(s.id); f(s.shape); f(s.centroid); f(s.orientation); f(s.vel); f(s.ang_vel);
-    f(s.accel); f(s.ang_accel); f(s.force); f(s.moment); f(s.applied_force); f(s.force_scale);
+    f(s.accel); f(s.ang_accel); f(s.force); f(s.moment); f(s.loads); f(s.force_scale);
     f(s.disp); f(s.rotation); f(s.volume); f(s.mass); f(s.inertia_body); f(s.inertia_unit);
     f(s.inertial_mass); f(s.inertial_moment);
     f(s.material); f(s.region); f(s.group); f(s.flags); f(s.vel_bc); f(s.vel_bc_value);
@@ -35,7 +35,7 @@ int add_block(Model& m, const Polyhedron& world, int region, int group, int mate
     s.ang_accel.push_back(Vec3::Zero());
     s.force.push_back(Vec3::Zero());
     s.moment.push_back(Vec3::Zero());
-    s.applied_force.push_back(Vec3::Zero());
+    s.loads.emplace_back();
     s.force_scale.push_back(0);
     s.disp.push_back(Vec3::Zero());
     s.rotation.push_back(Vec3::Zero());
@@ -108,7 +108,13 @@ std::vector<int> replace_by_pieces(Model& m, int b, const std::vector<Polyhedron
     }
     const Vec3 v0 = s.vel[b];
     const Vec3 w0 = s.ang_vel[b];
-    const Vec3 load = s.applied_force[b];
+    // b's loads: those at its centroid are shared by volume (each piece takes its share at its
+    // own centroid); one at another point goes whole to the piece holding that point (or the
+    // piece whose centroid is nearest), at the same material point.
+    std::vector<BlockLoad> loads = std::move(s.loads[b]);
+    s.loads[b].clear();
+    const Vec3 old_centroid = s.centroid[b];
+    const Quat old_orientation = s.orientation[b];
     std::vector<int> out{b};
     {
         // The first piece takes b's place, its body frame along the world axes.
@@ -126,7 +132,6 @@ std::vector<int> replace_by_pieces(Model& m, int b, const std::vector<Polyhedron
         s.inertial_mass[b] = s.mass[b];
         s.inertial_moment[b] = 0;
         s.vel[b] = v0 + w0.cross(mp[0].centroid);
-        s.applied_force[b] = load * (mp[0].volume / total);
     }
     for (size_t k = 1; k < pieces.size(); ++k) {
         const int a = add_block(m, pieces[k], s.region[b], s.group[b], s.material[b]);
@@ -136,7 +141,6 @@ std::vector<int> replace_by_pieces(Model& m, int b, const std::vector<Polyhedron
         s.ang_vel[a] = w0;
         s.accel[a] = s.accel[b];
         s.ang_accel[a] = s.ang_accel[b];
-        s.applied_force[a] = load * (mp[k].volume / total);
         s.disp[a] = s.disp[b];
         s.rotation[a] = s.rotation[b];
         s.flags[a] = s.flags[b];
@@ -146,6 +150,35 @@ std::vector<int> replace_by_pieces(Model& m, int b, const std::vector<Polyhedron
         s.half_kick[a] = s.half_kick[b];
         s.cons[a] = s.cons[b];
         out.push_back(a);
+    }
+    for (const BlockLoad& l : loads) {
+        if (l.lever.isZero(0)) {
+            for (size_t k = 0; k < out.size(); ++k) {
+                BlockLoad share = l;
+                share.force *= mp[k].volume / total;
+                share.couple *= mp[k].volume / total;
+                s.loads[out[k]].push_back(share);
+            }
+            continue;
+        }
+        const Vec3 point = old_centroid + old_orientation * l.lever;
+        size_t best = 0;
+        double best_distance = std::numeric_limits<double>::infinity();
+        for (size_t k = 0; k < pieces.size(); ++k) {
+            const Vec3 local = point - origin;
+            if (contains_point(pieces[k], local, 0)) {
+                best = k;
+                break;
+            }
+            const double d = (local - mp[k].centroid).squaredNorm();
+            if (d < best_distance) {
+                best_distance = d;
+                best = k;
+            }
+        }
+        BlockLoad moved = l;
+        moved.lever = point - s.centroid[out[best]]; // the pieces' body frames are the world axes
+        s.loads[out[best]].push_back(moved);
     }
     return out;
 }

@@ -22,7 +22,9 @@ std::string block_numbers_problem(const MassProperties& mp, double density);
 // first piece keeps b's index and id, the others become new blocks at the end. Each piece is
 // stored with its body frame along the world axes and keeps b's attributes, conditions and
 // accumulated records; it moves with b's rigid-body motion (its velocity is b's at its own
-// centroid) and takes a share of b's applied load by volume. Returns the pieces' indices.
+// centroid). Its loads at the centroid are shared by volume, each piece taking its share at
+// its own centroid; a load at another point goes to the piece holding that point, at the
+// same material point. Returns the pieces' indices.
 std::vector<int> replace_by_pieces(Model& m, int b, const std::vector<Polyhedron>& pieces, const Vec3& origin);
 
 // Remove the blocks with these indices for good (their ids are not reused).

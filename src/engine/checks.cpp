@@ -33,10 +33,10 @@ std::string runaway_cause(const Model& m, int b) {
                             ? "the forced timestep (set dt " + num_text(m.settings.dt_fixed) +
                                   ") is too large for the stiffnesses: try 'set dt auto'"
                             : "the timestep is too large for the stiffnesses";
-    const Vec3& f = m.blocks.applied_force[b];
-    if (f.squaredNorm() > 0) {
-        cause = "the load applied to block " + std::to_string(m.blocks.id[b]) + " ('bound ...load', " +
-                num_text(f.stableNorm()) + " N) is too large for what holds it, or " + cause;
+    const double f = block_applied_force_bound(m, b);
+    if (f > 0) {
+        cause = "the load applied to block " + std::to_string(m.blocks.id[b]) + " ('bound ...load', up to " +
+                num_text(f) + " N) is too large for what holds it, or " + cause;
     } else if (m.settings.dt_fixed <= 0) {
         cause += ", or a load is unbounded";
     }

@@ -34,10 +34,10 @@ int Model::group_index(const std::string& name, bool create) {
     return static_cast<int>(group_names.size()) - 1;
 }
 
-double Model::table_factor(int table) const {
+double Model::table_factor(int table, double t) const {
     if (table <= 0) return 1.0;
-    const Table* t = tables.find(table);
-    return t ? t->at(time) : 0.0;
+    const Table* tab = tables.find(table);
+    return tab ? tab->at(t) : 0.0;
 }
 
 } // namespace odec

@@ -64,6 +64,22 @@ struct JointPlane {
     int jmat = 0;         // joint material for contacts across it (0: Settings::default_jmat)
 };
 
+// What put a load on a rigid block: 'bound xload ... xmoment ...' (a force at a point and a
+// couple), or 'bound stress' (the traction on one boundary face).
+enum class LoadKind : std::uint8_t { Point = 0, Face = 1 };
+
+// A load on a rigid block ('bound'): a force at a material point of the block and a couple,
+// both times a table of time. The force and the couple keep their directions in world axes as
+// the block turns; the point turns with the block. Its moment about the centroid is
+// (R lever) x force + couple, R the block's orientation.
+struct BlockLoad {
+    LoadKind kind = LoadKind::Point;
+    int table = 0;                 // table scaling force and couple by model time ('hist table n'), 0 none
+    Vec3 lever = Vec3::Zero();     // m, the point of application from the centroid, body frame
+    Vec3 force = Vec3::Zero();     // N, world axes
+    Vec3 couple = Vec3::Zero();    // N m, world axes
+};
+
 // Degrees of freedom of a block that a boundary condition prescribes.
 enum BlockFlags : std::uint8_t {
     kFixed = 1,      // `fix`: velocity and spin held at zero
@@ -83,7 +99,7 @@ struct BlockSet {
     std::vector<Vec3> ang_accel;          // (n_blocks) rad/s^2 last applied
     std::vector<Vec3> force;              // (n_blocks) N, unbalanced force of this step
     std::vector<Vec3> moment;             // (n_blocks) N m about the centroid
-    std::vector<Vec3> applied_force;      // (n_blocks) N, `bound xload ...`
+    std::vector<std::vector<BlockLoad>> loads; // (n_blocks) `bound xload ...`, `bound stress`
     std::vector<double> force_scale;      // (n_blocks) N, sum of magnitudes of forces this step
     std::vector<Vec3> disp;               // (n_blocks) m since the last `reset disp`
     std::vector<Vec3> rotation;           // (n_blocks) rad, accumulated small rotation
@@ -202,9 +218,10 @@ struct Model {
     int block_index(int block_id) const;
     // Index of group `name`, creating it when `create`; -1 when absent and not created.
     int group_index(const std::string& name, bool create);
-    // Factor on a prescribed velocity driven by table n ('bound xvel v hist table n') at the
-    // model's time: 1 without a table (n <= 0), 0 when table n no longer exists.
-    double table_factor(int table) const;
+    // Factor on a prescribed velocity or a load driven by table n ('bound ... hist table n') at
+    // the model's time (or at time t): 1 without a table (n <= 0), 0 when table n no longer exists.
+    double table_factor(int table) const { return table_factor(table, time); }
+    double table_factor(int table, double t) const;
 };
 
 } // namespace odec

@@ -49,11 +49,24 @@ std::string prepare_cycle_once(Model& m) {
     // makes a weight of inf, which would turn every velocity to NaN in the first step.
     for (int b = 0; b < s.size(); ++b) {
         if (!is_rigid_active(s, b) || (s.flags[b] & kFixed)) continue;
-        const Vec3 w = s.mass[b] * m.gravity + s.applied_force[b];
-        if (!std::isfinite(s.mass[b]) || !s.inertia_body[b].allFinite() || !w.allFinite()) {
+        // The applied loads at their largest (their tables at the largest |y|), with the
+        // moment each could give at any orientation.
+        double applied = 0, moment = 0;
+        for (const BlockLoad& l : s.loads[b]) {
+            double k = 1;
+            if (l.table > 0) {
+                const Table* t = m.tables.find(l.table);
+                k = t ? t->max_abs() : 0.0;
+            }
+            applied += k * l.force.stableNorm();
+            moment += k * (l.couple.stableNorm() + l.lever.stableNorm() * l.force.stableNorm());
+        }
+        const Vec3 w = s.mass[b] * m.gravity;
+        if (!std::isfinite(s.mass[b]) || !s.inertia_body[b].allFinite() || !w.allFinite() ||
+            !std::isfinite(w.stableNorm() + applied) || !std::isfinite(moment)) {
             return "the load on block " + std::to_string(s.id[b]) + " is not a finite number (mass " +
                    num_text(s.mass[b]) + " kg, gravity " + num_text(m.gravity.stableNorm()) + " m/s^2, applied force " +
-                   num_text(s.applied_force[b].stableNorm()) + " N): give smaller values";
+                   num_text(applied) + " N, its moment " + num_text(moment) + " N m): give smaller values";
         }
     }
     {
@@ -129,8 +142,20 @@ std::string prepare_cycle_once(Model& m) {
                 if (s.vel_bc[b] & (1 << i)) v[i] = s.vel_bc_value[b][i] * scale;
             }
         }
-        const double accel =
-            fixed ? 0.0 : (s.mass[b] * m.gravity + s.applied_force[b]).stableNorm() / s.inertial_mass[b];
+        // The loads without a table as they are (they may balance the weight), those with one at
+        // their largest.
+        Vec3 steady = s.mass[b] * m.gravity;
+        double varying = 0;
+        for (const BlockLoad& l : s.loads[b]) {
+            if (l.table <= 0) {
+                steady += l.force;
+            } else {
+                const Table* t = m.tables.find(l.table);
+                varying += (t ? t->max_abs() : 0.0) * l.force.stableNorm();
+            }
+        }
+        const double applied = fixed ? 0.0 : block_applied_force_bound(m, b);
+        const double accel = fixed ? 0.0 : (steady.stableNorm() + varying) / s.inertial_mass[b];
         const double speed = v.stableNorm();
         const double move = speed * m.dt + (s.half_kick[b] ? 0.5 : 1.0) * accel * m.dt * m.dt;
         double size = 0;
@@ -140,7 +165,7 @@ std::string prepare_cycle_once(Model& m) {
             if (speed * m.dt >= accel * m.dt * m.dt) {
                 cause = "its velocity, " + num_text(speed) + " m/s ('ini' or 'bound ...vel'" +
                         (s.vel_bc_table[b] > 0 ? std::string(" times its table") : std::string()) + "), is too large";
-            } else if (s.applied_force[b].squaredNorm() > 0) {
+            } else if (applied > 0) {
                 cause = "its load, " + num_text(accel) + " m/s^2 with the applied force, is too large";
             } else if (m.settings.dt_fixed > 0) {
                 cause = "the forced timestep is too large: try 'set dt auto'";

@@ -32,8 +32,14 @@ inline bool is_active(const BlockSet& s, int b) { return !(s.flags[b] & kExcavat
 // A rigid block that moves as a whole (not excavated, not divided into zones).
 inline bool is_rigid_active(const BlockSet& s, int b) { return !(s.flags[b] & (kExcavated | kDeformable)); }
 
-// loads: each block's force starts as its weight plus its applied load.
+// loads: each block's force starts as its weight plus its applied loads, its moment as the
+// applied loads' moment about its centroid.
 void apply_loads(Model& m);
+// The applied loads ('bound') on rigid block b at time t, with the block's orientation now:
+// their force, N, and their moment about the centroid, N m (world axes).
+void block_applied_load(const Model& m, int b, double t, Vec3& force, Vec3& moment);
+// The largest force the applied loads on block b reach (each table at its largest |y|), N.
+double block_applied_force_bound(const Model& m, int b);
 
 // integrate: velocities at t + dt/2 and positions at t + dt of the free blocks and gridpoints,
 // forces damped by the model's damping law. Returns the index of a block whose motion became
@@ -99,17 +105,20 @@ std::string runaway_cause(const Model& m, int b);
 // A run-away told by the physics rather than by a speed: with damping at most taking energy
 // out, the kinetic energy of the free blocks can never exceed what the model had when the
 // cycling began (kinetic energy and the strain energy stored in the joints) plus the work
-// the loads have done since (gravity and applied forces on the free blocks: their force
-// times the displacement, exact as both are constant while cycling) plus the work the
-// velocity boundaries can have done (bounded by |force . velocity| dt summed). A numerical
-// instability pumps energy in from nowhere, growing it geometrically, so a generous margin
-// still stops it within a few steps of its start, long before numbers overflow.
+// the loads have done since (gravity on the free blocks: its force times the displacement,
+// exact as it is constant; the applied loads, which may follow a table and turn with the
+// block: their force and moment times each step's displacement and rotation, summed) plus
+// the work the velocity boundaries can have done (bounded by |force . velocity| dt summed).
+// A numerical instability pumps energy in from nowhere, growing it geometrically, so a
+// generous margin still stops it within a few steps of its start, long before numbers
+// overflow.
 struct EnergyWatch {
     std::vector<Vec3> start;   // (n_blocks) centroid when the cycling began
     std::vector<double> size;  // (n_blocks) m, largest vertex distance from the centroid
     bool neighbours = false;   // more than one block: there is something to pass through
     double initial = 0;        // J, kinetic + joint strain energy then
     double boundary_work = 0;  // J, bound on the work of prescribed velocities since
+    double applied_work = 0;   // J, the work of the applied loads since
     double peak_work = 0;      // J, the most work gravity and the applied loads have done
     double floor = 0;          // J, noise level below which nothing is judged
     static constexpr double kMargin = 4.0;
@@ -164,6 +173,7 @@ struct EnergyWatch {
             }
         }
         boundary_work = 0;
+        applied_work = 0;
         peak_work = 0;
         // A millimetre per second over all the free mass: below it, nothing is judged.
         floor = 0.5 * mass * 1e-6;
@@ -195,11 +205,15 @@ struct EnergyWatch {
         int worst = -1;
         for (int b = 0; b < s.size(); ++b) {
             if (s.flags[b] & kExcavated) continue;
+            // The applied loads of the step just taken (at its start time).
+            Vec3 applied = Vec3::Zero(), applied_moment = Vec3::Zero();
+            if (!s.loads[b].empty()) block_applied_load(m, b, m.time - m.dt, applied, applied_moment);
             if (s.vel_bc[b]) {
-                const Vec3 load = s.mass[b] * m.gravity + s.applied_force[b];
+                const Vec3 load = s.mass[b] * m.gravity + applied;
                 boundary_work += m.dt * (std::abs(s.force[b].dot(s.vel[b])) + std::abs(load.dot(s.vel[b])));
             }
             if ((s.flags[b] & kFixed) || !(s.mass[b] > 0)) continue;
+            applied_work += m.dt * (applied.dot(s.vel[b]) + applied_moment.dot(s.ang_vel[b]));
             // Moving more than half its size in one step, a block jumps past the blocks in
             // its way: contact detection cannot see them.
             if (jumper < 0 && neighbours && s.vel[b].stableNorm() * m.dt > 0.5 * size[b]) jumper = b;
@@ -209,8 +223,9 @@ struct EnergyWatch {
                 ke_max = e;
                 worst = b;
             }
-            work += (s.mass[b] * m.gravity + s.applied_force[b]).dot(s.centroid[b] - start[b]);
+            work += (s.mass[b] * m.gravity).dot(s.centroid[b] - start[b]);
         }
+        work += applied_work;
         energy = ke;
         // The most work the loads have done at any time: the energy they put in may have been
         // carried back up since (an undamped block bouncing), and explicit impacts do not

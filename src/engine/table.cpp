@@ -1,5 +1,7 @@
 #include "engine/table.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 
 namespace odec {
@@ -16,6 +18,12 @@ double Table::at(double x) const {
         }
     }
     return points.back().second;
+}
+
+double Table::max_abs() const {
+    double m = 0;
+    for (const auto& p : points) m = std::max(m, std::abs(p.second));
+    return m;
 }
 
 } // namespace odec

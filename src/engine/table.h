@@ -11,6 +11,8 @@ struct Table {
     std::vector<std::pair<double, double>> points; // (n_points) x increasing
     // Value at x: linear between points, held constant beyond the ends; 0 when empty.
     double at(double x) const;
+    // Largest |y| (what a load or velocity it scales can reach); 0 when empty.
+    double max_abs() const;
 };
 
 struct TableSet {

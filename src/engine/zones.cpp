@@ -3,6 +3,7 @@
 #include "engine/contact.h"
 
 #include <algorithm>
+#include <map>
 #include <cmath>
 #include <limits>
 #include <unordered_map>
@@ -81,6 +82,7 @@ void zone_blocks(Model& m, const std::vector<int>& blocks, const std::vector<int
         g.disp.push_back(Vec3::Zero());
         g.force.push_back(Vec3::Zero());
         g.applied.push_back(Vec3::Zero());
+        g.applied_table.push_back(0);
         g.traction.push_back(Vec3::Zero());
         g.mass.push_back(0);
         g.inertial_mass.push_back(0);
@@ -173,7 +175,8 @@ void remove_zones(Model& m, const std::vector<int>& blocks) {
         if (!used[i]) continue;
         new_index[i] = n;
         g.pos[n] = g.pos[i]; g.ref[n] = g.ref[i]; g.vel[n] = g.vel[i]; g.disp[n] = g.disp[i];
-        g.force[n] = g.force[i]; g.applied[n] = g.applied[i]; g.traction[n] = g.traction[i]; g.mass[n] = g.mass[i];
+        g.force[n] = g.force[i]; g.applied[n] = g.applied[i];
+        g.applied_table[n] = g.applied_table[i]; g.traction[n] = g.traction[i]; g.mass[n] = g.mass[i];
         g.inertial_mass[n] = g.inertial_mass[i];
         g.stiffness[n] = g.stiffness[i]; g.force_scale[n] = g.force_scale[i];
         g.nmd_volume[n] = g.nmd_volume[i]; g.nmd_rate[n] = g.nmd_rate[i]; g.block[n] = g.block[i];
@@ -182,7 +185,7 @@ void remove_zones(Model& m, const std::vector<int>& blocks) {
         ++n;
     }
     g.pos.resize(n); g.ref.resize(n); g.vel.resize(n); g.disp.resize(n); g.force.resize(n);
-    g.applied.resize(n); g.traction.resize(n); g.mass.resize(n); g.inertial_mass.resize(n); g.stiffness.resize(n); g.force_scale.resize(n);
+    g.applied.resize(n); g.applied_table.resize(n); g.traction.resize(n); g.mass.resize(n); g.inertial_mass.resize(n); g.stiffness.resize(n); g.force_scale.resize(n);
     g.nmd_volume.resize(n); g.nmd_rate.resize(n); g.block.resize(n); g.vel_bc.resize(n);
     g.vel_bc_value.resize(n); g.vel_bc_table.resize(n); g.half_kick.resize(n);
     for (auto& q : z.gp) {
@@ -201,10 +204,7 @@ void remove_zones(Model& m, const std::vector<int>& blocks) {
         if (keep) faces[fw++] = bf;
     }
     faces.resize(fw);
-    std::fill(g.traction.begin(), g.traction.end(), Vec3::Zero());
-    for (const BoundaryFace& bf : faces) {
-        for (int c : bf.gp) g.traction[c] += bf.force / 3.0;
-    }
+    recompute_tractions(m);
     // Histories follow their gridpoint or zone to its new place; one whose zone or gridpoint
     // went with the blocks (-2) records 0 from now on.
     for (History& h : m.histories.items) {
@@ -474,13 +474,34 @@ void zone_forces(Model& m, double dt) {
     const int ng = g.size();
     const Vec3 grav = m.gravity;
     const int threads = thread_count();
+    // Loads that follow a table: its factor at this step's time, looked up once per table.
+    std::map<int, double> factors;
+    for (int i = 0; i < ng; ++i) {
+        if (g.applied_table[i] != 0) factors.emplace(g.applied_table[i], 0.0);
+    }
+    for (const BoundaryFace& bf : m.stress_boundary.faces) {
+        if (bf.table != 0) factors.emplace(bf.table, 0.0);
+    }
+    for (auto& [n, f] : factors) f = m.table_factor(n);
 #pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && ng >= kParallelMinItems)
     for (int i = 0; i < ng; ++i) {
         const Vec3 w = g.mass[i] * grav;
-        g.force[i] = w + g.applied[i] + g.traction[i];
-        g.force_scale[i] = w.norm() + g.applied[i].norm() + g.traction[i].norm();
+        const Vec3 applied = g.applied_table[i] == 0 ? g.applied[i] : Vec3(factors.at(g.applied_table[i]) * g.applied[i]);
+        g.force[i] = w + applied + g.traction[i];
+        g.force_scale[i] = w.norm() + applied.norm() + g.traction[i].norm();
         g.nmd_volume[i] = 0;
         g.nmd_rate[i] = 0;
+    }
+    // The loaded faces that follow a table (those without are in `traction`).
+    if (!factors.empty()) {
+        for (const BoundaryFace& bf : m.stress_boundary.faces) {
+            if (bf.table == 0) continue;
+            const Vec3 f = factors.at(bf.table) * bf.force / 3.0;
+            for (int c : bf.gp) {
+                g.force[c] += f;
+                g.force_scale[c] += f.norm();
+            }
+        }
     }
     const int nz = z.size();
     if (nz == 0) return;
@@ -666,14 +687,6 @@ Sym6 stress_at(const Vec3& x, const Sym6& s, const Sym6& gx, const Sym6& gy, con
     return r;
 }
 
-void recompute_tractions(Model& m) {
-    GridpointSet& g = m.gridpoints;
-    std::fill(g.traction.begin(), g.traction.end(), Vec3::Zero());
-    for (const BoundaryFace& bf : m.stress_boundary.faces) {
-        for (int c : bf.gp) g.traction[c] += bf.force / 3.0;
-    }
-}
-
 // Corners of zone z's face opposite corner k, and its area vector (area times outward normal).
 std::array<int, 3> face_corners(const ZoneSet& z, int i, int k) {
     std::array<int, 3> f;
@@ -687,8 +700,17 @@ std::array<int, 3> face_corners(const ZoneSet& z, int i, int k) {
 
 } // namespace
 
+void recompute_tractions(Model& m) {
+    GridpointSet& g = m.gridpoints;
+    std::fill(g.traction.begin(), g.traction.end(), Vec3::Zero());
+    for (const BoundaryFace& bf : m.stress_boundary.faces) {
+        if (bf.table != 0) continue;
+        for (int c : bf.gp) g.traction[c] += bf.force / 3.0;
+    }
+}
+
 int apply_boundary_stress(Model& m, const Range& r, const Sym6& s, const Sym6& gx, const Sym6& gy,
-                          const Sym6& gz) {
+                          const Sym6& gz, int table) {
     const ZoneSet& z = m.zones;
     const GridpointSet& g = m.gridpoints;
     auto& faces = m.stress_boundary.faces;
@@ -704,7 +726,7 @@ int apply_boundary_stress(Model& m, const Range& r, const Sym6& s, const Sym6& g
         const Vec3 force(st[0] * area.x() + st[3] * area.y() + st[4] * area.z(),
                          st[3] * area.x() + st[1] * area.y() + st[5] * area.z(),
                          st[4] * area.x() + st[5] * area.y() + st[2] * area.z());
-        loaded.push_back({f, force});
+        loaded.push_back({f, force, table});
     }
     // Replace what was on those faces.
     std::sort(loaded.begin(), loaded.end(), [](const BoundaryFace& a, const BoundaryFace& b) { return a.gp < b.gp; });

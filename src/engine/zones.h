@@ -84,6 +84,7 @@ struct ZoneSet {
 struct BoundaryFace {
     std::array<int, 3> gp;   // its corners
     Vec3 force;              // N, traction times area, shared equally by the three corners
+    int table = 0;           // table scaling the force by model time ('hist table n'), 0 none
 };
 
 struct GridpointSet {
@@ -93,6 +94,7 @@ struct GridpointSet {
     std::vector<Vec3> disp;              // (n_gp) m since the last `reset disp`
     std::vector<Vec3> force;             // (n_gp) N, unbalanced force of this step
     std::vector<Vec3> applied;           // (n_gp) N, `bound xload ...` forces
+    std::vector<int> applied_table;      // (n_gp) table scaling `applied` by model time, 0 none
     std::vector<Vec3> traction;          // (n_gp) N, `bound stress` (from the loaded faces)
     std::vector<double> mass;            // (n_gp) kg, rho V / 4 of the zones around
     std::vector<double> inertial_mass;   // (n_gp) kg, what the integration divides forces by
@@ -166,10 +168,13 @@ std::vector<int> select_gridpoints(const Model& m, const Range& r);
 std::vector<std::pair<int, int>> boundary_faces(const Model& m);
 
 // Apply the stress s + x gx + y gy + z gz (tension positive) as a traction on every boundary
-// face whose centre the range selects, replacing what `bound stress` put there before.
-// Returns the number of faces loaded.
+// face whose centre the range selects, replacing what `bound stress` put there before; times
+// table `table` of model time when it is not 0. Returns the number of faces loaded.
 int apply_boundary_stress(Model& m, const Range& r, const Sym6& s, const Sym6& gx, const Sym6& gy,
-                          const Sym6& gz);
+                          const Sym6& gz, int table = 0);
+// The tractions of the loaded faces without a table, summed on their corners (gridpoints.traction);
+// the faces with a table are added as the model cycles.
+void recompute_tractions(Model& m);
 // Remove `bound stress` from the faces the range selects; returns how many.
 int remove_boundary_stress(Model& m, const Range& r);
 

@@ -70,6 +70,17 @@ struct LocalRef final : Expr {
     std::string describe() const override { return "'" + name + "'"; }
 };
 
+// An argument or local of the function whose command block runs a statement typed there
+// (`@f(n)`, `@x = n + 1`): the statement is compiled and run while that function's frame lives.
+struct OuterLocalRef final : Expr {
+    Frame* frame = nullptr;
+    int slot = 0;
+    std::string name;
+    Value eval(Frame&) const override { return frame->locals[slot]; }
+    void assign(Frame&, Value v) const override { frame->locals[slot] = std::move(v); }
+    std::string describe() const override { return "'" + name + "'"; }
+};
+
 // A global name without arguments: a variable's value, a function's result (called unless it
 // is the function running now, which reads its own value), or a whole array.
 struct GlobalRef final : Expr {
@@ -343,6 +354,12 @@ struct Command final : Stmt {
     Flow exec(Frame& f) const override {
         if (first > last) return Flow::Next;
         f.rt.model_changed();
+        // `@name` in the commands takes this function's arguments and locals first.
+        struct Scope {
+            Runtime& rt;
+            Scope(Runtime& r, Frame& fr) : rt(r) { rt.command_frames.push_back(&fr); }
+            ~Scope() { rt.command_frames.pop_back(); }
+        } scope(f.rt, f);
         const bool ok = f.rt.host.run_commands(file, first, last);
         f.rt.model_changed();
         if (!ok) fish_fail(loc, "a command of this 'command' block failed (its error is above)");
@@ -391,6 +408,8 @@ bool is_op(const Token& t, const char* o) { return t.kind == Tok::Op && t.text =
 class Compiler {
 public:
     Compiler(Runtime& rt, Function& fn, const std::vector<Line>& lines) : rt_(rt), fn_(fn), lines_(lines) {}
+    // A statement typed in a command block: its names are first the running function's locals.
+    Frame* outer = nullptr;
 
     void add_local(const std::string& lower_name, const SourceLoc& loc) {
         if (locals_.count(lower_name)) return;
@@ -672,6 +691,11 @@ private:
             n->name = name.text;
             return n;
         }
+        if (ExprP o = outer_local(name)) {
+            if (has_args) fish_fail(name.loc, "'" + name.text + "' is a local variable of '" + outer->fn->name +
+                                                  "', not a function or an array");
+            return o;
+        }
         const Symbol* user = rt_.find(name.lower);
         const Intrinsic* in = user && user->shadows_intrinsic ? nullptr : find_intrinsic(name.lower);
         if (in) {
@@ -707,6 +731,22 @@ private:
         return n;
     }
 
+    // The running function's argument or local `name`, for a statement typed in its command
+    // block; null otherwise.
+    ExprP outer_local(const Token& name) {
+        if (!outer) return nullptr;
+        const auto& names = outer->fn->local_names;
+        for (size_t k = 0; k < names.size(); ++k) {
+            if (names[k] != name.lower) continue;
+            auto n = node<OuterLocalRef>(name.loc);
+            n->frame = outer;
+            n->slot = static_cast<int>(k);
+            n->name = name.text;
+            return n;
+        }
+        return nullptr;
+    }
+
     // A variable named by a token (a loop's counter): local, or global.
     ExprP variable(const Token& name) {
         auto local = locals_.find(name.lower);
@@ -716,6 +756,7 @@ private:
             n->name = name.text;
             return n;
         }
+        if (ExprP o = outer_local(name)) return o;
         const Symbol* user = rt_.find(name.lower);
         if (find_intrinsic(name.lower) && !(user && user->shadows_intrinsic)) {
             fish_fail(name.loc, "'" + name.text + "' is a FISH intrinsic, not a variable");
@@ -988,7 +1029,8 @@ private:
             if (auto* in = dynamic_cast<IntrinsicCall*>(target.get()); in && !in->in->set) {
                 fish_fail(target->loc, std::string("'") + in->in->name + "' can be read, not assigned");
             }
-            if (!dynamic_cast<LocalRef*>(target.get()) && !dynamic_cast<GlobalRef*>(target.get()) &&
+            if (!dynamic_cast<LocalRef*>(target.get()) && !dynamic_cast<OuterLocalRef*>(target.get()) &&
+                !dynamic_cast<GlobalRef*>(target.get()) &&
                 !dynamic_cast<GlobalCall*>(target.get()) && !dynamic_cast<IntrinsicCall*>(target.get())) {
                 fish_fail(target->loc, "cannot assign to " + target->describe(),
                           {"the left of '=' is a variable, an array element or a writable intrinsic"});
@@ -1080,6 +1122,7 @@ void compile_statement(Runtime& rt, const Line& line, std::shared_ptr<Function>&
     fn->loc = line.loc;
     std::vector<Line> body{line};
     Compiler c(rt, *fn, body);
+    if (!rt.command_frames.empty()) c.outer = rt.command_frames.back();
     c.compile();
     out = std::move(fn);
 }

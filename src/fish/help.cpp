@@ -18,7 +18,8 @@ const char* kStatements =
     "section ... exit section ... endsection\n"
     "caseof n ... case 1 ... case 2, 3 ... endcase\n"
     "array a(n [, m [, k]])           sized when the function is defined, from numbers or globals\n"
-    "command ... endcommand           run commands; @name in them takes FISH values\n"
+    "command ... endcommand           run commands; @name in them takes FISH values (the function's\n"
+    "                                 arguments and locals first, then globals)\n"
     "exit, return                     leave the function\n"
     "whilestepping                    (a line of the function) run it at every step\n"
     "operators: ^ (power), * /, + -, = # < > <= >= (# and != are 'not equal'), & (and), | (or), not\n"
@@ -94,6 +95,10 @@ std::string manual_page() {
          "`gen`, `delete`, ...) is taken up by the cycle at once: contacts, masses and timestep follow "
          "before the next stage, and energy a function gives the blocks is allowed for by the "
          "run-away check. A pointer taken before such a change is refused when used.\n\n"
+         "`@name` in the commands of a `command ... endcommand` block (and of a file they `call`) "
+         "takes the value `name` has in the function's body: its argument or local of that name "
+         "first, else the global variable or function. A history records a global as the model "
+         "cycles, after the function has returned: `hist @name` with a local is refused.\n\n"
          "## Intrinsics\n";
     const char* group = "";
     for (const Intrinsic* in : all_intrinsics()) {

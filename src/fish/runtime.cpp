@@ -364,11 +364,29 @@ void Runtime::run_statement(const Line& line) {
     }
 }
 
+const Value* Runtime::command_local(const std::string& lower_name) const {
+    if (command_frames.empty()) return nullptr;
+    const Frame& f = *command_frames.back();
+    for (size_t k = 0; k < f.fn->local_names.size(); ++k) {
+        if (f.fn->local_names[k] == lower_name) return &f.locals[k];
+    }
+    return nullptr;
+}
+
+std::string Runtime::command_function() const {
+    return command_frames.empty() ? std::string() : command_frames.back()->fn->name;
+}
+
 Value Runtime::value_for_command(const std::string& name, const SourceLoc& loc) {
     Symbol* s = nullptr;
     auto it = symbols_.find(lower(name));
     if (it != symbols_.end()) s = it->second.get();
     try {
+        // The arguments and locals of the function whose command block runs, as in its body.
+        if (const Value* local = command_local(lower(name))) {
+            if (local->type == Type::Array) fish_fail(loc, "'@" + name + "' is an array: a command takes one value");
+            return *local;
+        }
         if (!s) {
             // Intrinsics without arguments (`@time`) read as well.
             if (const Intrinsic* in = find_intrinsic(lower(name)); in && in->min_args == 0) {

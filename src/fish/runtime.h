@@ -81,9 +81,18 @@ public:
     // Throws CommandError (with the call chain in its notes).
     void run_statement(const Line& line);
 
-    // The value of a global for a command word `@name`: a function is called first.
-    // Throws CommandError when name is no FISH symbol.
+    // The value for a command word `@name`: in the commands of a function's `command ...
+    // endcommand` block (and the files they call), the function's argument or local of that
+    // name; else the global's (a function is called first). Throws CommandError when name is no
+    // FISH symbol.
     Value value_for_command(const std::string& name, const SourceLoc& loc);
+    // The argument or local `lower_name` of the function whose command block runs now (the
+    // innermost), or null when there is none of that name.
+    const Value* command_local(const std::string& lower_name) const;
+    // The name of that function ("" when no command block runs).
+    std::string command_function() const;
+    // The frames of the functions whose command blocks are running, innermost last.
+    std::vector<Frame*> command_frames;
 
     // Whether `name` (lower case) is a defined function / a symbol with a value or a function.
     bool is_function(const std::string& lower_name) const;

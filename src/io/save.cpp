@@ -219,10 +219,34 @@ auto fields(IO& io, M& x) -> If<M, Profile> {
     io(x.steps);
 }
 
+// Format 7: a load on a rigid block.
+template <class IO, class M>
+auto fields(IO& io, M& x) -> If<M, BlockLoad> {
+    io.enumeration(x.kind, static_cast<int>(LoadKind::Face) + 1);
+    io(x.table); io(x.lever); io(x.force); io(x.couple);
+}
+
 template <class IO, class M>
 auto fields(IO& io, M& x) -> If<M, BlockSet> {
     io(x.id); io(x.shape); io(x.centroid); io(x.orientation); io(x.vel); io(x.ang_vel);
-    io(x.accel); io(x.ang_accel); io(x.force); io(x.moment); io(x.applied_force); io(x.force_scale);
+    io(x.accel); io(x.ang_accel); io(x.force); io(x.moment);
+    if (io.format >= 7) {
+        io(x.loads);
+    } else {
+        // Older files hold one applied force per block, at its centroid.
+        std::vector<Vec3> applied;
+        io(applied);
+        if constexpr (!std::is_const_v<M>) {
+            x.loads.assign(applied.size(), {});
+            for (size_t b = 0; b < applied.size(); ++b) {
+                if (applied[b].isZero(0)) continue;
+                BlockLoad l;
+                l.force = applied[b];
+                x.loads[b].push_back(l);
+            }
+        }
+    }
+    io(x.force_scale);
     io(x.disp); io(x.rotation); io(x.volume); io(x.mass); io(x.inertia_body); io(x.inertia_unit);
     io(x.material); io(x.region); io(x.group); io(x.flags); io(x.vel_bc); io(x.vel_bc_value);
     io(x.vel_bc_table); io(x.half_kick);
@@ -254,11 +278,14 @@ auto fields(IO& io, M& x) -> If<M, GridpointSet> {
     io(x.mass); io(x.stiffness); io(x.force_scale); io(x.nmd_volume); io(x.nmd_rate); io(x.block);
     io(x.vel_bc); io(x.vel_bc_value); io(x.vel_bc_table); io(x.half_kick);
     if (io.format >= 6) io(x.inertial_mass);
+    // Format 7: loads that follow a table (older files have none).
+    if (io.format >= 7) io(x.applied_table);
 }
 
 template <class IO, class M>
 auto fields(IO& io, M& x) -> If<M, BoundaryFace> {
     io(x.gp); io(x.force);
+    if (io.format >= 7) io(x.table);
 }
 
 template <class IO, class M>
@@ -715,7 +742,8 @@ std::string check_zones_consistent(const Model& m) {
         g.applied.size() != ng || g.traction.size() != ng || g.mass.size() != ng || g.stiffness.size() != ng ||
         g.force_scale.size() != ng || g.nmd_volume.size() != ng || g.nmd_rate.size() != ng ||
         g.block.size() != ng || g.vel_bc.size() != ng || g.vel_bc_value.size() != ng ||
-        g.vel_bc_table.size() != ng || g.half_kick.size() != ng || g.inertial_mass.size() != ng) {
+        g.vel_bc_table.size() != ng || g.half_kick.size() != ng || g.inertial_mass.size() != ng ||
+        g.applied_table.size() != ng) {
         return "the gridpoint arrays differ in length";
     }
     if (nz > static_cast<size_t>(std::numeric_limits<int>::max()) ||
@@ -811,7 +839,7 @@ std::string check_consistent(const Model& m) {
     auto same = [&](size_t k) { sizes_ok = sizes_ok && k == n; };
     same(s.shape.size()); same(s.centroid.size()); same(s.orientation.size()); same(s.vel.size());
     same(s.ang_vel.size()); same(s.accel.size()); same(s.ang_accel.size()); same(s.force.size());
-    same(s.moment.size()); same(s.applied_force.size()); same(s.force_scale.size()); same(s.disp.size());
+    same(s.moment.size()); same(s.loads.size()); same(s.force_scale.size()); same(s.disp.size());
     same(s.rotation.size()); same(s.volume.size()); same(s.mass.size()); same(s.inertia_body.size());
     same(s.inertia_unit.size()); same(s.material.size()); same(s.region.size()); same(s.group.size());
     same(s.flags.size()); same(s.vel_bc.size()); same(s.vel_bc_value.size()); same(s.vel_bc_table.size());
@@ -1053,7 +1081,16 @@ std::string check_values(const Model& m) {
         c.vec(s.ang_accel[b], w, "the angular acceleration");
         c.vec(s.force[b], w, "the force");
         c.vec(s.moment[b], w, "the moment");
-        c.vec(s.applied_force[b], w, "the applied force");
+        for (const BlockLoad& l : s.loads[b]) {
+            if (!c.vec(l.lever, w, "the point of an applied load") || !c.vec(l.force, w, "an applied force") ||
+                !c.vec(l.couple, w, "an applied couple")) {
+                break;
+            }
+            if (l.table < 0 || l.table > 1000000) {
+                c.fail(w, "the table of an applied load is out of range");
+                break;
+            }
+        }
         c.at_least(s.force_scale[b], 0, w, "the force scale");
         c.vec(s.disp[b], w, "the displacement");
         c.vec(s.rotation[b], w, "the rotation");
@@ -1108,6 +1145,7 @@ std::string check_values(const Model& m) {
         c.vec(g.disp[i], w, "the displacement");
         c.vec(g.force[i], w, "the force");
         c.vec(g.applied[i], w, "the applied force");
+        if (g.applied_table[i] < 0 || g.applied_table[i] > 1000000) c.fail(w, "the applied force's table is out of range");
         c.vec(g.traction[i], w, "the traction");
         c.at_least(g.mass[i], 0, w, "the mass");
         if (c.at_least(g.inertial_mass[i], 0, w, "the inertial mass") && g.mass[i] > 0 && !(g.inertial_mass[i] > 0)) {
@@ -1123,6 +1161,10 @@ std::string check_values(const Model& m) {
     }
     for (const BoundaryFace& f : m.stress_boundary.faces) {
         if (!c.vec(f.force, "the force on a face loaded by 'bound stress'")) break;
+        if (f.table < 0 || f.table > 1000000) {
+            c.fail("the table of a face loaded by 'bound stress' is out of range");
+            break;
+        }
     }
     // Contacts.
     const ContactSet& cs = m.contacts;
@@ -1603,6 +1645,7 @@ bool restore_model(const std::string& path, Model& out, std::string& error) {
             fresh.blocks.body.assign(n, 0);
         }
         if (file_format < 4) fresh.contacts.sub_tri.assign(fresh.contacts.sub_contact.size(), {-1, -1, -1});
+        if (file_format < 7) fresh.gridpoints.applied_table.assign(fresh.gridpoints.pos.size(), 0);
         if (file_format < 6) {
             // Computed with real masses and real time: they go on in dynamic mode.
             fresh.settings.dyn_configured = true;

@@ -522,6 +522,11 @@ void Interpreter::run_fish_set(const LexedCommand& cmd) {
             fail(n.loc, "unexpected '" + n.text + "': expected the name of a FISH variable",
                  {"'set name = value' sets FISH variables; give settings on a line of their own"}, "set");
         }
+        if (fish_->command_local(lname)) {
+            fail(n.loc, "'" + name + "' is an argument or local of '" + fish_->command_function() +
+                            "': 'set' gives values to global variables",
+                 {"assign it in the function, or as a statement here: @" + name + " = ..."}, "set");
+        }
         const fish::Symbol* s = fish_->find(lname);
         if (s && s->fn) fail(n.loc, "'" + name + "' is a FISH function: 'set' gives values to variables", {}, "set");
         if (s && s->array) fail(n.loc, "'" + name + "' is a FISH array: 'set' gives one value", {}, "set");
@@ -557,7 +562,7 @@ void Interpreter::run_fish_set(const LexedCommand& cmd) {
             const fish::Intrinsic* in = fish::find_intrinsic(vname);
             bool earlier = false; // set by an earlier pair of this line
             for (const Pair& q : pairs) earlier = earlier || lower_of(q.text) == vname;
-            if (!earlier && !fish_->find(vname) && !(in && in->min_args == 0)) {
+            if (!earlier && !fish_->command_local(vname) && !fish_->find(vname) && !(in && in->min_args == 0)) {
                 fail(v.loc, "'" + v.text + "' is no FISH variable or function: expected the value of '" + name + "'",
                      {"a string value is written in quotes: '" + v.text + "'"}, "set");
             }
@@ -599,9 +604,13 @@ std::vector<Token> Interpreter::substitute(const std::vector<Token>& tokens) {
     const CommandSpec* verb = table.match(tokens.front().lower, nullptr);
     // A FISH variable or function named without '@' where the command expects a value takes
     // its value too, as UDEC and 3DEC 4 scripts write it ('cycle time timeStep', 'save fName'):
-    // a word the command does not know itself, naming a function or an assigned variable.
+    // a word the command does not know itself, naming a function or an assigned variable (in a
+    // function's command block, first an argument or local of the function).
     auto bare = [&](const Token& t, size_t k) {
         if (k == 0 || t.kind != TokenKind::Word || !verb || verb->name == "history" || verb->name == "list") return false;
+        if (const fish::Value* local = fish_->command_local(t.lower)) {
+            return local->type != fish::Type::Array && !command_word(*verb, t.lower);
+        }
         const fish::Symbol* s = fish_->find(t.lower);
         if (!s || !(s->fn || s->assigned) || s->array) return false;
         return !command_word(*verb, t.lower);
@@ -609,6 +618,7 @@ std::vector<Token> Interpreter::substitute(const std::vector<Token>& tokens) {
     // `hist zz` with zz a FISH function or variable (as UDEC and 3DEC 4 write it): `hist @zz`.
     auto bare_history = [&](const Token& t, size_t k) {
         if (k != 1 || t.kind != TokenKind::Word || !verb || verb->name != "history") return false;
+        if (fish_->command_local(t.lower)) return !command_word(*verb, t.lower);
         const fish::Symbol* s = fish_->find(t.lower);
         const fish::Intrinsic* in = s ? nullptr : fish::find_intrinsic(t.lower);
         return ((s && !s->array) || (in && in->min_args == 0)) && !command_word(*verb, t.lower);

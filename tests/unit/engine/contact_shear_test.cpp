@@ -35,7 +35,7 @@ ShearRun direct_shear(int jcons, double res_friction, double dilation, double zd
     add_fixed(m, make_brick(-0.5, 2.0, -0.5, 1.5, -1, 0));
     const double sn = 1e6;
     const int top = add_block(m, make_brick(0, 1, 0, 1, -sn / 1e10, 0.002 - sn / 1e10), 0, -1, 1);
-    m.blocks.applied_force[top] = Vec3(0, 0, -sn);
+    m.blocks.loads[top].push_back(BlockLoad{LoadKind::Point, 0, Vec3::Zero(), Vec3(0, 0, -sn), Vec3::Zero()});
     m.blocks.vel_bc[top] = 1;
     m.blocks.vel_bc_value[top] = Vec3(0.01, 0, 0);
     ShearRun r;

@@ -264,7 +264,7 @@ TEST(Errors, CommandsThatNeedSomethingToDoSaySo) {
     EXPECT_NE(error_of("reset").find("t.dat:1:1: error: 'reset' needs what to reset: displacement, jdisp, time, "
                                      "history or velocity"),
               std::string::npos);
-    EXPECT_NE(error_of("bound range z 0 1").find("error: 'boundary' needs a velocity (xvel ...), a load (xload ...), 'stress' or 'free'"),
+    EXPECT_NE(error_of("bound range z 0 1").find("error: 'boundary' needs a velocity (xvel ...), a load (xload ...), a moment (xmoment ...), 'stress' or 'free'"),
               std::string::npos);
     EXPECT_NE(error_of("excavate").find("t.dat:1:1: error: 'excavate' needs a range"), std::string::npos);
     EXPECT_NE(error_of("damp").find("t.dat:1:1: error: 'damping' needs one of: local, auto, mass, off"), std::string::npos);

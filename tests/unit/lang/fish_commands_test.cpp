@@ -310,3 +310,80 @@ TEST(FishCommands, AJointMaterialGivenDuringSolveElasticStays) {
     EXPECT_EQ(s.model.joint_materials[1].cohesion, 1e5);
     EXPECT_EQ(s.model.joint_materials[1].tension, 2e4);
 }
+
+// '@name' in a command block takes what 'name' is in the function's body: its argument or
+// local first, then the global.
+TEST(FishCommands, ACommandBlockSeesTheFunctionsArgumentsAndLocals) {
+    Session s;
+    ASSERT_TRUE(s.run("@z = 99\n@h = 7\n"
+                      "def brick_at(x0, z)\n"
+                      "  local top = z + 0.5\n"
+                      "  local x1 = x0 + 1\n"
+                      "  command\n"
+                      "    poly brick @x0 @x1 0 1 @z @top\n"
+                      "    set seen_h = @h\n"
+                      "  endcommand\n"
+                      "end\n"
+                      "@brick_at(2, 3)\n"
+                      "@brick_at(5, -1)"))
+        << s.error();
+    ASSERT_EQ(s.model.blocks.size(), 2);
+    EXPECT_NEAR(s.model.blocks.centroid[0].z(), 3.25, 1e-12);
+    EXPECT_NEAR(s.model.blocks.centroid[1].z(), -0.75, 1e-12);
+    // 'h' is no local of brick_at: the global.
+    EXPECT_EQ(number(s, "seen_h"), 7);
+    // Outside the block the globals are as they were.
+    EXPECT_EQ(number(s, "z"), 99);
+    s.out.str("");
+    ASSERT_TRUE(s.run("list @z")) << s.error();
+    EXPECT_EQ(s.out.str(), "z = 99\n");
+}
+
+TEST(FishCommands, ACommandBlockInsideAnotherSeesItsOwnFunctionsLocals) {
+    // outer's block calls inner (through a command); inner's block sees inner's locals; back in
+    // outer's block, outer's again. A bare name (UDEC style) resolves the same way; 'list' too.
+    Session s;
+    ASSERT_TRUE(s.run("def inner(v)\n"
+                      "  local w = v * 10\n"
+                      "  command\n"
+                      "    set from_inner = @w\n"
+                      "  endcommand\n"
+                      "  inner = w\n"
+                      "end\n"
+                      "def outer\n"
+                      "  local w = 3\n"
+                      "  command\n"
+                      "    set before = @w\n"
+                      "    @inner(4)\n"
+                      "    set after = @w\n"
+                      "    set bare = w\n"
+                      "    list @w\n"
+                      "    @w = w + 10\n"
+                      "    set statement = @w\n"
+                      "  endcommand\n"
+                      "end\n"
+                      "@outer"))
+        << s.error();
+    EXPECT_EQ(number(s, "before"), 3);
+    EXPECT_EQ(number(s, "from_inner"), 40);
+    EXPECT_EQ(number(s, "after"), 3);
+    EXPECT_EQ(number(s, "bare"), 3);
+    // A FISH statement typed in the block reads and assigns the local too.
+    EXPECT_EQ(number(s, "statement"), 13);
+    EXPECT_NE(s.out.str().find("w = 3\n"), std::string::npos) << s.out.str();
+    EXPECT_EQ(s.interp.fish().find("w"), nullptr) << "no global 'w' was made";
+}
+
+TEST(FishCommands, AHistoryOfALocalIsRefused) {
+    Session s;
+    ASSERT_TRUE(s.run("poly brick 0 1 0 1 0 1\n@v = 1")) << s.error();
+    EXPECT_FALSE(s.run("def record(v)\n  command\n    hist @v\n  endcommand\nend\n@record(2)"));
+    EXPECT_NE(s.error().find("error: 'v' is an argument or local of 'record', gone when it returns: a history samples "
+                             "a global as the model cycles"),
+              std::string::npos)
+        << s.error();
+    EXPECT_TRUE(s.model.histories.items.empty());
+    // Outside a command block '@v' is the global.
+    ASSERT_TRUE(s.run("hist @v")) << s.error();
+    EXPECT_EQ(s.model.histories.items.size(), 1u);
+}

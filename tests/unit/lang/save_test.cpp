@@ -378,6 +378,79 @@ TEST_F(Save, OlderFormatsStillRestore) {
     EXPECT_EQ(c.model.step, 20);
 }
 
+TEST_F(Save, Format6AppliedForceRestoresAsALoadAtTheCentroid) {
+    // Format 6 held one applied force per block; format 7 holds loads at points with couples
+    // and tables, and a table for each gridpoint load and loaded face. A format 6 file, made
+    // from a format 7 one with the same model (a block with a load at its centroid), with its
+    // lengths and checksum made right.
+    Session a;
+    ASSERT_TRUE(a.run("poly brick 0 1 0 1 0 1\nprop mat=1 dens=1000\nbound xload 1234.5 yload -2345.25 zload 3456.125")) << a.error();
+    ASSERT_TRUE(a.run("save '" + at("seven") + "'")) << a.error();
+    std::string file = read_bytes(at("seven.sav"));
+    std::uint32_t format = 0;
+    std::memcpy(&format, &file[12], 4);
+    ASSERT_EQ(format, odec::kSaveFormatVersion);
+    const double f[3] = {1234.5, -2345.25, 3456.125};
+    const std::string force(reinterpret_cast<const char*>(f), 24);
+    const size_t at_force = file.find(force);
+    ASSERT_NE(at_force, std::string::npos);
+    ASSERT_EQ(file.find(force, at_force + 1), std::string::npos);
+    // [blocks: 1][loads of block 1: 1][kind][table][lever][force][couple] -> [blocks: 1][force]
+    const size_t start = at_force - 48;
+    std::uint64_t n = 0;
+    std::memcpy(&n, &file[start], 8);
+    ASSERT_EQ(n, 1u);
+    std::memcpy(&n, &file[start + 8], 8);
+    ASSERT_EQ(n, 1u);
+    std::string old_loads(8, '\0');
+    n = 1;
+    std::memcpy(&old_loads[0], &n, 8);
+    old_loads += force;
+    file.replace(start, 96, old_loads);
+    // GRID ends with the gridpoint load tables (none): 8 bytes before SBND.
+    std::uint64_t n_version = 0;
+    std::memcpy(&n_version, &file[16], 8);
+    const size_t payload_length_at = 24 + n_version;
+    const size_t blks = file.find("BLKS", payload_length_at + 8);
+    const size_t grid = file.find("GRID", blks);
+    const size_t sbnd = file.find("SBND", grid);
+    ASSERT_TRUE(blks < start && grid != std::string::npos && sbnd != std::string::npos);
+    std::memcpy(&n, &file[sbnd - 8], 8);
+    ASSERT_EQ(n, 0u);
+    file.erase(sbnd - 8, 8);
+    auto shrink = [&](size_t at_length, std::uint64_t by) {
+        std::uint64_t len = 0;
+        std::memcpy(&len, &file[at_length], 8);
+        len -= by;
+        std::memcpy(&file[at_length], &len, 8);
+    };
+    shrink(blks + 4, 64);
+    shrink(grid + 4, 8);
+    shrink(payload_length_at, 72);
+    format = 6;
+    std::memcpy(&file[12], &format, 4);
+    std::uint64_t h = 0xcbf29ce484222325ull;
+    for (size_t i = 0; i + 8 < file.size(); ++i) {
+        h ^= static_cast<unsigned char>(file[i]);
+        h *= 0x100000001b3ull;
+    }
+    std::memcpy(&file[file.size() - 8], &h, 8);
+    write_bytes(at("six.sav"), file);
+    Session b;
+    ASSERT_TRUE(b.run("restore '" + at("six.sav") + "'")) << b.error();
+    ASSERT_EQ(b.model.blocks.loads.size(), 1u);
+    ASSERT_EQ(b.model.blocks.loads[0].size(), 1u);
+    const odec::BlockLoad& l = b.model.blocks.loads[0][0];
+    EXPECT_EQ(l.kind, odec::LoadKind::Point);
+    EXPECT_EQ(l.table, 0);
+    EXPECT_EQ(l.lever, odec::Vec3::Zero());
+    EXPECT_EQ(l.force, odec::Vec3(1234.5, -2345.25, 3456.125));
+    EXPECT_EQ(l.couple, odec::Vec3::Zero());
+    // The same model as the format 7 file: it saves to the same bytes.
+    ASSERT_TRUE(b.run("save '" + at("again") + "'")) << b.error();
+    EXPECT_EQ(read_bytes(at("again.sav")), read_bytes(at("seven.sav")));
+}
+
 TEST_F(Save, SaveRestoreSaveGivesTheSameFile) {
     Session a;
     column(a, 50);
@@ -616,11 +689,12 @@ TEST(SaveLayout, EveryFieldIsSaved) {
     // by the commands once and chosen again before the next step).
     EXPECT_EQ(count_fields<Model>(), 25u) << fix;
     EXPECT_EQ(count_fields<BlockSet>(), 34u) << fix;
+    EXPECT_EQ(count_fields<BlockLoad>(), 5u) << fix;
     // ZoneSet: 7 saved fields and the colouring (derived: rebuilt when stale).
     EXPECT_EQ(count_fields<ZoneSet>(), 10u) << fix;
-    EXPECT_EQ(count_fields<GridpointSet>(), 18u) << fix;
+    EXPECT_EQ(count_fields<GridpointSet>(), 19u) << fix;
     EXPECT_EQ(count_fields<StressBoundary>(), 1u) << fix;
-    EXPECT_EQ(count_fields<BoundaryFace>(), 2u) << fix;
+    EXPECT_EQ(count_fields<BoundaryFace>(), 3u) << fix;
     // ContactSet: 32 saved fields and 9 derived ones (surface_*: rebuilt from the zones; joint_k*:
     // rebuilt every step; color_*, colored: rebuilt when the pairs in contact change).
     EXPECT_EQ(count_fields<ContactSet>(), 41u) << fix;

@@ -120,10 +120,12 @@ TEST(Zones, BadInputIsRefusedAndChangesNothing) {
     // zones the block gets later.
     ASSERT_TRUE(s.run("insitu stress -1e6 -1e6 -1e6 0 0 0")) << s.error();
     EXPECT_EQ(s.model.insitu.size(), 1u);
-    // 'bound stress' on a rigid block: the traction of its free faces in the range, as a force.
+    // 'bound stress' on a rigid block: the traction of its free faces in the range, a force at
+    // the face's centroid.
     ASSERT_TRUE(s.run("bound stress 0 0 -1e6 0 0 0 range z 0.99 1.01")) << s.error();
-    EXPECT_NEAR(s.model.blocks.applied_force[0].z(), -1e6 * 1.0, 1e-6);
-    EXPECT_NEAR(s.model.blocks.applied_force[0].x(), 0, 1e-6);
+    ASSERT_EQ(s.model.blocks.loads[0].size(), 1u);
+    EXPECT_NEAR(s.model.blocks.loads[0][0].force.z(), -1e6 * 1.0, 1e-6);
+    EXPECT_NEAR(s.model.blocks.loads[0][0].force.x(), 0, 1e-6);
     // A model whose zones lack elastic moduli, or a material, cannot cycle, and says which.
     Session t;
     ASSERT_TRUE(t.run("poly brick 0 1 0 1 0 1\nprop mat=1 dens=2500\ngen edge 0.5")) << t.error();
