@@ -24,6 +24,12 @@ const CommandSpec& set_command() {
         c.keyword("threads", 3, "threads the cycle runs on (results are the same bits with any number; the default is "
                                 "the environment variable ODEC_THREADS, else every core)")
             .integer("n", 1, 1024);
+        c.keyword("energy", 3, "'on': keep the energy account from now on (kinetic and strain energy, the work of "
+                               "gravity, loads and prescribed velocities, what damping, joint slip and zone "
+                               "plasticity dissipate, and the error of the balance: 'print energy', 'hist energy "
+                               "term', the FISH energy_* intrinsics); 'off': stop and drop it. Meant for dynamic "
+                               "analysis ('config dyn'): with scaled masses the energies are not physical")
+            .one_of("state", {"on", "off"});
         c.keyword("large", 2, "large-strain mode (the default): zones follow their gridpoints' positions");
         c.keyword("small", 2, "small-strain mode: zone geometry stays as it was zoned (rigid blocks still move "
                               "by large displacements)");
@@ -108,6 +114,20 @@ const CommandSpec& set_command() {
                 set_thread_count(a.integer("threads"));
                 if (!threads_available()) {
                     warn(ctx, a.find("threads")->loc, "this odec was built without OpenMP: the cycle runs on one thread");
+                }
+            }
+            if (a.has("energy")) {
+                if (a.text("energy") == "off") {
+                    m.energy = EnergyAccount();
+                } else if (m.energy.on) {
+                    if (!ctx.interp.quiet) {
+                        ctx.out << "note: the energy account is already on (since step " << m.energy.start_step
+                                << "): it goes on; 'reset energy' starts it afresh\n";
+                    }
+                } else {
+                    start_energy_account(m);
+                    const std::string caveat = energy_caveat(m);
+                    if (!caveat.empty()) warn(ctx, a.find("energy")->loc, caveat);
                 }
             }
             if (a.has("echo")) ctx.interp.echo = a.text("echo") == "on";

@@ -612,9 +612,11 @@ constexpr size_t count_fields() {
 TEST(SaveLayout, EveryFieldIsSaved) {
     using namespace odec;
     const char* fix = "a field was added: save and restore it in src/io/save.cpp, then update this count";
-    // Model: 24 saved fields and the report of the last choice of masses (mass_scaling, said
+    // Model: 25 saved fields and the report of the last choice of masses (mass_scaling, said
     // by the commands once and chosen again before the next step).
-    EXPECT_EQ(count_fields<Model>(), 25u) << fix;
+    EXPECT_EQ(count_fields<Model>(), 26u) << fix;
+    // EnergyAccount: 18 saved fields and whether the cycle has the model (false between commands).
+    EXPECT_EQ(count_fields<EnergyAccount>(), 19u) << fix;
     EXPECT_EQ(count_fields<BlockSet>(), 34u) << fix;
     // ZoneSet: 7 saved fields and the colouring (derived: rebuilt when stale).
     EXPECT_EQ(count_fields<ZoneSet>(), 10u) << fix;
