@@ -137,8 +137,10 @@ int integrate(Model& m, double dt) {
             if (account) {
                 for (int i = 0; i < 3; ++i) {
                     const bool held = s.vel_bc[b] & (1 << i);
-                    energy_dof(ce[chunk], s.mass[b], s.mass[b] * grav[i], s.applied_force[b][i], s.force[b][i],
-                               a[i] * mass, s.vel[b][i], v[i], held, s.half_kick[b] && !held, dt);
+                    // Undamped, the force is the force (a[i] * mass may differ from it in the last bit).
+                    const double fd = d.mode == DampingMode::Off ? s.force[b][i] : a[i] * mass;
+                    energy_dof(ce[chunk], s.mass[b], s.mass[b] * grav[i], s.applied_force[b][i], s.force[b][i], fd,
+                               s.vel[b][i], v[i], held, s.half_kick[b] && !held, dt);
                 }
             }
             s.vel[b] = v;
