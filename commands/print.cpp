@@ -69,8 +69,10 @@ void print_energy(CommandContext& ctx, const Args& a) {
     }
     const EnergyReading r = energy_reading(m);
     std::ostream& o = ctx.out;
-    o << "energy account since step " << m.energy.start_step << " (J; stored energies now, work and "
-      << "dissipation since then):\n";
+    // The account stands where the stresses stand: at the start of the last step.
+    const double t = m.step > 0 ? std::max(0.0, m.time - m.dt) : m.time;
+    o << "energy account, J: stored energies at the start of the last step (t = " << g6(t)
+      << " s), work and dissipation since step " << m.energy.start_step << "\n";
     for (const EnergyTermInfo& t : energy_terms()) {
         const std::string name = t.name;
         if (name == "error") continue;
