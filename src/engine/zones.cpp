@@ -571,7 +571,8 @@ void zone_forces(Model& m, double dt) {
         }
         const ZoneMaterialConstants& c = cst[bmat[z.block[i]]];
         if (z.model[i] == kZoneMohrCoulomb) {
-            const Sym6 before = s;
+            Sym6 before;
+            if (account) before = s;
             const std::uint8_t now = mohr_coulomb_increment(c, de, s);
             if (account && now) plastic[i / kZoneChunk] += z.volume[i] * plastic_work(c, before, s, de);
             z.state[i] = static_cast<std::uint8_t>((z.state[i] & (kShearPast | kTensionPast)) | now |
