@@ -63,6 +63,15 @@ const CommandSpec& hist_command() {
         c.keyword("fish", 4, "the value of a FISH variable or function (also written 'hist @name'), in its own unit")
             .word("name")
             .in_choice(1);
+        {
+            std::vector<std::string> terms;
+            for (const EnergyTermInfo& t : energy_terms()) terms.push_back(t.name);
+            c.keyword("energy", 3, "a term of the energy account ('set energy on'), J: kinetic, jstrain, zstrain, "
+                                   "gravity, load, velocity, boundary, damping, slip, plastic, initial, given or "
+                                   "error ('help set' and 'print energy' say what each is)")
+                .one_of("term", terms)
+                .in_choice(1);
+        }
         c.keyword("contact", 4, "with a contact quantity: follow the contact with this id instead of a point")
             .integer("id", 1);
         c.keyword("write", 2, "write histories n ... to a CSV file").integer("n", 1).repeat().in_choice(1);
@@ -133,6 +142,13 @@ const CommandSpec& hist_command() {
             }
             else if (what == "step") h.kind = HistoryKind::Step;
             else if (what == "damp") h.kind = HistoryKind::Damp;
+            else if (what == "energy") {
+                h.kind = HistoryKind::Energy;
+                h.source = a.text("energy");
+                if (!m.energy.on && !ctx.interp.quiet) {
+                    ctx.out << "note: the energy account is off: this history reads 0 until 'set energy on'\n";
+                }
+            }
             else if (what == "fish") {
                 h.kind = HistoryKind::Fish;
                 const Value& v = a.find("fish")->values[0];

@@ -55,6 +55,45 @@ void print_blocks(CommandContext& ctx, const Args& a) {
     o << sel.size() << " of " << s.size() << " blocks (x, y, z: centroid; m, m/s, m^3, kg; fix: fixed, null: excavated, h: hidden)\n";
 }
 
+std::string g6(double x) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", x);
+    return buf;
+}
+
+void print_energy(CommandContext& ctx, const Args& a) {
+    const Model& m = ctx.model;
+    if (!m.energy.on) {
+        fail(a.find("energy")->loc, "the energy account is off", {"'set energy on' starts it (before the steps to account for)"},
+             "print");
+    }
+    const EnergyReading r = energy_reading(m);
+    std::ostream& o = ctx.out;
+    // The account stands where the stresses stand: at the start of the last step.
+    const double t = m.step > 0 ? std::max(0.0, m.time - m.dt) : m.time;
+    o << "energy account, J: stored energies at the start of the last step (t = " << g6(t)
+      << " s), work and dissipation since step " << m.energy.start_step << "\n";
+    for (const EnergyTermInfo& t : energy_terms()) {
+        const std::string name = t.name;
+        if (name == "error") continue;
+        double v = 0;
+        energy_term(m, name, v);
+        o << "  " << name << std::string(10 - name.size(), ' ') << col(g6(v), 13) << "  " << t.help << "\n";
+    }
+    const double in = r.initial + r.given + r.work(), out = r.stored() + r.dissipated();
+    o << "balance:\n";
+    o << "  stored + dissipated          " << col(g6(out), 13) << "\n";
+    o << "  initial + given + work       " << col(g6(in), 13) << "\n";
+    o << "  error (their difference)     " << col(g6(r.error()), 13);
+    if (m.energy.peak > 0) {
+        o << "  (" << n3(100.0 * r.error() / m.energy.peak) << " % of " << g6(m.energy.peak)
+          << " J, the most energy the account has handled)";
+    }
+    o << "\n";
+    const std::string caveat = energy_caveat(m);
+    if (!caveat.empty()) o << "note: " << caveat << "\n";
+}
+
 std::string zone_state_text(std::uint8_t model, std::uint8_t st) {
     if (model == kZoneNull) return "null";
     if (model == kZoneElastic) return "elastic";
@@ -419,6 +458,8 @@ const CommandSpec& print_command() {
         c.keyword("zone", 2, "zones of deformable blocks: centroid, principal stresses, state, stress tensor").in_choice(1);
         c.keyword("gridpoint", 2, "gridpoints of deformable blocks: position, displacement, velocity, what holds them").in_choice(1);
         c.keyword("gp", 2, "same as 'gridpoint'").in_choice(1);
+        c.keyword("energy", 2, "the energy account ('set energy on'): each term in J, the balance and its error")
+            .in_choice(1);
         c.range();
         c.require_one_of(1);
         c.example("print block range z 0 10");
@@ -435,6 +476,7 @@ const CommandSpec& print_command() {
             else if (what == "max") print_max(ctx);
             else if (what == "history") print_histories(ctx, a);
             else if (what == "property") print_properties(ctx);
+            else if (what == "energy") print_energy(ctx, a);
             else print_info(ctx);
         });
         return c;

@@ -12,10 +12,14 @@ const CommandSpec& reset_command() {
         c.keyword("time", 2, "model time");
         c.keyword("history", 3, "the samples of every history (the histories themselves stay)");
         c.keyword("velocity", 3, "block and gridpoint velocities, block spins");
+        c.keyword("energy", 3, "the energy account ('set energy on'): it starts afresh from the model as it is");
         c.example("reset disp jdisp time hist");
         c.handle([](CommandContext& ctx, const Args& a) {
             Model& m = ctx.model;
-            if (a.uses.empty()) fail(a.loc, "'reset' needs what to reset: displacement, jdisp, time, history or velocity", {}, "reset");
+            if (a.uses.empty()) fail(a.loc, "'reset' needs what to reset: displacement, jdisp, time, history, velocity or energy", {}, "reset");
+            if (a.has("energy") && !m.energy.on) {
+                fail(a.find("energy")->loc, "the energy account is off", {"'set energy on' starts it"}, "reset");
+            }
             BlockSet& s = m.blocks;
             if (a.has("displacement")) {
                 for (int b = 0; b < s.size(); ++b) {
@@ -43,6 +47,8 @@ const CommandSpec& reset_command() {
             }
             if (a.has("time")) m.time = 0;
             if (a.has("history")) m.histories.clear_values();
+            // Last, so that the account starts from the velocities as reset.
+            if (a.has("energy")) start_energy_account(m);
         });
         return c;
     }();

@@ -24,14 +24,52 @@ const CommandSpec& set_command() {
         c.keyword("threads", 3, "threads the cycle runs on (results are the same bits with any number; the default is "
                                 "the environment variable ODEC_THREADS, else every core)")
             .integer("n", 1, 1024);
+        c.keyword("energy", 3, "'on': keep the energy account from now on (kinetic and strain energy, the work of "
+                               "gravity, loads and prescribed velocities, what damping, joint slip and zone "
+                               "plasticity dissipate, and the error of the balance: 'print energy', 'hist energy "
+                               "term', the FISH energy_* intrinsics); 'off': stop and drop it. Meant for dynamic "
+                               "analysis ('config dyn'): with scaled masses the energies are not physical")
+            .one_of("state", {"on", "off"});
         c.keyword("large", 2, "large-strain mode (the default): zones follow their gridpoints' positions");
         c.keyword("small", 2, "small-strain mode: zone geometry stays as it was zoned (rigid blocks still move "
                               "by large displacements)");
         c.describe("A word that is no setting names a FISH variable: 'set name = value ...' gives FISH "
                    "variables values (numbers, 'strings', vectors (x,y,z) or the values of other FISH names), "
-                   "as classic scripts do before they call their functions. A new name needs the '='.");
+                   "as classic scripts do before they call their functions. A new name needs the '='.\n\n"
+                   "'set energy on' keeps an energy account from then on, in joules. Stored now: 'kinetic' (the "
+                   "free blocks' translation and rotation and the free gridpoints' motion, with the real masses; "
+                   "prescribed velocity components left out), 'jstrain' (the joints' springs: per sub-contact "
+                   "area x (sn^2 / 2 kn + |ss|^2 / 2 ks), a joint in tension or a joined one pulled apart "
+                   "included, an open one nothing) and 'zstrain' (the zones' elastic strain energy, volume x "
+                   "(p^2 / 2 K + s:s / 4 G) for the stress each holds). Work done on the model since, positive "
+                   "when it puts energy in: 'gravity' (the weights times the displacements), 'load' ('bound "
+                   "xload ...' and 'bound stress' times the displacements), 'velocity' (what drives the "
+                   "prescribed velocity components: the reaction, minus the other forces on them, times their "
+                   "displacement), and 'boundary' = load + velocity. Dissipated since, positive when it takes "
+                   "energy out: 'damping', 'slip' (in the joints: the mean shear stress of each step times its "
+                   "plastic slip, less the work of dilation against the normal stress, and what a joint's "
+                   "springs held when it breaks in tension or opens under a shear stress) and 'plastic' (the "
+                   "zones' stress work less the change of their elastic energy, where they yield). 'initial' is "
+                   "the stored energy when the account began, 'given' what commands changed it by between steps "
+                   "('ini', 'insitu', 'delete', 'excavate', FISH). The balance is kinetic + jstrain + zstrain + "
+                   "damping + slip + plastic = initial + given + gravity + boundary, and 'error' is the left side "
+                   "less the right: what the cycle made or lost on its own. An explicit step is exact for free "
+                   "flight and for a joint that stays closed; contacts that close or open within a step, and "
+                   "sub-contacts made already pressed in (their closure taken whole) give or take energy, and "
+                   "show in 'error'.\n\n"
+                   "The account stands where the joints' and zones' stresses stand: at the start of the last "
+                   "step (time t - dt), the work as the trapezoidal rule over each step's displacement, the "
+                   "kinetic energy as m v- . v+ / 2 with the half-step velocities on either side (the form the "
+                   "central differences conserve; it dips below zero, by m a^2 dt^2 / 8, where a block turns "
+                   "back at rest). It is meant for dynamic analysis ('config dyn', real masses, 'damp off' or a "
+                   "physical damping): in static mode, and where 'mscale' raised masses, blocks move with masses "
+                   "not theirs, and the kinetic energy and the balance are not physical ('set energy on' and "
+                   "'print energy' say so). While it is off nothing is computed; on, each step's increments are "
+                   "summed in a fixed order, the same bits with any number of threads. Save files keep it; "
+                   "'reset energy' starts it afresh, 'set energy off' drops it.");
         c.example("set dt 1e-4 echo off");
         c.example("set kn = 1e10 name = 'run1'");
+        c.example("set energy on");
         c.handle([](CommandContext& ctx, const Args& a) {
             Model& m = ctx.model;
             if (a.has("dynamic") && a.text("dynamic") == "on" && !m.settings.dyn_configured) {
@@ -108,6 +146,20 @@ const CommandSpec& set_command() {
                 set_thread_count(a.integer("threads"));
                 if (!threads_available()) {
                     warn(ctx, a.find("threads")->loc, "this odec was built without OpenMP: the cycle runs on one thread");
+                }
+            }
+            if (a.has("energy")) {
+                if (a.text("energy") == "off") {
+                    m.energy = EnergyAccount();
+                } else if (m.energy.on) {
+                    if (!ctx.interp.quiet) {
+                        ctx.out << "note: the energy account is already on (since step " << m.energy.start_step
+                                << "): it goes on; 'reset energy' starts it afresh\n";
+                    }
+                } else {
+                    start_energy_account(m);
+                    const std::string caveat = energy_caveat(m);
+                    if (!caveat.empty()) warn(ctx, a.find("energy")->loc, caveat);
                 }
             }
             if (a.has("echo")) ctx.interp.echo = a.text("echo") == "on";

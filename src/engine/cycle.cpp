@@ -59,6 +59,13 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
     Profile& prof = m.profile;
     EnergyWatch watch;
     watch.begin(m);
+    // The energy account (energy.h): what commands changed since the last cycle is given, and
+    // the cycle leaves the model marked however it stops.
+    take_energy(m);
+    struct LeaveEnergy {
+        Model& m;
+        ~LeaveEnergy() { mark_energy(m); }
+    } leave_energy{m};
     for (;;) {
         if (lim.max_steps > 0 && res.steps >= lim.max_steps) {
             res.reason = StopReason::Steps;
@@ -83,6 +90,7 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
             // What the functions give the blocks ('ini xvel', 'b_xvel(b) = ...') is energy the
             // run-away check must allow for, as it allows for what the loads give.
             const double ke_before = watch.kinetic(m);
+            mark_energy(m);
             const std::string p = lim.each_step(m);
             if (!p.empty()) {
                 res.reason = StopReason::Error;
@@ -90,6 +98,7 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
                 break;
             }
             if (!watch.stale(m)) watch.given(watch.kinetic(m) - ke_before);
+            if (!m.geometry_changed && !watch.stale(m)) take_energy(m);
         }
         // The functions may have changed the blocks (a 'jset', 'poly' or 'gen' in a command
         // block): contacts, masses and timestep follow, and the run-away checks start afresh
@@ -102,6 +111,7 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
                 break;
             }
             watch.begin(m);
+            take_energy(m);
         }
         {
             StageTimer t{prof, Stage::ApplyLoads};
@@ -144,8 +154,10 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
                 bool fish = false;
                 for (const History& h : m.histories.items) fish = fish || h.kind == HistoryKind::Fish;
                 const double ke_before = fish ? watch.kinetic(m) : 0.0;
+                if (fish) mark_energy(m);
                 m.histories.sample(m);
                 if (fish && !watch.stale(m)) watch.given(watch.kinetic(m) - ke_before);
+                if (fish && !m.geometry_changed && !watch.stale(m)) take_energy(m);
             }
         }
         if (bad >= 0) break;

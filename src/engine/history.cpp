@@ -6,6 +6,7 @@
 #include "engine/blocks.h"
 #include "engine/contact.h"
 #include "engine/cycle.h"
+#include "engine/energy.h"
 #include "engine/model.h"
 
 namespace odec {
@@ -20,6 +21,11 @@ double history_value(const Model& m, const History& h) {
         if (!m.histories.external) return 0.0;
         const double v = m.histories.external(h);
         return std::isfinite(v) ? v : 0.0;
+    }
+    case HistoryKind::Energy: {
+        double v = 0;
+        energy_term(m, h.source, v);
+        return v;
     }
     case HistoryKind::Damp:
         if (m.damping.mode == DampingMode::Auto) return m.damping.auto_coefficient;
@@ -160,12 +166,14 @@ static const char* kind_word(HistoryKind k) {
     case HistoryKind::ZAcc: return "zacc";
     case HistoryKind::Damp: return "damp";
     case HistoryKind::Fish: return "fish";
+    case HistoryKind::Energy: return "energy";
     }
     return "?";
 }
 
 std::string history_default_label(const History& h) {
     if (h.kind == HistoryKind::Fish) return "@" + h.source;
+    if (h.kind == HistoryKind::Energy) return "energy " + h.source + " (J)";
     std::string s = kind_word(h.kind);
     char buf[160];
     if (h.zone >= 0) {

@@ -27,6 +27,7 @@ enum class HistoryKind {
     XAcc, YAcc, ZAcc,   // acceleration of a material point of a block (or of a gridpoint), m/s^2
     Damp,       // mass-proportional damping coefficient in use, 1/s (0 with local damping or none)
     Fish,       // the value of a FISH variable or function (`hist @name`), in its own unit
+    Energy,     // a term of the energy account (`hist energy name`, the name in `source`), J
 };
 
 struct History {
@@ -43,7 +44,7 @@ struct History {
     std::vector<int> gridpoints;                     // reactions: the gridpoints summed
     std::vector<int> blocks;                         // reactions: the rigid block ids summed
     std::string label;                               // column title
-    std::string source;                              // Fish: the FISH name sampled
+    std::string source;                              // Fish: the FISH name sampled; Energy: the term
     std::vector<double> values;                      // (n_samples)
 };
 

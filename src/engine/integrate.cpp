@@ -4,6 +4,7 @@
 #include <cmath>
 #include <vector>
 
+#include "engine/energy.h"
 #include "engine/mass_scaling.h"
 #include "engine/parallel.h"
 #include "engine/stages.h"
@@ -71,6 +72,12 @@ int integrate(Model& m, double dt) {
     chunk_bad.assign(n_chunks, -1);
     AutoDampingPower* cp = chunk_power.data();
     int* cb = chunk_bad.data();
+    // The energy account (energy.h): each step's increments by chunk, added in order.
+    const bool account = m.energy.on;
+    thread_local std::vector<EnergyStep> chunk_energy;
+    if (account) chunk_energy.assign(n_chunks, EnergyStep{});
+    EnergyStep* ce = chunk_energy.data();
+    const Vec3 grav = m.gravity;
     const int threads = thread_count();
 #pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && nb >= kParallelMinBlocks)
     for (int chunk = 0; chunk < n_chunks; ++chunk) {
@@ -90,6 +97,14 @@ int integrate(Model& m, double dt) {
                     const Vec3 dx = v * dt;
                     s.centroid[b] += dx;
                     s.disp[b] += dx;
+                    if (account) {
+                        // Driven: what drives it does the work its other forces do not.
+                        for (int i = 0; i < 3; ++i) {
+                            if (!(s.vel_bc[b] & (1 << i))) continue;
+                            energy_dof(ce[chunk], s.mass[b], s.mass[b] * grav[i], s.applied_force[b][i],
+                                       s.force[b][i], s.force[b][i], s.vel[b][i], v[i], true, false, dt);
+                        }
+                    }
                 }
                 s.vel[b] = v;
                 s.ang_vel[b].setZero();
@@ -119,6 +134,15 @@ int integrate(Model& m, double dt) {
                     }
                 }
             }
+            if (account) {
+                for (int i = 0; i < 3; ++i) {
+                    const bool held = s.vel_bc[b] & (1 << i);
+                    // Undamped, the force is the force (a[i] * mass may differ from it in the last bit).
+                    const double fd = d.mode == DampingMode::Off ? s.force[b][i] : a[i] * mass;
+                    energy_dof(ce[chunk], s.mass[b], s.mass[b] * grav[i], s.applied_force[b][i], s.force[b][i], fd,
+                               s.vel[b][i], v[i], held, s.half_kick[b] && !held, dt);
+                }
+            }
             s.vel[b] = v;
             s.accel[b] = a;
             const Vec3 dx = v * dt;
@@ -142,6 +166,11 @@ int integrate(Model& m, double dt) {
             if (auto_damp) power.damping += s.ang_vel[b].dot(inertia.diagonal().cwiseProduct(s.ang_vel[b]));
             const Vec3 alpha = iso > 0 ? Vec3(mom / iso) : Vec3(inertia.ldlt().solve(mom));
             const Vec3 w = s.ang_vel[b] + alpha * kick;
+            if (account) {
+                const Mat3 r = s.orientation[b].toRotationMatrix();
+                energy_rotation(ce[chunk], r * s.inertia_body[b] * r.transpose(), s.moment[b], mom, s.ang_vel[b], w,
+                                s.half_kick[b] != 0, dt);
+            }
             s.ang_vel[b] = w;
             s.ang_accel[b] = alpha;
             const Vec3 dtheta = w * dt;
@@ -163,13 +192,20 @@ int integrate(Model& m, double dt) {
         total.forcing += cp[chunk].forcing;
         if (bad < 0) bad = cb[chunk];
     }
-    const int bad_gp = integrate_gridpoints(m, d, dt, auto_damp ? &total.damping : nullptr, &total.forcing);
+    EnergyStep energy;
+    if (account) {
+        for (int chunk = 0; chunk < n_chunks; ++chunk) energy.add(ce[chunk]);
+    }
+    const int bad_gp = integrate_gridpoints(m, d, dt, auto_damp ? &total.damping : nullptr, &total.forcing,
+                                            account ? &energy : nullptr);
     if (bad < 0 && bad_gp >= 0) bad = m.gridpoints.block[bad_gp];
+    if (account) add_energy_step(m, energy);
     if (auto_damp) adjust_auto_damping(m.damping, total, m.step, dt);
     return bad;
 }
 
-int integrate_gridpoints(Model& m, const Damping& d, double dt, double* damping_power, double* forcing_power) {
+int integrate_gridpoints(Model& m, const Damping& d, double dt, double* damping_power, double* forcing_power,
+                         EnergyStep* energy) {
     GridpointSet& g = m.gridpoints;
     const int ng = g.size();
     // Fixed chunks, whatever the number of threads: their sums are added in order (parallel.h).
@@ -183,6 +219,10 @@ int integrate_gridpoints(Model& m, const Damping& d, double dt, double* damping_
     double* cd = chunk_damping.data();
     double* cf = chunk_forcing.data();
     int* cb = chunk_bad.data();
+    thread_local std::vector<EnergyStep> chunk_energy;
+    if (energy) chunk_energy.assign(n_chunks, EnergyStep{});
+    EnergyStep* ce = chunk_energy.data();
+    const Vec3 grav = m.gravity;
     const bool power = damping_power != nullptr;
     const int threads = thread_count();
 #pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && ng >= kParallelMinItems)
@@ -203,6 +243,10 @@ int integrate_gridpoints(Model& m, const Damping& d, double dt, double* damping_
             for (int k = 0; k < 3; ++k) {
                 if (g.vel_bc[i] & (1 << k)) {
                     v[k] = g.vel_bc_value[i][k] * scale;
+                    if (energy) {
+                        energy_dof(ce[chunk], g.mass[i], g.mass[i] * grav[k], g.applied[i][k] + g.traction[i][k],
+                                   g.force[i][k], g.force[i][k], g.vel[i][k], v[k], true, false, dt);
+                    }
                     continue;
                 }
                 const double f = g.force[i][k], vk = g.vel[i][k];
@@ -216,6 +260,10 @@ int integrate_gridpoints(Model& m, const Damping& d, double dt, double* damping_
                 case DampingMode::Off: break;
                 }
                 v[k] = vk + fd / mass * kick;
+                if (energy) {
+                    energy_dof(ce[chunk], g.mass[i], g.mass[i] * grav[k], g.applied[i][k] + g.traction[i][k], f, fd,
+                               vk, v[k], false, g.half_kick[i] != 0, dt);
+                }
             }
             if (power) {
                 pd += mass * g.vel[i].squaredNorm();
@@ -234,6 +282,7 @@ int integrate_gridpoints(Model& m, const Damping& d, double dt, double* damping_
     }
     int bad = -1;
     for (int chunk = 0; chunk < n_chunks; ++chunk) {
+        if (energy) energy->add(ce[chunk]);
         if (power) {
             *damping_power += cd[chunk];
             *forcing_power += cf[chunk];

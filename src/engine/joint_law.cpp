@@ -64,9 +64,15 @@ LawParams law_params(const Model& m, int jmat, int jcons) {
 }
 
 // One step of the joint law at sub-contact k, for the displacement increment du of block b
-// relative to block a there. Returns the force on b (a takes its opposite).
-inline Vec3 joint_step(ContactSet& cs, int k, const LawParams& p, bool joined, const Vec3& nrm, const Vec3& du) {
+// relative to block a there. Returns the force on b (a takes its opposite). With the energy
+// account on (dissipated not null), adds what the step dissipates there (energy.h): while it
+// slips, the mean shear stress of the step times the plastic slip, less the work of dilation
+// against the normal stress; when it opens, what the shear spring held beyond the shear work of
+// the step, and what the normal spring held in tension if that breaks it.
+inline Vec3 joint_step(ContactSet& cs, int k, const LawParams& p, bool joined, const Vec3& nrm, const Vec3& du,
+                       double* dissipated = nullptr) {
     std::uint8_t flags = cs.sub_flags[k];
+    const double sn_old = cs.sub_sn[k], un_old = cs.sub_un[k] + cs.sub_udil[k];
     Vec3 dus = Vec3::Zero();
     if (flags & kSubNew) {
         // Its closure was measured from the geometry at t: the step is already in it.
@@ -89,6 +95,15 @@ inline Vec3 joint_step(ContactSet& cs, int k, const LawParams& p, bool joined, c
         double tan_phi = failed ? p.tan_res : p.tan_phi;
         sn = p.kn * (cs.sub_un[k] + cs.sub_udil[k]);
         if (sn < -ten || (sn <= 0 && ten <= 0)) {
+            if (dissipated && p.ks > 0) {
+                *dissipated += cs.sub_area[k] * 0.5 * cs.sub_ss[k].dot(ss) / p.ks;
+            }
+            if (dissipated && sn < -ten && ten > 0 && p.kn > 0) {
+                // Broken in tension: the normal work of the step less the change of what the
+                // spring held (all of it).
+                const double un_new = cs.sub_un[k] + cs.sub_udil[k];
+                *dissipated += cs.sub_area[k] * (0.5 * sn_old * (un_new - un_old) + 0.5 * sn_old * sn_old / p.kn);
+            }
             // Open: past its tensile strength, which (if any) is lost with cohesion.
             if (sn < -ten && (coh > 0 || ten > 0)) flags |= kSubFailed;
             sn = 0;
@@ -104,10 +119,16 @@ inline Vec3 joint_step(ContactSet& cs, int k, const LawParams& p, bool joined, c
                     tan_phi = p.tan_res;
                     tmax = std::max(0.0, sn * tan_phi);
                 }
+                const Vec3 trial = ss;
                 ss *= tmax / t;
                 flags |= kSubSlip;
+                if (dissipated && p.ks > 0) {
+                    *dissipated += cs.sub_area[k] * 0.5 * (cs.sub_ss[k] + ss).dot(trial - ss) / p.ks;
+                }
                 if (p.tan_dil != 0 && (p.zdil <= 0 || cs.sub_us[k].norm() < p.zdil)) {
-                    cs.sub_udil[k] += dus.norm() * p.tan_dil;
+                    const double dil = dus.norm() * p.tan_dil;
+                    cs.sub_udil[k] += dil;
+                    if (dissipated) *dissipated -= cs.sub_area[k] * sn * dil;
                 }
             }
         }
@@ -200,6 +221,11 @@ void update_contacts(Model& m, double dt) {
     // takes its contacts' forces in colour order, whatever the threads (each sub-contact belongs
     // to one contact, so the joint law's state is never shared either).
     if (!cs.colored) color_contacts(cs, n);
+    // The energy account: what each contact dissipates, summed in contact order afterwards.
+    thread_local std::vector<double> contact_dissipation;
+    const bool account = m.energy.on;
+    if (account) contact_dissipation.assign(cs.size(), 0.0);
+    double* dissipation = account ? contact_dissipation.data() : nullptr;
     auto rigid_contact = [&](int c) {
         const int a = cs.block_a[c], b = cs.block_b[c];
         if ((s.flags[a] | s.flags[b]) & (kExcavated | kDeformable)) return;
@@ -215,7 +241,8 @@ void update_contacts(Model& m, double dt) {
             const int owner = cs.sub_side[q] == 1 ? b : a;
             const Vec3 x = s.centroid[owner] + rot_of[owner] * cs.sub_local[q];
             const Vec3 ra = x - ca, rb = x - cb;
-            const Vec3 f = joint_step(cs, q, p, joined, nrm, (vb + wb.cross(rb) - va - wa.cross(ra)) * dt);
+            const Vec3 f = joint_step(cs, q, p, joined, nrm, (vb + wb.cross(rb) - va - wa.cross(ra)) * dt,
+                                      dissipation ? dissipation + c : nullptr);
             fb += f;
             mb += rb.cross(f);
             ma -= ra.cross(f);
@@ -277,7 +304,8 @@ void update_contacts(Model& m, double dt) {
                     vo = vel[o] + spin[o].cross(lever);
                 }
                 const Vec3 vg = gp_vel(gp);
-                const Vec3 f = joint_step(cs, k, p, joined, nrm, (of_a ? vo - vg : vg - vo) * dt);
+                const Vec3 f = joint_step(cs, k, p, joined, nrm, (of_a ? vo - vg : vg - vo) * dt,
+                                          dissipation ? dissipation + c : nullptr);
                 const Vec3 fg = of_a ? Vec3(-f) : f; // on the gridpoint; its partner takes -fg
                 const double fn = f.norm();
                 g.force[gp] += fg;
@@ -299,6 +327,11 @@ void update_contacts(Model& m, double dt) {
                 }
             }
         }
+    }
+    if (account) {
+        double sum = 0;
+        for (int c = 0; c < cs.size(); ++c) sum += dissipation[c];
+        m.energy.slip += sum;
     }
 }
 

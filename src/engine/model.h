@@ -21,6 +21,7 @@
 #include <Eigen/Geometry>
 
 #include "engine/contact.h"
+#include "engine/energy.h"
 #include "engine/history.h"
 #include "engine/insitu.h"
 #include "engine/polyhedron.h"
@@ -207,6 +208,7 @@ struct Model {
     Settings settings;
     Profile profile;
     MassScalingReport mass_scaling;
+    EnergyAccount energy;                       // 'set energy on' (energy.h)
 
     long step = 0;                // steps taken since `new`
     double time = 0;              // s

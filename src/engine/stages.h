@@ -47,8 +47,10 @@ double block_applied_force_bound(const Model& m, int b);
 int integrate(Model& m, double dt);
 
 // Gridpoints only (part of integrate): returns the index of a gridpoint whose motion became
-// non-finite, or -1; adds m v.v and |f.v| to the two power sums when given (adaptive damping).
-int integrate_gridpoints(Model& m, const Damping& d, double dt, double* damping_power, double* forcing_power);
+// non-finite, or -1; adds m v.v and |f.v| to the two power sums when given (adaptive damping),
+// and the step's energy increments when given (energy.h).
+int integrate_gridpoints(Model& m, const Damping& d, double dt, double* damping_power, double* forcing_power,
+                         EnergyStep* energy = nullptr);
 
 // prepare (prepare.cpp): what preparing a cycle changes, kept so that a cycle refused before its
 // first step leaves the model exactly as it was; and the preparation itself ("" or why not).

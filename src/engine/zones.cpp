@@ -466,6 +466,22 @@ void color_zones(ZoneSet& z, int n_gp) {
     z.colored_zones = nz;
 }
 
+// Elastic strain energy per unit volume of a stress: p^2 / 2K + s:s / 4G.
+double strain_energy_density(const ZoneMaterialConstants& c, const Sym6& s) {
+    const double p = (s[0] + s[1] + s[2]) / 3.0;
+    const double d0 = s[0] - p, d1 = s[1] - p, d2 = s[2] - p;
+    const double dev = d0 * d0 + d1 * d1 + d2 * d2 + 2.0 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5]);
+    return (c.bulk > 0 ? p * p / (2.0 * c.bulk) : 0.0) + (c.shear > 0 ? dev / (4.0 * c.shear) : 0.0);
+}
+
+// Plastic work per unit volume of a step that took the stress from s0 to s1 under the strain
+// increment de (tensor components): the mean stress's work less the change of elastic energy.
+double plastic_work(const ZoneMaterialConstants& c, const Sym6& s0, const Sym6& s1, const Sym6& de) {
+    double w = 0;
+    for (int k = 0; k < 6; ++k) w += (k < 3 ? 0.5 : 1.0) * (s0[k] + s1[k]) * de[k];
+    return w - (strain_energy_density(c, s1) - strain_energy_density(c, s0));
+}
+
 } // namespace
 
 void zone_forces(Model& m, double dt) {
@@ -521,6 +537,11 @@ void zone_forces(Model& m, double dt) {
     const Vec3* vel = g.vel.data();
     const int* order = z.color_order.data();
     const int n_colors = static_cast<int>(z.color_offset.size()) - 1;
+    // The energy account (energy.h): what yielding zones dissipate, by chunk, added in order.
+    thread_local std::vector<double> chunk_plastic;
+    const bool account = m.energy.on;
+    if (account) chunk_plastic.assign((nz + kZoneChunk - 1) / kZoneChunk, 0.0);
+    double* plastic = chunk_plastic.data();
     // The last colour holds the zones that found no colour (usually none): one thread takes them.
     // Pass 1: volumetric strain rates, averaged at the gridpoints (volume-weighted).
     auto pass1 = [&](int i) {
@@ -571,7 +592,10 @@ void zone_forces(Model& m, double dt) {
         }
         const ZoneMaterialConstants& c = cst[bmat[z.block[i]]];
         if (z.model[i] == kZoneMohrCoulomb) {
+            Sym6 before;
+            if (account) before = s;
             const std::uint8_t now = mohr_coulomb_increment(c, de, s);
+            if (account && now) plastic[i / kZoneChunk] += z.volume[i] * plastic_work(c, before, s, de);
             z.state[i] = static_cast<std::uint8_t>((z.state[i] & (kShearPast | kTensionPast)) | now |
                                                    ((now & kShearNow) ? kShearPast : 0) |
                                                    ((now & kTensionNow) ? kTensionPast : 0));
@@ -621,6 +645,11 @@ void zone_forces(Model& m, double dt) {
             if (g.nmd_volume[i] > 0) g.nmd_rate[i] /= g.nmd_volume[i];
         }
         by_colour(pass2);
+    }
+    if (account) {
+        double sum = 0;
+        for (double p : chunk_plastic) sum += p;
+        m.energy.plastic += sum;
     }
 }
 

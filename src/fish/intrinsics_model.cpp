@@ -324,6 +324,14 @@ Value f_ngp(Runtime& rt, A, int, L) { return Value::integer(model(rt).gridpoints
 Value f_gravity(Runtime& rt, A, int, L) { return vec(model(rt).gravity); }
 Value f_solve_verdict(Runtime& rt, A, int, L) { return Value::string(rt.host.solve_verdict()); }
 
+// A term of the energy account (energy.h), J; 0 while it is off.
+template <int K>
+Value f_energy(Runtime& rt, A, int, L) {
+    double v = 0;
+    energy_term(model(rt), energy_terms()[K].name, v);
+    return num(v);
+}
+
 Value f_memory(Runtime&, A, int, L loc) {
     fish_fail(loc, "odec has no memory offsets: imem() and fmem() have nothing to read",
               {"read the quantity through its intrinsic (c_nforce(c), b_x(b), gp_xdis(g), ...: 'help fish')"});
@@ -455,6 +463,19 @@ const std::vector<Intrinsic>& model_intrinsics() {
         {"solve_verdict", 0, 0, "", "how the last solve ended: 'equilibrium', 'mechanism', 'not converged' or "
                                     "'interrupted' ('' before any solve since 'new' or 'restore')", "model",
          f_solve_verdict, nullptr},
+        {"energy_kinetic", 0, 0, "", "kinetic energy of the free blocks and gridpoints (translation and rotation, real masses), J ('set energy on'; 0 while the account is off)", "model", f_energy<0>, nullptr},
+        {"energy_jstrain", 0, 0, "", "strain energy stored in the joints, J", "model", f_energy<1>, nullptr},
+        {"energy_zstrain", 0, 0, "", "elastic strain energy stored in the zones, J", "model", f_energy<2>, nullptr},
+        {"energy_gravity", 0, 0, "", "work done by gravity since the energy account began, J", "model", f_energy<3>, nullptr},
+        {"energy_load", 0, 0, "", "work done by the applied loads since the energy account began, J", "model", f_energy<4>, nullptr},
+        {"energy_velocity", 0, 0, "", "work done by the prescribed velocities since the energy account began, J", "model", f_energy<5>, nullptr},
+        {"energy_boundary", 0, 0, "", "work done at the boundary (load + velocity) since the energy account began, J", "model", f_energy<6>, nullptr},
+        {"energy_damping", 0, 0, "", "energy dissipated by damping since the energy account began, J", "model", f_energy<7>, nullptr},
+        {"energy_slip", 0, 0, "", "energy dissipated in the joints since the energy account began, J", "model", f_energy<8>, nullptr},
+        {"energy_plastic", 0, 0, "", "energy dissipated by zone plasticity since the energy account began, J", "model", f_energy<9>, nullptr},
+        {"energy_initial", 0, 0, "", "stored energy when the energy account began, J", "model", f_energy<10>, nullptr},
+        {"energy_given", 0, 0, "", "stored energy changed by commands between steps since the energy account began, J", "model", f_energy<11>, nullptr},
+        {"energy_error", 0, 0, "", "error of the energy balance: stored + dissipated - (initial + given + work), J", "model", f_energy<12>, nullptr},
         {"imem", 1, 1, "i", "(classic) integer memory at an offset: odec has none, the call stops with the "
                             "intrinsic to use instead", "model", f_memory, nullptr},
         {"fmem", 1, 1, "i", "(classic) real memory at an offset: odec has none, the call stops with the "

@@ -160,7 +160,8 @@ auto fields(IO& io, M& x) -> If<M, Table> {
 template <class IO, class M>
 auto fields(IO& io, M& x) -> If<M, History> {
     // The last kind each format knows: format 3 added zone stresses and reactions.
-    const HistoryKind last = io.format >= 5   ? HistoryKind::Fish
+    const HistoryKind last = io.format >= 8   ? HistoryKind::Energy
+                             : io.format >= 5 ? HistoryKind::Fish
                              : io.format >= 3 ? HistoryKind::ZReaction
                                               : HistoryKind::SDis;
     io.enumeration(x.kind, static_cast<int>(last) + 1);
@@ -200,6 +201,15 @@ template <class IO, class M>
 auto fields(IO& io, M& x) -> If<M, Damping> {
     io.enumeration(x.mode, static_cast<int>(DampingMode::Off) + 1);
     io(x.local); io(x.rayleigh_fraction); io(x.rayleigh_frequency); io(x.auto_coefficient);
+}
+
+// Format 8: the energy account (older files restore with it off).
+template <class IO, class M>
+auto fields(IO& io, M& x) -> If<M, EnergyAccount> {
+    io(x.on); io(x.start_step); io(x.initial); io(x.given);
+    io(x.gravity); io(x.load); io(x.velocity); io(x.damping);
+    io(x.pending_gravity); io(x.pending_load); io(x.pending_velocity); io(x.pending_damping);
+    io(x.slip); io(x.plastic); io(x.kinetic); io(x.peak); io(x.mark_kinetic); io(x.mark_strain);
 }
 
 template <class IO, class M>
@@ -334,6 +344,7 @@ void model_sections(IO& io, M& m) {
     if (io.format >= 6) io.section("INSI", [&] { io(m.insitu); });
     io.section("HIST", [&] { io(m.histories); });
     io.section("TABL", [&] { io(m.tables); });
+    if (io.format >= 8) io.section("ENRG", [&] { io(m.energy); });
 }
 
 // ---- writing ----
@@ -916,6 +927,9 @@ std::string check_consistent(const Model& m) {
     const HistorySet& h = m.histories;
     for (const History& item : h.items) {
         if (item.values.size() > h.sample_steps.size()) return "a history has more values than samples";
+        if (item.kind == HistoryKind::Energy && !is_energy_term(item.source)) {
+            return "an energy history records '" + item.source + "', which is no term of the energy account";
+        }
         // -1: none; -2: removed with its block (the history samples 0).
         if (item.gridpoint < -2 || item.gridpoint >= m.gridpoints.size()) {
             return "a history refers to gridpoint " + std::to_string(item.gridpoint) + ", which does not exist";
@@ -1026,6 +1040,15 @@ std::string check_values(const Model& m) {
     c.between(d.rayleigh_fraction, 0, 1, "the Rayleigh damping fraction");
     c.at_least(d.rayleigh_frequency, 0, "the Rayleigh damping frequency");
     c.at_least(d.auto_coefficient, 0, "the adaptive damping coefficient");
+    // The energy account: finite sums, begun at a step taken.
+    const EnergyAccount& e = m.energy;
+    for (double x : {e.initial, e.given, e.gravity, e.load, e.velocity, e.damping, e.pending_gravity,
+                     e.pending_load, e.pending_velocity, e.pending_damping, e.slip, e.plastic, e.kinetic,
+                     e.mark_kinetic, e.mark_strain}) {
+        c.finite(x, "a term of the energy account");
+    }
+    c.at_least(e.peak, 0, "the energy account's peak");
+    if (e.start_step < 0 || e.start_step > m.step) c.fail("the energy account began at a step not yet taken");
     for (double t : m.profile.seconds) c.at_least(t, 0, "a profile time");
     if (m.profile.steps < 0 || m.profile.steps > kMaxStep) c.fail("the profiled step count is outside 0 to 1e18");
     // Materials, as 'prop' limits them (a material given only other properties has density 0).

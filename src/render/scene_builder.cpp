@@ -789,6 +789,7 @@ std::string history_axis_title(HistoryKind k) {
     case HistoryKind::ZAcc: return "z acceleration (m/s2)";
     case HistoryKind::Damp: return "damping coefficient (1/s)";
     case HistoryKind::Fish: return "FISH value";
+    case HistoryKind::Energy: return "energy (J)";
     }
     return "value";
 }

@@ -30,7 +30,7 @@ TEST(Errors, UnknownKeywordListsWhatIsExpected) {
               "    set dtfarc 0.1\n"
               "        ^~~~~~\n"
               "  did you mean 'dtfrac'?\n"
-              "  expected one of: dt, dtfrac, ctol, echo, log, logfile, gravity, ncyc, jmat, jcons, plot, dynamic, threads, large, small\n"
+              "  expected one of: dt, dtfrac, ctol, echo, log, logfile, gravity, ncyc, jmat, jcons, plot, dynamic, threads, energy, large, small\n"
               "  see 'help set'\n");
 }
 
@@ -262,7 +262,7 @@ TEST(Errors, CommandsThatNeedSomethingToDoSaySo) {
     EXPECT_NE(error_of("ini range z 0 1").find("t.dat:1:1: error: 'initial' needs one of: xvel, yvel, zvel"),
               std::string::npos);
     EXPECT_NE(error_of("reset").find("t.dat:1:1: error: 'reset' needs what to reset: displacement, jdisp, time, "
-                                     "history or velocity"),
+                                     "history, velocity or energy"),
               std::string::npos);
     EXPECT_NE(error_of("bound range z 0 1").find("error: 'boundary' needs a velocity (xvel ...), a load (xload ...), a moment (xmoment ...), 'stress' or 'free'"),
               std::string::npos);

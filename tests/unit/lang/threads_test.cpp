@@ -61,12 +61,13 @@ void same_bits(const std::string& script, int steps, const std::vector<int>& thr
 
 // A Mohr-Coulomb cube of about 50,000 zones and 9,000 gridpoints (above the sizes the loops
 // need to be split), pressed at a steady velocity under gravity with adaptive damping (whose power
-// sums are reduced across the threads), 60 steps.
+// sums are reduced across the threads), 60 steps, with the energy account (summed by chunk).
 TEST(Threads, SameBitsWithOneTwoAndFourThreads) {
     same_bits("poly brick 0 1 0 1 0 1\nprop mat=1 dens=2500 k=6.7e9 g=4e9 coh=2e5 fric=30 ten=1e5\n"
               "change cons=2\ngen edge 0.045\ngrav 0 0 -10\ndamp auto\n"
               "bound zvel 0 range z -0.001 0.001\nbound zvel -0.02 range z 0.999 1.001\n"
-              "hist zreaction range z 0.999 1.001\nhist xdis 1,0.5,0.5\nhist ncyc 5",
+              "hist zreaction range z 0.999 1.001\nhist xdis 1,0.5,0.5\nhist ncyc 5\n"
+              "set energy on\nhist energy plastic\nhist energy damping\nhist energy error",
               60, {1, 2, 4}, [](const odec::Model& m) {
                   EXPECT_GT(m.zones.size(), odec::kParallelMinZones);
                   EXPECT_GT(m.gridpoints.size(), odec::kParallelMinItems);
@@ -75,12 +76,13 @@ TEST(Threads, SameBitsWithOneTwoAndFourThreads) {
 
 // Rigid blocks: a 22 m cube cut into 10,648 blocks by three joint sets (about 30,000 contacts,
 // above the size the contact loop needs to be split), settling under gravity in static mode
-// (whose block masses the contact update sums too), 30 steps.
+// (whose block masses the contact update sums too), 30 steps, with the energy account.
 TEST(Threads, RigidBlocksSameBitsWithOneAndTwoThreads) {
     same_bits("poly brick 0 22 0 22 0 22\njset dip 0 dd 0 spacing 1 number 21 origin 0,0,11\n"
               "jset dip 90 dd 90 spacing 1 number 21 origin 11,0,0\njset dip 90 dd 0 spacing 1 number 21 origin 0,11,0\n"
               "prop mat=1 dens=2600\nprop jmat=1 jkn=1e10 jks=5e9 jfric=30\nfix range z 0 1\ngrav 0 0 -10\n"
-              "hist ncyc 5\nhist zdis 11.5,11.5,21.5\nhist unbal\nstep 1",
+              "hist ncyc 5\nhist zdis 11.5,11.5,21.5\nhist unbal\nset energy on\nhist energy slip\n"
+              "hist energy error\nstep 1",
               30, {1, 2}, [](const odec::Model& m) {
                   EXPECT_EQ(m.blocks.size(), 22 * 22 * 22);
                   EXPECT_GT(m.contacts.size(), odec::kParallelMinItems);
