@@ -149,11 +149,13 @@ void take_energy(Model& m) {
     a.cycling = true;
 }
 
-void energy_rotation(EnergyStep& e, const Mat3& inertia, const Vec3& m, const Vec3& md, const Vec3& w0,
-                     const Vec3& w1, bool half, double dt) {
+void energy_rotation(EnergyStep& e, const Mat3& inertia, const Vec3& m, const Vec3& md, const Vec3& load_moment,
+                     const Vec3& w0, const Vec3& w1, bool half, double dt) {
     const Vec3 before = half ? Vec3(Vec3::Zero()) : w0;
     const Vec3 minus = half ? Vec3(2 * w0 - w1) : w0;
     const Vec3 w = 0.5 * dt * (before + w1), p = 0.5 * dt * w1;
+    e.load += load_moment.dot(w);
+    e.pending_load += load_moment.dot(p);
     e.damping += (m - md).dot(w);
     e.pending_damping += (m - md).dot(p);
     e.kinetic += 0.5 * minus.dot(inertia * w1);

@@ -152,10 +152,11 @@ inline void energy_dof(EnergyStep& e, double mass, double weight, double load, d
 }
 
 // The rotation of a rigid block over a step: its real inertia (world axes), the moment m and the
-// moment the damping leaves md, the spin before (w0) and after (w1).
+// moment the damping leaves md, the moment of its applied loads (about the centroid), the spin
+// before (w0) and after (w1).
 void energy_rotation(EnergyStep& e, const Eigen::Matrix3d& inertia, const Eigen::Vector3d& m,
-                     const Eigen::Vector3d& md, const Eigen::Vector3d& w0, const Eigen::Vector3d& w1, bool half,
-                     double dt);
+                     const Eigen::Vector3d& md, const Eigen::Vector3d& load_moment, const Eigen::Vector3d& w0,
+                     const Eigen::Vector3d& w1, bool half, double dt);
 
 // After the integration stage: the step's sums into the account.
 void add_energy_step(Model& m, const EnergyStep& e);

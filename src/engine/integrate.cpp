@@ -85,6 +85,9 @@ int integrate(Model& m, double dt) {
         int& bad = cb[chunk];
         for (int b = chunk * kChunk; b < std::min(nb, (chunk + 1) * kChunk); ++b) {
             if (!is_rigid_active(s, b)) continue;
+            // The applied loads of this step, for the work they do (the loads stage's values).
+            Vec3 load_f = Vec3::Zero(), load_m = Vec3::Zero();
+            if (account && !s.loads[b].empty()) block_applied_load(m, b, m.time, load_f, load_m);
             if (s.flags[b] & kFixed) {
                 // Held still, except for the velocity components a boundary condition drives
                 // (the fixed base of a shake table moves as its table says, without turning).
@@ -101,8 +104,8 @@ int integrate(Model& m, double dt) {
                         // Driven: what drives it does the work its other forces do not.
                         for (int i = 0; i < 3; ++i) {
                             if (!(s.vel_bc[b] & (1 << i))) continue;
-                            energy_dof(ce[chunk], s.mass[b], s.mass[b] * grav[i], s.applied_force[b][i],
-                                       s.force[b][i], s.force[b][i], s.vel[b][i], v[i], true, false, dt);
+                            energy_dof(ce[chunk], s.mass[b], s.mass[b] * grav[i], load_f[i], s.force[b][i],
+                                       s.force[b][i], s.vel[b][i], v[i], true, false, dt);
                         }
                     }
                 }
@@ -139,7 +142,7 @@ int integrate(Model& m, double dt) {
                     const bool held = s.vel_bc[b] & (1 << i);
                     // Undamped, the force is the force (a[i] * mass may differ from it in the last bit).
                     const double fd = d.mode == DampingMode::Off ? s.force[b][i] : a[i] * mass;
-                    energy_dof(ce[chunk], s.mass[b], s.mass[b] * grav[i], s.applied_force[b][i], s.force[b][i], fd,
+                    energy_dof(ce[chunk], s.mass[b], s.mass[b] * grav[i], load_f[i], s.force[b][i], fd,
                                s.vel[b][i], v[i], held, s.half_kick[b] && !held, dt);
                 }
             }
@@ -168,8 +171,8 @@ int integrate(Model& m, double dt) {
             const Vec3 w = s.ang_vel[b] + alpha * kick;
             if (account) {
                 const Mat3 r = s.orientation[b].toRotationMatrix();
-                energy_rotation(ce[chunk], r * s.inertia_body[b] * r.transpose(), s.moment[b], mom, s.ang_vel[b], w,
-                                s.half_kick[b] != 0, dt);
+                energy_rotation(ce[chunk], r * s.inertia_body[b] * r.transpose(), s.moment[b], mom, load_m, s.ang_vel[b],
+                                w, s.half_kick[b] != 0, dt);
             }
             s.ang_vel[b] = w;
             s.ang_accel[b] = alpha;
