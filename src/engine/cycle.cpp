@@ -144,7 +144,14 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
                 bool fish = false;
                 for (const History& h : m.histories.items) fish = fish || h.kind == HistoryKind::Fish;
                 const double ke_before = fish ? watch.kinetic(m) : 0.0;
-                m.histories.sample(m);
+                const std::string failed = m.histories.sample(m);
+                if (!failed.empty() && bad < 0) {
+                    // The step stands; the sample of it is not taken, so every history still
+                    // has the same samples.
+                    res.reason = StopReason::Error;
+                    res.message = failed;
+                    break;
+                }
                 if (fish && !watch.stale(m)) watch.given(watch.kinetic(m) - ke_before);
             }
         }

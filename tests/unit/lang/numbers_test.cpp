@@ -53,7 +53,7 @@ std::string not_finite(const odec::Model& m) {
         if (!s.orientation[b].coeffs().allFinite()) return w + "orientation";
         if (!s.force[b].allFinite() || !s.moment[b].allFinite() || !fin(s.force_scale[b])) return w + "force";
         if (!s.applied_force[b].allFinite() || !s.vel_bc_value[b].allFinite()) return w + "boundary";
-        if (!s.disp[b].allFinite() || !s.rotation[b].allFinite()) return w + "displacement";
+        if (!s.disp[b].allFinite() || !s.ref_orientation[b].coeffs().allFinite()) return w + "displacement";
         if (!fin(s.volume[b]) || !fin(s.mass[b]) || !s.inertia_body[b].allFinite() || !s.inertia_unit[b].allFinite())
             return w + "mass";
     }

@@ -110,7 +110,7 @@ std::string model_problem(const odec::Model& m) {
             if (v < 0 || v >= s.shape[b].n_vertices()) return "face vertex";
         if (!s.centroid[b].allFinite() || !s.vel[b].allFinite() || !s.ang_vel[b].allFinite() ||
             !s.orientation[b].coeffs().allFinite() || !s.force[b].allFinite() || !s.moment[b].allFinite() ||
-            !s.applied_force[b].allFinite() || !s.disp[b].allFinite() || !s.rotation[b].allFinite() ||
+            !s.applied_force[b].allFinite() || !s.disp[b].allFinite() || !s.ref_orientation[b].coeffs().allFinite() ||
             !fin(s.mass[b]) || !fin(s.volume[b]) || !s.inertia_body[b].allFinite() || !s.accel[b].allFinite())
             return "block numbers";
     }
