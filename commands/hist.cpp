@@ -40,7 +40,8 @@ const CommandSpec& hist_command() {
             const std::string n = q.name;
             const bool dis = n[1] == 'd', acc = n[1] == 'a';
             c.keyword(n, 4, std::string(dis ? "displacement " : acc ? "acceleration " : "velocity ") + n[0] +
-                                " component of the block containing or nearest the point, " + (dis ? "m" : acc ? "m/s^2" : "m/s"))
+                                " component of the material point of the block containing or nearest the point, " +
+                                (dis ? "m, since the last 'reset disp'" : acc ? "m/s^2" : "m/s"))
                 .vec("x,y,z")
                 .in_choice(1);
         }
@@ -73,8 +74,14 @@ const CommandSpec& hist_command() {
         c.keyword("label", 3, "title of history n").integer("n", 1).string("text");
         c.range("with a reaction: which gridpoints (by position) and rigid blocks (by centroid) are summed");
         c.describe("Each history is numbered in the order it was made, from 1. Samples are taken every "
-                   "'ncyc' steps. A block quantity follows the block found at the point when the history "
-                   "is made; in a deformable block, the gridpoint nearest the point. A zone stress follows "
+                   "'ncyc' steps; a history made during a run has its own from the next sample on ('print "
+                   "hist' leaves it blank before, 'hist write' leaves the cell empty). A block quantity follows "
+                   "the material point of the block found at the point when the history is made (in a "
+                   "deformable block, the gridpoint nearest the point), into whichever piece holds it when a "
+                   "joint set cuts the block: its displacement is where it is less where it was at the last "
+                   "'reset disp' (or when the block was made), exact however far the block has turned. A FISH "
+                   "history whose function fails, or gives no finite number, stops 'step' or 'solve' with the "
+                   "reason; the step it failed at stands, without its sample. A zone stress follows "
                    "the zone containing the point. A reaction sums, over the gridpoints of the range whose "
                    "velocity component is held ('fix', 'bound xvel ...') and the fixed rigid blocks of the "
                    "range, the unbalanced force there: the force the rest of the model exerts on what holds "

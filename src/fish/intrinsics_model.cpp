@@ -391,10 +391,10 @@ const std::vector<Intrinsic>& model_intrinsics() {
         {"b_xrot", 1, 1, "b", "x component of b_rot, rad", "block", f_b_xrot, nullptr},
         {"b_yrot", 1, 1, "b", "y component of b_rot, rad", "block", f_b_yrot, nullptr},
         {"b_zrot", 1, 1, "b", "z component of b_rot, rad", "block", f_b_zrot, nullptr},
-        {"b_euler", 1, 1, "b", "the same turn as angles (a,b,c) in degrees, X-Y-Z convention: a about x, then b "
-                               "about the turned y, then c about the twice-turned z (R = Rx(a) Ry(b) Rz(c); "
-                               "equally c about the world z, then b about y, then a about x); a and c -180 to "
-                               "180, b -90 to 90 (vector)", "block", f_b_euler, nullptr},
+        {"b_euler", 1, 1, "b", "the block's turn since 'reset disp' as angles (a,b,c), degrees, X-Y-Z convention: "
+                               "a about x, then b about the turned y, then c about the twice-turned z (R = Rx(a) "
+                               "Ry(b) Rz(c); equally c about the world z, then b about y, then a about x); a and "
+                               "c -180 to 180, b -90 to 90 (vector)", "block", f_b_euler, nullptr},
         {"b_rvel", 1, 1, "b", "the block's spin, its angular velocity about the world axes (vector), rad/s",
          "block", f_b_rvel, nullptr},
         {"b_xrvel", 1, 1, "b", "spin about the x axis, rad/s, right-hand rule (assignable, rigid blocks)", "block", f_b_xrvel, s_b_xrvel},

@@ -628,7 +628,7 @@ TEST(SaveLayout, EveryFieldIsSaved) {
     EXPECT_EQ(count_fields<Material>(), 8u) << fix;
     EXPECT_EQ(count_fields<JointMaterial>(), 9u) << fix;
     EXPECT_EQ(count_fields<JointPlane>(), 3u) << fix;
-    EXPECT_EQ(count_fields<History>(), 12u) << fix;
+    EXPECT_EQ(count_fields<History>(), 13u) << fix;
     // HistorySet: 3 saved fields and the reader of FISH histories (set by the session).
     EXPECT_EQ(count_fields<HistorySet>(), 4u) << fix;
     EXPECT_EQ(count_fields<Table>(), 1u) << fix;
