@@ -54,10 +54,11 @@ Vec3 point_displacement(const Model& m, int block_index, const Vec3& body_offset
 // axes, right-hand rule) times the angle, rad, 0 to pi. Exact for any rotation.
 Vec3 rotation_since_reset(const Model& m, int block_index);
 
-// The same turn as angles (a, b, c), rad, with R = Rx(a) Ry(b) Rz(c): a about x, then b about
-// the turned y, then c about the twice-turned z (equally: c about the world z, then b about the
-// world y, then a about the world x). a and c in (-pi, pi], b in [-pi/2, pi/2]; where b is
-// +-pi/2 the split between a and c is free, and c is taken as 0.
+// A rotation R (such as a block's turn since the reset) as angles (a, b, c), rad, with
+// R = Rx(a) Ry(b) Rz(c): a about x, then b about the turned y, then c about the twice-turned z
+// (equally: c about the world z, then b about the world y, then a about the world x). a and c
+// in (-pi, pi], b in [-pi/2, pi/2]; where b is +-pi/2 the split between a and c is free, and
+// c is taken as 0.
 Vec3 euler_xyz(const Mat3& r);
 
 // The block containing point x, or the one whose centroid is nearest; -1 when there are none.

@@ -207,7 +207,7 @@ bool Interpreter::execute(const LexedCommand& cmd, bool echo_command) {
         model.histories.external = [rt](const History& h, int number, double& value, std::string& error) {
             try {
                 const fish::Value v = rt->value_for_command(h.source, SourceLoc{});
-                if (!v.is_number()) {
+                if (!v.is_number() && v.type != fish::Type::Bool) { // true and false record 1 and 0
                     error = "'@" + h.source + "' is " + std::string(fish::type_name(v)) + ", not a number";
                     return false;
                 }

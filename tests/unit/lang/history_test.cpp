@@ -343,6 +343,10 @@ TEST(History, AFailingFishHistoryStopsTheRunAndSaysWhy) {
               std::string::npos)
         << s.error();
     EXPECT_EQ(hs.sample_steps.size(), 4u);
+    // True and false record 1 and 0.
+    s.err.str("");
+    ASSERT_TRUE(s.run("def load_ratio\n  load_ratio = step > 65\nend\nstep 10")) << s.error();
+    EXPECT_EQ(hs.items[2].values.back(), 1.0);
 }
 
 TEST(History, ListAndWriteTakeNoSettings) {
