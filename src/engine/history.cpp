@@ -108,9 +108,10 @@ double history_value(const Model& m, const History& h) {
     case HistoryKind::XAcc:
     case HistoryKind::YAcc:
     case HistoryKind::ZAcc: {
-        // Translation plus the angular acceleration about the centroid (the spin's centripetal
-        // part is left out, as small as the spin squared).
-        const Vec3 a = s.accel[b] + s.ang_accel[b].cross(lever);
+        // Translation, the angular acceleration about the centroid and the centripetal part of
+        // the spin (the acceleration of a point of a rigid body, however fast it turns).
+        const Vec3 w = spin_at_t(m, b);
+        const Vec3 a = s.accel[b] + s.ang_accel[b].cross(lever) + w.cross(w.cross(lever));
         return a[static_cast<int>(h.kind) - static_cast<int>(HistoryKind::XAcc)];
     }
     case HistoryKind::XDis: return point_displacement(m, b, h.body_offset).x();

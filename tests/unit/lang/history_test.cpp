@@ -1,8 +1,9 @@
 // Histories: a point history follows its material point through any rotation exactly (against
-// the analytic turn of a spinning block), through 'reset disp', a history made during a run and
-// a joint set cutting the turned block; a history made during a run has its own samples from
-// the next one on, and save and restore carry them (and older files' NaN-padded ones) exactly;
-// a FISH history whose function fails stops the run with the reason.
+// the analytic turn of a spinning block, its acceleration the centripetal one), through 'reset
+// disp', a history made during a run and a joint set cutting the turned block; a history made
+// during a run has its own samples from the next one on, and save and restore carry them (and
+// older files' NaN-padded ones) exactly; a FISH history whose function fails stops the run with
+// the reason.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -86,9 +87,17 @@ TEST(History, PointDisplacementIsExactThrough40And180Degrees) {
         SCOPED_TRACE(axis.transpose());
         const Vec3 p(0.9, 0.5, 0.3);
         Session s;
-        ASSERT_TRUE(s.run(spinning_cube(axis, p) + "step 400")) << s.error();
+        ASSERT_TRUE(s.run(spinning_cube(axis, p) + "hist xacc " + text(p) + "\nhist yacc " + text(p) + "\nhist zacc " +
+                          text(p) + "\nstep 400"))
+            << s.error();
         ASSERT_EQ(s.model.histories.sample_steps.back(), 400);
         const double at40 = check_spin(s, axis, p);
+        // Its acceleration is the centripetal one, w x (w x r), towards the axis.
+        for (size_t k = 0; k < 4; ++k) {
+            const Vec3 r = Eigen::AngleAxisd(kSpin * kDt * s.model.histories.sample_steps[k], axis) * p;
+            const Vec3 a = kSpin * kSpin * axis.cross(axis.cross(r));
+            EXPECT_LE((sampled(s.model.histories, 7, k) - a).norm(), 1e-9 * a.norm()) << k;
+        }
         ASSERT_TRUE(s.run("step 1400")) << s.error();
         ASSERT_EQ(s.model.histories.sample_steps.back(), 1800);
         const double at180 = check_spin(s, axis, p);
