@@ -16,8 +16,11 @@ const CommandSpec& export_command() {
             .string("name")
             .in_choice(1);
         c.require_one_of(1);
-        c.describe("'export vtk name' writes name-blocks-<step>.vtu (blocks with displacement, velocity, "
-                   "material, group and region), name-contacts-<step>.vtp and name-subcontacts-<step>.vtp "
+        c.describe("'export vtk name' writes name-blocks-<step>.vtu (blocks with cell data 'displacement' "
+                   "of the centroid (m), 'velocity' (m/s), 'rotation' (the turn since 'reset disp' as a rotation "
+                   "vector: axis times angle, rad, right-hand rule about the world axes), material, group and "
+                   "region, and point data 'displacement' and 'velocity' of each vertex, exact for any "
+                   "rotation), name-contacts-<step>.vtp and name-subcontacts-<step>.vtp "
                    "(contact points with normal, area, normal and shear stress, normal and shear displacement, "
                    "force and state) and name.pvd, the collection ParaView opens. When blocks are deformable, "
                    "name-zones-<step>.vtu holds their zones as tetrahedra at the current gridpoint positions, "

@@ -9,7 +9,7 @@
 #include "io/csv.h"
 
 #include <cmath>
-#include <limits>
+#include <cstdio>
 
 namespace odec {
 
@@ -40,7 +40,8 @@ const CommandSpec& hist_command() {
             const std::string n = q.name;
             const bool dis = n[1] == 'd', acc = n[1] == 'a';
             c.keyword(n, 4, std::string(dis ? "displacement " : acc ? "acceleration " : "velocity ") + n[0] +
-                                " component of the block containing or nearest the point, " + (dis ? "m" : acc ? "m/s^2" : "m/s"))
+                                " component of the material point of the block containing or nearest the point, " +
+                                (dis ? "m, since the last 'reset disp'" : acc ? "m/s^2" : "m/s"))
                 .vec("x,y,z")
                 .in_choice(1);
         }
@@ -75,14 +76,21 @@ const CommandSpec& hist_command() {
         c.keyword("contact", 4, "with a contact quantity: follow the contact with this id instead of a point")
             .integer("id", 1);
         c.keyword("write", 2, "write histories n ... to a CSV file").integer("n", 1).repeat().in_choice(1);
+        c.keyword("list", 2, "list the histories: number, samples, the step of the first, label").in_choice(1);
         c.keyword("vs", 2, "with 'write': history m as the first column instead of the step").integer("m", 1);
         c.keyword("file", 2, "with 'write': the CSV file").string("name");
         c.keyword("ncyc", 2, "steps between samples (for all histories)").integer("n", 1).defaults("10");
         c.keyword("label", 3, "title of history n").integer("n", 1).string("text");
         c.range("with a reaction: which gridpoints (by position) and rigid blocks (by centroid) are summed");
         c.describe("Each history is numbered in the order it was made, from 1. Samples are taken every "
-                   "'ncyc' steps. A block quantity follows the block found at the point when the history "
-                   "is made; in a deformable block, the gridpoint nearest the point. A zone stress follows "
+                   "'ncyc' steps; a history made during a run has its own from the next sample on ('print "
+                   "hist' leaves it blank before, 'hist write' leaves the cell empty). A block quantity follows "
+                   "the material point of the block found at the point when the history is made (in a "
+                   "deformable block, the gridpoint nearest the point), into whichever piece holds it when a "
+                   "joint set cuts the block: its displacement is where it is less where it was at the last "
+                   "'reset disp' (or when the block was made), exact however far the block has turned. A FISH "
+                   "history whose function fails, or gives no finite number, stops 'step' or 'solve' with the "
+                   "reason; the step it failed at stands, without its sample. A zone stress follows "
                    "the zone containing the point. A reaction sums, over the gridpoints of the range whose "
                    "velocity component is held ('fix', 'bound xvel ...') and the fixed rigid blocks of the "
                    "range, the unbalanced force there: the force the rest of the model exerts on what holds "
@@ -102,6 +110,11 @@ const CommandSpec& hist_command() {
                 const KeywordUse* u = a.has("vs") ? a.find("vs") : a.find("file");
                 fail(u->loc, "'" + u->spec->name + "' goes with 'write'", {}, "history");
             }
+            if ((what == "write" || what == "list") && (a.has("ncyc") || a.has("label"))) {
+                const KeywordUse* u = a.has("ncyc") ? a.find("ncyc") : a.find("label");
+                fail(u->loc, "'" + u->spec->name + "' does not go with '" + what + "': give it in a 'history' of its own",
+                     {}, "history");
+            }
             if (what == "write") {
                 std::vector<int> numbers;
                 for (const Value& v : a.find("write")->values) numbers.push_back(history_number(m, v, "history"));
@@ -109,13 +122,29 @@ const CommandSpec& hist_command() {
                 if (!a.has("file")) fail(a.find("write")->loc, "'write' needs 'file name.csv'", {}, "history");
                 check_file_allowed(ctx, a.find("file")->values[0].loc, a.text("file"), "history");
                 std::string error;
-                if (!write_histories_csv(hs, numbers, vs, a.text("file"), error)) {
+                size_t rows = 0;
+                if (!write_histories_csv(hs, numbers, vs, a.text("file"), error, &rows)) {
                     fail(a.find("file")->values[0].loc, error, {}, "history");
                 }
                 if (!ctx.interp.quiet) {
-                    ctx.out << "wrote " << hs.sample_steps.size() << " samples of " << numbers.size()
-                            << " histories to " << a.text("file") << "\n";
+                    ctx.out << "wrote " << rows << " samples of " << numbers.size() << " histories to "
+                            << a.text("file") << "\n";
                 }
+                return;
+            }
+            if (what == "list") {
+                std::ostream& o = ctx.out;
+                o << "   n   samples   first step  label\n";
+                for (size_t k = 0; k < hs.items.size(); ++k) {
+                    const History& h = hs.items[k];
+                    char line[64];
+                    const std::string from = h.values.empty() ? "-" : std::to_string(hs.sample_steps[h.first]);
+                    std::snprintf(line, sizeof line, "%4zu %9zu %12s  ", k + 1, h.values.size(), from.c_str());
+                    o << line << h.label << "\n";
+                }
+                o << hs.items.size() << " histories, sampled every " << hs.ncyc << " steps ("
+                  << hs.sample_steps.size() << " samples; a history made during a run has its own from the "
+                  << "next sample on)\n";
                 return;
             }
             if (a.has("label")) history_number(m, a.find("label")->values[0], "history");
@@ -244,8 +273,8 @@ const CommandSpec& hist_command() {
                 h.contact_id = m.contacts.id[c];
             }
             h.label = history_default_label(h);
-            // Samples taken before this history existed have no value.
-            h.values.assign(hs.sample_steps.size(), std::numeric_limits<double>::quiet_NaN());
+            // Its own samples start with the next one the model takes.
+            h.first = static_cast<long>(hs.sample_steps.size());
             hs.items.push_back(std::move(h));
             if (!ctx.interp.quiet) {
                 ctx.out << "history " << hs.items.size() << ": " << hs.items.back().label << "\n";

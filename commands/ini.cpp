@@ -1,27 +1,43 @@
 #include "commands.h"
 #include "common.h"
+#include "engine/blocks.h"
 #include "engine/zones.h"
 
 namespace odec {
 
 const CommandSpec& ini_command() {
     static const CommandSpec spec = [] {
-        CommandSpec c("initial", 3, "give blocks an initial velocity");
+        CommandSpec c("initial", 3, "give blocks an initial velocity or spin");
         c.keyword("xvel", 2, "velocity x component, m/s").real("v");
         c.keyword("yvel", 2, "velocity y component, m/s").real("v");
         c.keyword("zvel", 2, "velocity z component, m/s").real("v");
+        c.keyword("xrvel", 3, "spin (rotational velocity) of a rigid block about the x axis through its centroid, "
+                              "rad/s, right-hand rule").real("w");
+        c.keyword("yrvel", 3, "spin about the y axis through the centroid, rad/s").real("w");
+        c.keyword("zrvel", 3, "spin about the z axis through the centroid, rad/s").real("w");
         c.range();
-        c.describe("The velocity is that of the blocks at the present time; components not given are "
-                   "kept. Fixed blocks stay still.");
+        c.describe("The velocity is that of the blocks' centroids at the present time, the spin their "
+                   "angular velocity about the world axes; components not given are kept. Fixed blocks stay "
+                   "still. A spin is for rigid blocks: in a deformable block each gridpoint has a velocity of "
+                   "its own.");
         c.example("ini zvel -1 range group 'falling'");
+        c.example("ini zrvel 0.5 range id 3");
         c.handle([](CommandContext& ctx, const Args& a) {
-            if (!a.has("xvel") && !a.has("yvel") && !a.has("zvel")) {
-                fail(a.loc, "'initial' needs one of: xvel, yvel, zvel", {}, "initial");
-            }
+            static const char* const kWords[6] = {"xvel", "yvel", "zvel", "xrvel", "yrvel", "zrvel"};
+            bool any = false;
+            for (const char* w : kWords) any = any || a.has(w);
+            if (!any) fail(a.loc, "'initial' needs one of: xvel, yvel, zvel, xrvel, yrvel, zrvel", {}, "initial");
             BlockSet& s = ctx.model.blocks;
             // In deformable blocks, the gridpoints the range selects by their position.
             GridpointSet& g = ctx.model.gridpoints;
             const std::vector<int> gps = select_gridpoints(ctx.model, a.range);
+            for (const char* w : {"xrvel", "yrvel", "zrvel"}) {
+                if (a.has(w) && !gps.empty()) {
+                    fail(a.find(w)->loc, "'" + std::string(w) + "' spins rigid blocks: the range holds gridpoints of deformable blocks",
+                         {"narrow the range to rigid blocks; a deformable block's gridpoints take 'xvel', 'yvel', 'zvel'"},
+                         "initial");
+                }
+            }
             for (int i : gps) {
                 for (int k = 0; k < 3; ++k) {
                     const char* w = k == 0 ? "xvel" : k == 1 ? "yvel" : "zvel";
@@ -32,9 +48,15 @@ const CommandSpec& ini_command() {
             const std::vector<int> blocks = gps.empty() ? blocks_to_change(ctx, a) : select_blocks(ctx.model, a.range);
             for (int b : blocks) {
                 if (s.flags[b] & (kFixed | kDeformable)) continue;
-                if (a.has("xvel")) s.vel[b].x() = a.real("xvel");
-                if (a.has("yvel")) s.vel[b].y() = a.real("yvel");
-                if (a.has("zvel")) s.vel[b].z() = a.real("zvel");
+                // Given at the present time: the components kept are taken at it too (the
+                // integration holds them half a step back).
+                Vec3 v = velocity_at_t(ctx.model, b), w = spin_at_t(ctx.model, b);
+                for (int k = 0; k < 3; ++k) {
+                    if (a.has(kWords[k])) v[k] = a.real(kWords[k]);
+                    if (a.has(kWords[3 + k])) w[k] = a.real(kWords[3 + k]);
+                }
+                s.vel[b] = v;
+                s.ang_vel[b] = w;
                 s.half_kick[b] = 1;
             }
         });

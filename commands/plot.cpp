@@ -361,6 +361,13 @@ void handle_plot(CommandContext& ctx, const Args& a) {
         if (m.histories.sample_steps.empty()) {
             fail(history->loc, "the histories have no samples yet", {"take some steps first"}, "plot");
         }
+        for (size_t k = 0; k < numbers.size(); ++k) {
+            // Made since the last sample: its own samples start with the next one.
+            if (m.histories.items[numbers[k] - 1].values.empty()) {
+                warn(ctx, history->values[k].loc,
+                     "history " + std::to_string(numbers[k]) + " has no samples yet: it is left out of the chart");
+            }
+        }
         const std::string path = picture_path(ctx, a);
         scene = render::begin_scene(m, opt);
         std::string error;

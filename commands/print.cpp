@@ -211,7 +211,11 @@ void print_histories(CommandContext& ctx, const Args& a) {
     o << "\n";
     for (size_t k = 0; k < hs.sample_steps.size(); ++k) {
         o << col(std::to_string(hs.sample_steps[k]), 10);
-        for (size_t i = 0; i < numbers.size(); ++i) o << col(num(hs.items[numbers[i] - 1].values[k]), width[i]);
+        for (size_t i = 0; i < numbers.size(); ++i) {
+            // Blank before the history's first sample (it was made during the run).
+            const double* v = hs.items[numbers[i] - 1].at(k);
+            o << col(v ? num(*v) : std::string(), width[i]);
+        }
         o << "\n";
     }
 }

@@ -24,7 +24,7 @@ const CommandSpec& reset_command() {
             if (a.has("displacement")) {
                 for (int b = 0; b < s.size(); ++b) {
                     s.disp[b].setZero();
-                    s.rotation[b].setZero();
+                    s.ref_orientation[b] = s.orientation[b];
                 }
                 for (Vec3& d : m.gridpoints.disp) d.setZero();
             }

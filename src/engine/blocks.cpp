@@ -14,7 +14,7 @@ template <class F>
 static void for_each_array(BlockSet& s, F&& f) {
     f(s.id); f(s.shape); f(s.centroid); f(s.orientation); f(s.vel); f(s.ang_vel);
     f(s.accel); f(s.ang_accel); f(s.force); f(s.moment); f(s.loads); f(s.force_scale);
-    f(s.disp); f(s.rotation); f(s.volume); f(s.mass); f(s.inertia_body); f(s.inertia_unit);
+    f(s.disp); f(s.ref_orientation); f(s.volume); f(s.mass); f(s.inertia_body); f(s.inertia_unit);
     f(s.inertial_mass); f(s.inertial_moment);
     f(s.material); f(s.region); f(s.group); f(s.flags); f(s.vel_bc); f(s.vel_bc_value);
     f(s.vel_bc_table); f(s.half_kick); f(s.cons); f(s.corner_gp); f(s.zone_edge); f(s.body);
@@ -38,7 +38,7 @@ int add_block(Model& m, const Polyhedron& world, int region, int group, int mate
     s.loads.emplace_back();
     s.force_scale.push_back(0);
     s.disp.push_back(Vec3::Zero());
-    s.rotation.push_back(Vec3::Zero());
+    s.ref_orientation.push_back(Quat::Identity());
     s.volume.push_back(mp.volume);
     s.mass.push_back(0);
     s.inertia_body.push_back(Mat3::Zero());
@@ -113,8 +113,15 @@ std::vector<int> replace_by_pieces(Model& m, int b, const std::vector<Polyhedron
     // piece whose centroid is nearest), at the same material point.
     std::vector<BlockLoad> loads = std::move(s.loads[b]);
     s.loads[b].clear();
-    const Vec3 old_centroid = s.centroid[b];
-    const Quat old_orientation = s.orientation[b];
+    // The parent's pose now and at the last 'reset disp'. Each piece's body frame is the world
+    // axes, so its reference orientation is the parent's turned back by the parent's present
+    // orientation, and its centroid's displacement is that of the parent's material point there:
+    // every point of every piece keeps its exact displacement since the reset.
+    const Vec3 c_parent = s.centroid[b];
+    const Quat q_parent = s.orientation[b];
+    const Vec3 d_parent = s.disp[b];
+    const Quat q_ref = (s.ref_orientation[b] * q_parent.conjugate()).normalized();
+    auto piece_disp = [&](const Vec3& c) { return Vec3(d_parent + (c - c_parent) - q_ref * (c - c_parent)); };
     std::vector<int> out{b};
     {
         // The first piece takes b's place, its body frame along the world axes.
@@ -123,6 +130,8 @@ std::vector<int> replace_by_pieces(Model& m, int b, const std::vector<Polyhedron
         s.shape[b] = std::move(local);
         s.centroid[b] = origin + mp[0].centroid;
         s.orientation[b] = Quat::Identity();
+        s.ref_orientation[b] = q_ref;
+        s.disp[b] = piece_disp(s.centroid[b]);
         s.volume[b] = mp[0].volume;
         s.inertia_unit[b] = mp[0].inertia;
         const int mat = s.material[b];
@@ -141,8 +150,8 @@ std::vector<int> replace_by_pieces(Model& m, int b, const std::vector<Polyhedron
         s.ang_vel[a] = w0;
         s.accel[a] = s.accel[b];
         s.ang_accel[a] = s.ang_accel[b];
-        s.disp[a] = s.disp[b];
-        s.rotation[a] = s.rotation[b];
+        s.disp[a] = piece_disp(s.centroid[a]);
+        s.ref_orientation[a] = q_ref;
         s.flags[a] = s.flags[b];
         s.vel_bc[a] = s.vel_bc[b];
         s.vel_bc_value[a] = s.vel_bc_value[b];
@@ -161,7 +170,7 @@ std::vector<int> replace_by_pieces(Model& m, int b, const std::vector<Polyhedron
             }
             continue;
         }
-        const Vec3 point = old_centroid + old_orientation * l.lever;
+        const Vec3 point = c_parent + q_parent * l.lever;
         size_t best = 0;
         double best_distance = std::numeric_limits<double>::infinity();
         for (size_t k = 0; k < pieces.size(); ++k) {
@@ -179,6 +188,24 @@ std::vector<int> replace_by_pieces(Model& m, int b, const std::vector<Polyhedron
         BlockLoad moved = l;
         moved.lever = point - s.centroid[out[best]]; // the pieces' body frames are the world axes
         s.loads[out[best]].push_back(moved);
+    }
+    // The histories of the parent's material points follow them into the piece that holds them
+    // (the nearest piece by centroid for a point outside the parent), in its frame.
+    for (History& h : m.histories.items) {
+        if (h.block_id != s.id[b] || h.gridpoint != -1) continue;
+        const Vec3 x = c_parent + q_parent * h.body_offset;
+        int best = -1;
+        for (size_t k = 0; k < pieces.size() && best < 0; ++k) {
+            if (contains_point(pieces[k], x - origin, 1e-9)) best = static_cast<int>(k);
+        }
+        if (best < 0) {
+            best = 0;
+            for (size_t k = 1; k < pieces.size(); ++k) {
+                if ((s.centroid[out[k]] - x).stableNorm() < (s.centroid[out[best]] - x).stableNorm()) best = static_cast<int>(k);
+            }
+        }
+        h.block_id = s.id[out[best]];
+        h.body_offset = x - s.centroid[out[best]];
     }
     return out;
 }
@@ -264,11 +291,36 @@ Vec3 velocity_at_t(const Model& m, int b) {
     return m.blocks.vel[b] + 0.5 * m.dt * m.blocks.accel[b];
 }
 
-Vec3 velocity_at_point(const Model& m, int b, const Vec3& lever) {
+Vec3 spin_at_t(const Model& m, int b) {
     const BlockSet& s = m.blocks;
-    if (s.flags[b] & kFixed) return velocity_at_t(m, b); // a fixed block does not turn
-    const Vec3 w = s.half_kick[b] ? s.ang_vel[b] : Vec3(s.ang_vel[b] + 0.5 * m.dt * s.ang_accel[b]);
-    return velocity_at_t(m, b) + w.cross(lever);
+    if (s.flags[b] & kFixed) return Vec3::Zero(); // a fixed block does not turn
+    return s.half_kick[b] ? s.ang_vel[b] : Vec3(s.ang_vel[b] + 0.5 * m.dt * s.ang_accel[b]);
+}
+
+Vec3 velocity_at_point(const Model& m, int b, const Vec3& lever) {
+    return velocity_at_t(m, b) + spin_at_t(m, b).cross(lever);
+}
+
+Vec3 point_displacement(const Model& m, int b, const Vec3& p) {
+    const BlockSet& s = m.blocks;
+    return s.disp[b] + (s.orientation[b] * p - s.ref_orientation[b] * p);
+}
+
+Vec3 rotation_since_reset(const Model& m, int b) {
+    const BlockSet& s = m.blocks;
+    const Eigen::AngleAxisd turn((s.orientation[b] * s.ref_orientation[b].conjugate()).normalized());
+    return turn.angle() * turn.axis();
+}
+
+Vec3 euler_xyz(const Mat3& r) {
+    // R = Rx(a) Ry(b) Rz(c) has R(0,2) = sin b, R(1,2) = -sin a cos b, R(2,2) = cos a cos b,
+    // R(0,1) = -cos b sin c, R(0,0) = cos b cos c.
+    const double sb = std::clamp(r(0, 2), -1.0, 1.0);
+    const double cb = std::hypot(r(0, 0), r(0, 1));
+    if (cb > 1e-12) return Vec3(std::atan2(-r(1, 2), r(2, 2)), std::atan2(sb, cb), std::atan2(-r(0, 1), r(0, 0)));
+    // Gimbal lock: only a + c (b = pi/2) or a - c (b = -pi/2) is fixed; with c = 0, R(2,1) = sin a
+    // and R(1,1) = cos a.
+    return Vec3(std::atan2(r(2, 1), r(1, 1)), sb > 0 ? M_PI / 2 : -M_PI / 2, 0.0);
 }
 
 int find_block_at(const Model& m, const Vec3& x) {

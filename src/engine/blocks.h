@@ -44,6 +44,25 @@ Vec3 velocity_at_t(const Model& m, int block_index);
 // Velocity at t of the material point at `lever` (world vector from the centroid).
 Vec3 velocity_at_point(const Model& m, int block_index, const Vec3& lever);
 
+// Spin (angular velocity) of a block at the time of its position, rad/s about the world axes.
+Vec3 spin_at_t(const Model& m, int block_index);
+
+// Displacement since the last `reset disp` of the material point of a rigid block at body-frame
+// offset `body_offset` from its centroid: where it is now less where it was then, exact for any
+// rotation.
+Vec3 point_displacement(const Model& m, int block_index, const Vec3& body_offset);
+
+// The turn of a rigid block since the last `reset disp`, as a rotation vector: the axis (world
+// axes, right-hand rule) times the angle, rad, 0 to pi. Exact for any rotation.
+Vec3 rotation_since_reset(const Model& m, int block_index);
+
+// A rotation R (such as a block's turn since the reset) as angles (a, b, c), rad, with
+// R = Rx(a) Ry(b) Rz(c): a about x, then b about the turned y, then c about the twice-turned z
+// (equally: c about the world z, then b about the world y, then a about the world x). a and c
+// in (-pi, pi], b in [-pi/2, pi/2]; where b is +-pi/2 the split between a and c is free, and
+// c is taken as 0.
+Vec3 euler_xyz(const Mat3& r);
+
 // The block containing point x, or the one whose centroid is nearest; -1 when there are none.
 int find_block_at(const Model& m, const Vec3& x);
 

@@ -155,7 +155,15 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
                 for (const History& h : m.histories.items) fish = fish || h.kind == HistoryKind::Fish;
                 const double ke_before = fish ? watch.kinetic(m) : 0.0;
                 if (fish) mark_energy(m);
-                m.histories.sample(m);
+                const std::string failed = m.histories.sample(m);
+                if (!failed.empty() && bad < 0) {
+                    // The step stands; the sample of it is not taken, so every history still
+                    // has the same samples. What the failed function changed is given.
+                    if (fish && !m.geometry_changed && !watch.stale(m)) take_energy(m);
+                    res.reason = StopReason::Error;
+                    res.message = failed;
+                    break;
+                }
                 if (fish && !watch.stale(m)) watch.given(watch.kinetic(m) - ke_before);
                 if (fish && !m.geometry_changed && !watch.stale(m)) take_energy(m);
             }

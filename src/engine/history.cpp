@@ -17,11 +17,7 @@ double history_value(const Model& m, const History& h) {
     case HistoryKind::Time: return m.time;
     case HistoryKind::Step: return static_cast<double>(m.step);
     case HistoryKind::Ratio: return unbalanced_ratio(m);
-    case HistoryKind::Fish: {
-        if (!m.histories.external) return 0.0;
-        const double v = m.histories.external(h);
-        return std::isfinite(v) ? v : 0.0;
-    }
+    case HistoryKind::Fish: return 0.0; // read through HistorySet::external
     case HistoryKind::Energy: {
         double v = 0;
         energy_term(m, h.source, v);
@@ -110,23 +106,23 @@ double history_value(const Model& m, const History& h) {
     }
     const int b = m.block_index(h.block_id);
     if (b < 0) return 0.0; // the block was deleted
-    // The material point: translation of the centroid plus the turn of the block about it.
-    // Displacement takes the accumulated rotation as a small rotation vector, as the
-    // block's own rotation record does.
+    // The material point: where the block's turn and translation have taken it (its
+    // displacement exact for any rotation: point_displacement).
     const BlockSet& s = m.blocks;
     const Eigen::Vector3d lever = s.orientation[b] * h.body_offset;
     switch (h.kind) {
     case HistoryKind::XAcc:
     case HistoryKind::YAcc:
     case HistoryKind::ZAcc: {
-        // Translation plus the angular acceleration about the centroid (the spin's centripetal
-        // part is left out, as small as the spin squared).
-        const Vec3 a = s.accel[b] + s.ang_accel[b].cross(lever);
+        // Translation, the angular acceleration about the centroid and the centripetal part of
+        // the spin (the acceleration of a point of a rigid body, however fast it turns).
+        const Vec3 w = spin_at_t(m, b);
+        const Vec3 a = s.accel[b] + s.ang_accel[b].cross(lever) + w.cross(w.cross(lever));
         return a[static_cast<int>(h.kind) - static_cast<int>(HistoryKind::XAcc)];
     }
-    case HistoryKind::XDis: return (s.disp[b] + s.rotation[b].cross(lever)).x();
-    case HistoryKind::YDis: return (s.disp[b] + s.rotation[b].cross(lever)).y();
-    case HistoryKind::ZDis: return (s.disp[b] + s.rotation[b].cross(lever)).z();
+    case HistoryKind::XDis: return point_displacement(m, b, h.body_offset).x();
+    case HistoryKind::YDis: return point_displacement(m, b, h.body_offset).y();
+    case HistoryKind::ZDis: return point_displacement(m, b, h.body_offset).z();
     case HistoryKind::XVel: return velocity_at_point(m, b, lever).x();
     case HistoryKind::YVel: return velocity_at_point(m, b, lever).y();
     case HistoryKind::ZVel: return velocity_at_point(m, b, lever).z();
@@ -195,33 +191,49 @@ std::string history_default_label(const History& h) {
     return s;
 }
 
-void HistorySet::sample(const Model& m) {
-    if (items.empty()) return;
-    sample_steps.push_back(m.step);
-    // A FISH history's function may run commands that add or clear histories ('hist' in a
-    // command block), so the list may change while it is sampled: the histories there at the
-    // start are taken by index, a FISH one through a copy of its name, and a value is stored
-    // only where the list still holds its history with the samples before this one.
-    const size_t n = items.size(), samples = sample_steps.size();
+std::string HistorySet::sample(const Model& m) {
+    if (items.empty()) return "";
+    // Every value first, kept only when all were had. A FISH history's function may run
+    // commands that add histories or reset their samples ('hist', 'reset hist' in a command
+    // block), so the list may change while it is read: the histories there at the start are
+    // read by index, a FISH one through a copy of its name.
+    const size_t n = items.size();
+    std::vector<double> v(n, 0.0);
     for (size_t k = 0; k < n && k < items.size(); ++k) {
-        double v;
-        if (items[k].kind == HistoryKind::Fish) {
-            History probe;
-            probe.kind = HistoryKind::Fish;
-            probe.source = items[k].source;
-            v = history_value(m, probe);
-        } else {
-            v = history_value(m, items[k]);
+        if (items[k].kind != HistoryKind::Fish) {
+            v[k] = history_value(m, items[k]);
+            continue;
         }
-        if (k < items.size() && sample_steps.size() == samples && items[k].values.size() + 1 == samples) {
-            items[k].values.push_back(v);
+        History probe;
+        probe.kind = HistoryKind::Fish;
+        probe.source = items[k].source;
+        std::string error;
+        if (!external) error = "FISH is not running";
+        else if (external(probe, static_cast<int>(k) + 1, v[k], error)) continue;
+        return "history " + std::to_string(k + 1) + " (@" + probe.source + ") failed at step " + std::to_string(m.step) +
+               ", which stands without its sample: " + error;
+    }
+    // A value goes to each history that still has every sample before this one; one made
+    // while the values were read starts with the next sample.
+    const size_t at = sample_steps.size();
+    sample_steps.push_back(m.step);
+    for (size_t k = 0; k < items.size(); ++k) {
+        History& h = items[k];
+        if (k < n && static_cast<size_t>(h.first) + h.values.size() == at) {
+            h.values.push_back(v[k]);
+        } else if (h.values.empty() && static_cast<size_t>(h.first) >= at) {
+            h.first = static_cast<long>(at) + 1;
         }
     }
+    return "";
 }
 
 void HistorySet::clear_values() {
     sample_steps.clear();
-    for (History& h : items) h.values.clear();
+    for (History& h : items) {
+        h.values.clear();
+        h.first = 0;
+    }
 }
 
 } // namespace odec

@@ -45,22 +45,32 @@ struct History {
     std::vector<int> blocks;                         // reactions: the rigid block ids summed
     std::string label;                               // column title
     std::string source;                              // Fish: the FISH name sampled; Energy: the term
-    std::vector<double> values;                      // (n_samples)
+    // Its samples: values[i] was taken at HistorySet::sample_steps[first + i]. A history made
+    // while the model already had samples starts with the next one (first > 0); the samples
+    // before it are none of its own.
+    long first = 0;
+    std::vector<double> values;                      // (n_samples - first)
+    // Its value at sample k of the set, or nullptr before its first.
+    const double* at(size_t k) const {
+        return k >= static_cast<size_t>(first) && k - first < values.size() ? &values[k - first] : nullptr;
+    }
 };
 
 struct HistorySet {
     int ncyc = 10;                  // sampling interval in steps
     std::vector<History> items;     // history n is items[n-1]
     std::vector<long> sample_steps; // (n_samples) step of each sample
-    // Reads a Fish history (set by the program that runs FISH; not saved). Without it, or when
-    // it throws, such a history samples 0.
-    std::function<double(const History&)> external;
-    // Record one sample of every history.
-    void sample(const Model& m);
+    // Reads a Fish history, number `number` (set by the program that runs FISH; not saved): true
+    // with its value, or false with what went wrong in `error` (the function failed, or gave no
+    // finite number).
+    std::function<bool(const History& h, int number, double& value, std::string& error)> external;
+    // Record one sample of every history. When a FISH history fails, nothing of this sample is
+    // kept and the error says which history and why; else "".
+    std::string sample(const Model& m);
     void clear_values();
 };
 
-// Current value of one history's quantity.
+// Current value of one history's quantity (not of a Fish history: HistorySet::external).
 double history_value(const Model& m, const History& h);
 // Default label, e.g. "zdis (0,0,5) block 1".
 std::string history_default_label(const History& h);

@@ -180,7 +180,6 @@ int integrate(Model& m, double dt) {
             const double angle = dtheta.norm();
             if (angle > 0) {
                 s.orientation[b] = (Quat(Eigen::AngleAxisd(angle, dtheta / angle)) * s.orientation[b]).normalized();
-                s.rotation[b] += dtheta;
             }
             s.half_kick[b] = 0;
             // Not finite: the integration has become unstable.

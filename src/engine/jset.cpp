@@ -6,8 +6,10 @@
 // coordinates (it may have rotated since it was made), and both pieces are stored with the
 // body frame equal to the world axes: that frame is as good as any other for a rigid
 // block, and it saves carrying the parent's rotation into shapes that no longer have its
-// symmetry. The accumulated displacement and rotation records go to both pieces unchanged;
-// they are reports of history, not state that the new frame must agree with. The cut is
+// symmetry. The displacement records carry over exactly: each piece's reference orientation
+// (at the last 'reset disp') is re-expressed in its new frame and its centroid displacement is
+// that of the parent's material point there, and point histories follow their material point
+// into the piece that holds it (replace_by_pieces). The cut is
 // made on the shape turned to world axes but still centred on the block's centroid (the
 // plane shifted to match): models often sit at survey coordinates millions of metres from
 // the origin, where absolute vertex positions would keep only a few digits below a metre.

@@ -102,8 +102,12 @@ struct BlockSet {
     std::vector<Vec3> moment;             // (n_blocks) N m about the centroid
     std::vector<std::vector<BlockLoad>> loads; // (n_blocks) `bound xload ...`, `bound stress`
     std::vector<double> force_scale;      // (n_blocks) N, sum of magnitudes of forces this step
-    std::vector<Vec3> disp;               // (n_blocks) m since the last `reset disp`
-    std::vector<Vec3> rotation;           // (n_blocks) rad, accumulated small rotation
+    std::vector<Vec3> disp;               // (n_blocks) m, of the centroid since the last `reset disp`
+    // (n_blocks) body frame -> world at the last `reset disp` (or when the block was made): the
+    // material point at body offset p was then at centroid - disp + ref_orientation * p, so every
+    // point's displacement and the block's turn since then are exact for any rotation
+    // (point_displacement, rotation_since_reset).
+    std::vector<Quat> ref_orientation;
     std::vector<double> volume;           // (n_blocks) m^3
     std::vector<double> mass;             // (n_blocks) kg
     std::vector<Mat3> inertia_body;       // (n_blocks) kg m^2 about centroid, body frame

@@ -119,6 +119,8 @@ void zone_blocks(Model& m, const std::vector<int>& blocks, const std::vector<int
         const Mat3 r = s.orientation[b].toRotationMatrix();
         for (Vec3& v : s.shape[b].vertices) v = r * v;
         s.orientation[b] = Quat::Identity();
+        // Its gridpoints carry its motion from now on, each displaced from where it starts.
+        s.ref_orientation[b] = Quat::Identity();
         s.vel[b].setZero();
         s.ang_vel[b].setZero();
         s.flags[b] |= kDeformable;

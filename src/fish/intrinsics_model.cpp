@@ -132,6 +132,37 @@ void set_block_vel(Runtime& rt, A a, const Value& v, int k, const char* fn, L lo
     if (!std::isfinite(lead)) lead = 0;
     m.blocks.vel[b][k] = (m.blocks.flags[b] & kFixed) ? x : x - lead;
 }
+// The turn since 'reset disp' (0 for a deformable block: its gridpoints carry its motion).
+Vec3 block_turn(Runtime& rt, int b) { return rotation_since_reset(model(rt), b); }
+Value f_b_rot(Runtime& rt, A a, int, L loc) { BLOCK("b_rot"); return vec(block_turn(rt, b)); }
+Value f_b_xrot(Runtime& rt, A a, int, L loc) { BLOCK("b_xrot"); return num(block_turn(rt, b).x()); }
+Value f_b_yrot(Runtime& rt, A a, int, L loc) { BLOCK("b_yrot"); return num(block_turn(rt, b).y()); }
+Value f_b_zrot(Runtime& rt, A a, int, L loc) { BLOCK("b_zrot"); return num(block_turn(rt, b).z()); }
+Value f_b_euler(Runtime& rt, A a, int, L loc) {
+    BLOCK("b_euler");
+    const Quat turn = (B.orientation[b] * B.ref_orientation[b].conjugate()).normalized();
+    return vec(euler_xyz(turn.toRotationMatrix()) * (180.0 / M_PI));
+}
+Value f_b_rvel(Runtime& rt, A a, int, L loc) { BLOCK("b_rvel"); return vec(spin_at_t(model(rt), b)); }
+Value f_b_xrvel(Runtime& rt, A a, int, L loc) { BLOCK("b_xrvel"); return num(spin_at_t(model(rt), b).x()); }
+Value f_b_yrvel(Runtime& rt, A a, int, L loc) { BLOCK("b_yrvel"); return num(spin_at_t(model(rt), b).y()); }
+Value f_b_zrvel(Runtime& rt, A a, int, L loc) { BLOCK("b_zrvel"); return num(spin_at_t(model(rt), b).z()); }
+void set_block_spin(Runtime& rt, A a, const Value& v, int k, const char* fn, L loc) {
+    const int b = ptr(rt, a, 0, PtrKind::Block, fn, loc);
+    Model& m = model(rt);
+    const double x = checked(v, fn, loc);
+    if (m.blocks.flags[b] & (kFixed | kDeformable)) {
+        fish_fail(loc, std::string("'") + fn + "': block " + std::to_string(m.blocks.id[b]) + " is " +
+                           ((m.blocks.flags[b] & kFixed) ? "fixed: it does not turn" : "deformable: its gridpoints carry its motion"));
+    }
+    // The spin given is the spin at t, as b_xrvel reads it (the integration holds it half a step back).
+    double lead = spin_at_t(m, b)[k] - m.blocks.ang_vel[b][k];
+    if (!std::isfinite(lead)) lead = 0;
+    m.blocks.ang_vel[b][k] = x - lead;
+}
+void s_b_xrvel(Runtime& rt, A a, int, const Value& v, L loc) { set_block_spin(rt, a, v, 0, "b_xrvel", loc); }
+void s_b_yrvel(Runtime& rt, A a, int, const Value& v, L loc) { set_block_spin(rt, a, v, 1, "b_yrvel", loc); }
+void s_b_zrvel(Runtime& rt, A a, int, const Value& v, L loc) { set_block_spin(rt, a, v, 2, "b_zrvel", loc); }
 void s_b_xvel(Runtime& rt, A a, int, const Value& v, L loc) { set_block_vel(rt, a, v, 0, "b_xvel", loc); }
 void s_b_yvel(Runtime& rt, A a, int, const Value& v, L loc) { set_block_vel(rt, a, v, 1, "b_yvel", loc); }
 void s_b_zvel(Runtime& rt, A a, int, const Value& v, L loc) { set_block_vel(rt, a, v, 2, "b_zvel", loc); }
@@ -362,6 +393,21 @@ const std::vector<Intrinsic>& model_intrinsics() {
         {"b_xdis", 1, 1, "b", "x displacement of the centroid, m", "block", f_b_xdis, nullptr},
         {"b_ydis", 1, 1, "b", "y displacement of the centroid, m", "block", f_b_ydis, nullptr},
         {"b_zdis", 1, 1, "b", "z displacement of the centroid, m", "block", f_b_zdis, nullptr},
+        {"b_rot", 1, 1, "b", "the block's turn since 'reset disp' as a rotation vector: its axis (world axes, "
+                             "right-hand rule) times its angle, rad, 0 to pi; exact for any rotation (0 for a "
+                             "deformable block)", "block", f_b_rot, nullptr},
+        {"b_xrot", 1, 1, "b", "x component of b_rot, rad", "block", f_b_xrot, nullptr},
+        {"b_yrot", 1, 1, "b", "y component of b_rot, rad", "block", f_b_yrot, nullptr},
+        {"b_zrot", 1, 1, "b", "z component of b_rot, rad", "block", f_b_zrot, nullptr},
+        {"b_euler", 1, 1, "b", "the block's turn since 'reset disp' as angles (a,b,c), degrees, X-Y-Z convention: "
+                               "a about x, then b about the turned y, then c about the twice-turned z (R = Rx(a) "
+                               "Ry(b) Rz(c); equally c about the world z, then b about y, then a about x); a and "
+                               "c -180 to 180, b -90 to 90 (vector)", "block", f_b_euler, nullptr},
+        {"b_rvel", 1, 1, "b", "the block's spin, its angular velocity about the world axes (vector), rad/s",
+         "block", f_b_rvel, nullptr},
+        {"b_xrvel", 1, 1, "b", "spin about the x axis, rad/s, right-hand rule (assignable, rigid blocks)", "block", f_b_xrvel, s_b_xrvel},
+        {"b_yrvel", 1, 1, "b", "spin about the y axis, rad/s (assignable, rigid blocks)", "block", f_b_yrvel, s_b_yrvel},
+        {"b_zrvel", 1, 1, "b", "spin about the z axis, rad/s (assignable, rigid blocks)", "block", f_b_zrvel, s_b_zrvel},
         {"b_force", 1, 1, "b", "unbalanced force on the block in the last step (vector), N", "block", f_b_force, nullptr},
         {"b_xforce", 1, 1, "b", "x unbalanced force on the block, N", "block", f_b_xforce, nullptr},
         {"b_yforce", 1, 1, "b", "y unbalanced force on the block, N", "block", f_b_yforce, nullptr},

@@ -175,6 +175,30 @@ auto fields(IO& io, M& x) -> If<M, History> {
     }
     // Format 5: the FISH name a history samples (the functions themselves are not saved).
     if (io.format >= 5) io(x.source);
+    // Format 7: the sample a history made during a run starts with (older files give it a
+    // NaN for each sample before it: restore_model takes them off).
+    if (io.format >= 9) io(x.first);
+}
+
+// Format 7 keeps each block's orientation at the last 'reset disp'. Older files kept the turn
+// since then as the sum of spin times step, which is the rotation vector of the turn when the
+// axis stayed fixed (a block toppling in a plane): the reference is the present orientation
+// turned back by it, as near as those files allow.
+template <class IO, class M>
+void legacy_rotation(IO& io, M& x) {
+    std::vector<Vec3> rotation;
+    io(rotation);
+    if constexpr (!std::is_const_v<M>) {
+        io.check(rotation.size() == x.orientation.size(), "the block rotations and orientations differ in length");
+        x.ref_orientation.resize(rotation.size());
+        for (size_t b = 0; b < rotation.size(); ++b) {
+            const double angle = rotation[b].norm();
+            const Quat turn = angle > 0 && std::isfinite(angle) ? Quat(Eigen::AngleAxisd(angle, rotation[b] / angle))
+                                                                 : Quat::Identity();
+            x.ref_orientation[b] = std::isfinite(angle) ? (turn.conjugate() * x.orientation[b]).normalized()
+                                                        : Quat(std::nan(""), 0, 0, 0);
+        }
+    }
 }
 
 template <class IO, class M>
@@ -257,7 +281,10 @@ auto fields(IO& io, M& x) -> If<M, BlockSet> {
         }
     }
     io(x.force_scale);
-    io(x.disp); io(x.rotation); io(x.volume); io(x.mass); io(x.inertia_body); io(x.inertia_unit);
+    io(x.disp);
+    if (io.format >= 9) io(x.ref_orientation);
+    else legacy_rotation(io, x);
+    io(x.volume); io(x.mass); io(x.inertia_body); io(x.inertia_unit);
     io(x.material); io(x.region); io(x.group); io(x.flags); io(x.vel_bc); io(x.vel_bc_value);
     io(x.vel_bc_table); io(x.half_kick);
     // Format 3: deformable blocks (older files hold rigid blocks only; restore_model gives
@@ -851,7 +878,7 @@ std::string check_consistent(const Model& m) {
     same(s.shape.size()); same(s.centroid.size()); same(s.orientation.size()); same(s.vel.size());
     same(s.ang_vel.size()); same(s.accel.size()); same(s.ang_accel.size()); same(s.force.size());
     same(s.moment.size()); same(s.loads.size()); same(s.force_scale.size()); same(s.disp.size());
-    same(s.rotation.size()); same(s.volume.size()); same(s.mass.size()); same(s.inertia_body.size());
+    same(s.ref_orientation.size()); same(s.volume.size()); same(s.mass.size()); same(s.inertia_body.size());
     same(s.inertia_unit.size()); same(s.material.size()); same(s.region.size()); same(s.group.size());
     same(s.flags.size()); same(s.vel_bc.size()); same(s.vel_bc_value.size()); same(s.vel_bc_table.size());
     same(s.half_kick.size()); same(s.cons.size()); same(s.corner_gp.size()); same(s.zone_edge.size());
@@ -926,7 +953,10 @@ std::string check_consistent(const Model& m) {
     if (!zones.empty()) return zones;
     const HistorySet& h = m.histories;
     for (const History& item : h.items) {
-        if (item.values.size() > h.sample_steps.size()) return "a history has more values than samples";
+        if (item.first < 0 || static_cast<size_t>(item.first) > h.sample_steps.size() ||
+            item.values.size() != h.sample_steps.size() - static_cast<size_t>(item.first)) {
+            return "a history's samples do not match the model's";
+        }
         if (item.kind == HistoryKind::Energy && !is_energy_term(item.source)) {
             return "an energy history records '" + item.source + "', which is no term of the energy account";
         }
@@ -1116,7 +1146,7 @@ std::string check_values(const Model& m) {
         }
         c.at_least(s.force_scale[b], 0, w, "the force scale");
         c.vec(s.disp[b], w, "the displacement");
-        c.vec(s.rotation[b], w, "the rotation");
+        c.quat(s.ref_orientation[b], w, "the orientation at the last 'reset disp'");
         if (c.finite(s.volume[b], w, "the volume") && !(s.volume[b] > 0)) c.fail(w, "the volume is not positive");
         c.at_least(s.mass[b], 0, w, "the mass");
         // The integration divides by the inertial mass of every block that has a mass.
@@ -1281,12 +1311,8 @@ std::string check_values(const Model& m) {
         c.vec(x.point, w, "the point");
         c.vec(x.body_offset, w, "the material point");
         if (x.block_id < 0 || x.contact_id < 0) c.fail(w, "it refers to a negative id");
-        // The samples taken before the history was added are NaN ('hist' during a run): a
-        // leading run of them, then finite values only.
-        size_t i = 0;
-        while (i < x.values.size() && std::isnan(x.values[i])) ++i;
-        for (; i < x.values.size(); ++i) {
-            if (!std::isfinite(x.values[i])) {
+        for (double v : x.values) {
+            if (!std::isfinite(v)) {
                 c.fail(w, "a value is not a finite number");
                 break;
             }
@@ -1669,6 +1695,18 @@ bool restore_model(const std::string& path, Model& out, std::string& error) {
         }
         if (file_format < 4) fresh.contacts.sub_tri.assign(fresh.contacts.sub_contact.size(), {-1, -1, -1});
         if (file_format < 7) fresh.gridpoints.applied_table.assign(fresh.gridpoints.pos.size(), 0);
+        if (file_format < 9) {
+            // A history made during a run had a NaN for each sample before it; a history with
+            // fewer values than samples (its samples skipped while FISH changed the list) had
+            // them last.
+            const size_t samples = fresh.histories.sample_steps.size();
+            for (History& h : fresh.histories.items) {
+                size_t lead = 0;
+                while (lead < h.values.size() && std::isnan(h.values[lead])) ++lead;
+                h.values.erase(h.values.begin(), h.values.begin() + static_cast<long>(lead));
+                h.first = h.values.size() <= samples ? static_cast<long>(samples - h.values.size()) : 0;
+            }
+        }
         if (file_format < 6) {
             // Computed with real masses and real time: they go on in dynamic mode.
             fresh.settings.dyn_configured = true;

@@ -23,8 +23,11 @@ namespace odec {
 // made later (older files have none: their zones and joints keep the stresses they hold);
 // 7: loads on rigid blocks at a point, with a couple and a table (older files' applied force
 // becomes a load at the centroid), tables on gridpoint loads and on `bound stress` faces;
-// 8: the energy account and energy histories (older files restore with the account off).
-constexpr std::uint32_t kSaveFormatVersion = 8;
+// 8: the energy account and energy histories (older files restore with the account off);
+// 9: each block's orientation at the last `reset disp` (in place of the accumulated small
+// rotation), and the first sample of each history (histories made during a run no longer
+// hold a NaN for each sample before them).
+constexpr std::uint32_t kSaveFormatVersion = 9;
 
 // Write the model to `path`. A model that restore would refuse (a velocity that is not a finite
 // number after a run-away, an index out of range) is not written: save and restore run the

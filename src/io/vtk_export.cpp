@@ -237,12 +237,12 @@ VtkPolyhedronMesh blocks_mesh(const Model& m) {
             }
             if (!corners.empty()) v /= static_cast<double>(corners.size());
         } else {
-            for (const Vec3& x : shape.vertices) {
+            for (int k = 0; k < shape.n_vertices(); ++k) {
+                const Vec3& x = shape.vertices[k];
                 mesh.points.push_back(x);
-                const Vec3 r = x - bs.centroid[b];
-                // A rigid block's motion at its vertex (small-rotation form for displacement).
-                point_disp.push_back(bs.disp[b] + bs.rotation[b].cross(r));
-                point_vel.push_back(velocity_at_point(m, b, r));
+                // A rigid block's motion at its vertex (its displacement exact for any rotation).
+                point_disp.push_back(point_displacement(m, b, bs.shape[b].vertices[k]));
+                point_vel.push_back(velocity_at_point(m, b, x - bs.centroid[b]));
             }
         }
         for (int f = 0; f < shape.n_faces(); ++f) {
@@ -257,7 +257,7 @@ VtkPolyhedronMesh blocks_mesh(const Model& m) {
         disp.push_back(bs.disp[b]);
         disp_mag.push_back(bs.disp[b].norm());
         vel.push_back(v);
-        rot.push_back(bs.rotation[b]);
+        rot.push_back(rotation_since_reset(m, b)); // 0 for a deformable block (its gridpoints turn)
     }
     mesh.cell_data.push_back(scalar_array("block_id", block_id, true));
     mesh.cell_data.push_back(scalar_array("material", material, true));

@@ -204,12 +204,35 @@ bool Interpreter::execute(const LexedCommand& cmd, bool echo_command) {
     // Histories of FISH values read through the runtime (a `new` or `restore` drops the hook).
     if (!model.histories.external) {
         fish::Runtime* rt = fish_.get();
-        model.histories.external = [rt](const History& h) {
+        model.histories.external = [rt](const History& h, int number, double& value, std::string& error) {
             try {
-                return rt->value_for_command(h.source, SourceLoc{}).number();
-            } catch (...) {
-                return 0.0;
+                const fish::Value v = rt->value_for_command(h.source, SourceLoc{});
+                if (!v.is_number() && v.type != fish::Type::Bool) { // true and false record 1 and 0
+                    error = "'@" + h.source + "' is " + std::string(fish::type_name(v)) + ", not a number";
+                    return false;
+                }
+                value = v.number();
+                if (!std::isfinite(value)) {
+                    error = "'@" + h.source + "' is " + std::string(std::isnan(value) ? "nan" : value > 0 ? "inf" : "-inf") +
+                            ", not a finite number";
+                    return false;
+                }
+                return true;
+            } catch (CommandError& e) {
+                // The call came from the history, not from a line of a file.
+                for (std::string& note : e.diag.notes) {
+                    const std::string outside = ", called at <input>:0";
+                    if (note.size() > outside.size() && note.compare(note.size() - outside.size(), outside.size(), outside) == 0) {
+                        note.replace(note.size() - outside.size(), outside.size(), ", sampled by history " + std::to_string(number));
+                    }
+                }
+                // Not located when the name itself is missing (a model restored without its FISH).
+                error = e.diag.loc.file ? format_diagnostic(e.diag)
+                                        : e.diag.what + (e.diag.notes.empty() ? "" : " (" + e.diag.notes[0] + ")");
+            } catch (const std::bad_alloc&) {
+                error = "out of memory";
             }
+            return false;
         };
     }
     try {

@@ -825,10 +825,12 @@ bool add_history_chart(Scene& scene, const HistorySet& h, const std::vector<int>
         return false;
     }
     Chart chart;
-    std::vector<double> x(n_samples);
+    // The x of each sample: its step, or the value of history vs (none before vs was made).
+    std::vector<const double*> x(n_samples);
+    std::vector<double> steps(n_samples);
     if (vs > 0) {
         const History& xh = h.items[vs - 1];
-        for (size_t i = 0; i < n_samples; ++i) x[i] = i < xh.values.size() ? xh.values[i] : 0.0;
+        for (size_t i = 0; i < n_samples; ++i) x[i] = xh.at(i);
         // The name of the history, then its unit (time in s, displacement in m, ...).
         chart.x_label = history_name(h, vs);
         const std::string axis = history_axis_title(xh.kind);
@@ -837,7 +839,10 @@ bool add_history_chart(Scene& scene, const HistorySet& h, const std::vector<int>
             chart.x_label += axis.substr(open);
         }
     } else {
-        for (size_t i = 0; i < n_samples; ++i) x[i] = static_cast<double>(h.sample_steps[i]);
+        for (size_t i = 0; i < n_samples; ++i) {
+            steps[i] = static_cast<double>(h.sample_steps[i]);
+            x[i] = &steps[i];
+        }
         chart.x_label = "step";
     }
     bool same_kind = true;
@@ -847,9 +852,13 @@ bool add_history_chart(Scene& scene, const HistorySet& h, const std::vector<int>
         const History& item = h.items[k - 1];
         ChartSeries s;
         s.name = history_name(h, k);
-        const size_t n = std::min(n_samples, item.values.size());
-        s.x.assign(x.begin(), x.begin() + n);
-        s.y.assign(item.values.begin(), item.values.begin() + n);
+        // Each history from its own first sample (one made during the run starts later).
+        for (size_t i = 0; i < n_samples; ++i) {
+            const double* y = item.at(i);
+            if (!x[i] || !y) continue;
+            s.x.push_back(*x[i]);
+            s.y.push_back(*y);
+        }
         chart.series.push_back(std::move(s));
     }
     chart.markers = n_samples <= 20;

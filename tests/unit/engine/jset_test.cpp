@@ -218,6 +218,12 @@ TEST(JointSet, RotatedSpinningBlockIsCutInTheWorldFrame) {
     m.blocks.vel[0] = Vec3(3, 0, 0);
     m.blocks.disp[0] = Vec3(0.1, 0.2, 0.3);
     m.blocks.flags[0] |= kFixed;
+    // The displacement since 'reset disp' of two material points (the block was made unturned).
+    const Vec3 points[2] = {Vec3(-0.5, -1.5, -0.5), Vec3(0.5, 1.5, 0.5)};
+    Vec3 moved[2];
+    for (int k = 0; k < 2; ++k) {
+        moved[k] = point_displacement(m, 0, m.blocks.orientation[0].conjugate() * (points[k] - m.blocks.centroid[0]));
+    }
     JointSetSpec s;
     s.dip = 90;
     s.dd = 0; // y = const
@@ -232,7 +238,13 @@ TEST(JointSet, RotatedSpinningBlockIsCutInTheWorldFrame) {
         world_shape(m, b).bounds(lo, hi);
         EXPECT_NEAR(lo.x(), -1.0, 1e-12);
         EXPECT_NEAR(hi.x(), 1.0, 1e-12);
-        EXPECT_EQ(m.blocks.disp[b], Vec3(0.1, 0.2, 0.3));
+        // Each piece's centroid is displaced as the block's material point there: it was where
+        // the quarter turn back takes it (about the block's centroid, at the origin).
+        const Vec3 c = m.blocks.centroid[b];
+        const Vec3 was = Eigen::AngleAxisd(-M_PI / 2, Vec3::UnitZ()) * c - Vec3(0.1, 0.2, 0.3);
+        EXPECT_NEAR((m.blocks.disp[b] - (c - was)).norm(), 0.0, 1e-15);
+        // And every material point keeps its displacement (points[b] is in piece b).
+        EXPECT_NEAR((point_displacement(m, b, points[b] - c) - moved[b]).norm(), 0.0, 1e-15);
         EXPECT_TRUE(m.blocks.flags[b] & kFixed);
         // Rigid motion carried over: v = v0 + w x (c - c0).
         const Vec3 expect = Vec3(3, 0, 0) + Vec3(0, 0, 1).cross(m.blocks.centroid[b]);

@@ -272,15 +272,21 @@ TEST(Energy, CommandsAndFish) {
 TEST(Energy, CommandsBetweenStepsAreGiven) {
     Session s;
     ASSERT_TRUE(s.run("config dyn\npoly brick 0 1 0 1 0 1\npoly brick 3 4 0 1 0 1\nprop mat=1 dens=1000\n"
-                      "grav 0 0 -10\ndamp off\nset dt 1e-3\nset energy on\nstep 100\nini xvel 2 range id 1\n"))
+                      "grav 0 0 -10\ndamp off\nset dt 1e-3\nset energy on\nstep 100\n"))
         << s.error();
-    EXPECT_NEAR(term(s.model, "given"), 0.5 * 1000 * 4, 1e-9);
+    // 'ini' gives the velocity at t: the fall it leaves as it is, taken from half a step back to t.
+    const double vz_half = s.model.blocks.vel[0].z();
+    ASSERT_TRUE(s.run("ini xvel 2 range id 1")) << s.error();
+    const double vz_t = s.model.blocks.vel[0].z();
+    EXPECT_NEAR(vz_t, vz_half - 10 * 0.5e-3, 1e-12);
+    const double given = 0.5 * 1000 * (4 + vz_t * vz_t - vz_half * vz_half);
+    EXPECT_NEAR(term(s.model, "given"), given, 1e-9);
     EXPECT_NEAR(term(s.model, "error"), -2 * 0.0125, 1e-9);
     ASSERT_TRUE(s.run("step 100")) << s.error();
     // Block 2 falls on: what it carries leaves with it.
     const double vz = s.model.blocks.vel[s.model.block_index(2)].z();
     ASSERT_TRUE(s.run("delete range id 2")) << s.error();
-    EXPECT_NEAR(term(s.model, "given"), 0.5 * 1000 * 4 - 0.5 * 1000 * vz * vz, 1e-9);
+    EXPECT_NEAR(term(s.model, "given"), given - 0.5 * 1000 * vz * vz, 1e-9);
     ASSERT_TRUE(s.run("step 100")) << s.error();
     EXPECT_NEAR(term(s.model, "error"), -3 * 0.0125, 1e-6);
 }
@@ -305,40 +311,12 @@ TEST(Energy, SavedAndRestored) {
         EXPECT_EQ(term(second.model, t.name), term(whole.model, t.name)) << t.name;
     }
     EXPECT_EQ(hist(second, 1), hist(whole, 1));
-    // Format 7 is format 8 without the energy section (the last) and without energy histories.
-    Session plain;
-    ASSERT_TRUE(plain.run("config dyn\npoly brick 0 1 0 1 0 1\nprop mat=1 dens=2000\ngrav 0 0 -10\nset dt 1e-3\n"
-                          "set energy on\n"
-                          "step 10\nsave '" + dir + "/seven'"))
-        << plain.error();
-    std::string bytes = odec::test::read_bytes(dir + "/seven.sav");
-    std::uint32_t format = 0;
-    std::memcpy(&format, &bytes[12], 4);
-    ASSERT_EQ(format, 8u);
-    const size_t at = bytes.rfind("ENRG");
-    ASSERT_NE(at, std::string::npos);
-    const size_t cut = bytes.size() - 8 - at;  // the section, up to the checksum
-    std::uint64_t n_version = 0;
-    std::memcpy(&n_version, &bytes[16], 8);
-    const size_t payload_length_at = 24 + n_version;
-    std::uint64_t len = 0;
-    std::memcpy(&len, &bytes[payload_length_at], 8);
-    len -= cut;
-    std::memcpy(&bytes[payload_length_at], &len, 8);
-    bytes.erase(at, cut);
-    format = 7;
-    std::memcpy(&bytes[12], &format, 4);
-    std::uint64_t h = 0xcbf29ce484222325ull;
-    for (size_t i = 0; i + 8 < bytes.size(); ++i) {
-        h ^= static_cast<unsigned char>(bytes[i]);
-        h *= 0x100000001b3ull;
-    }
-    std::memcpy(&bytes[bytes.size() - 8], &h, 8);
-    odec::test::write_bytes(dir + "/six.sav", bytes);
+    // A file older than the account (format 6, a toppling brick) restores with it off.
     Session old;
-    ASSERT_TRUE(old.run("restore '" + dir + "/six.sav'")) << old.error();
+    const std::string v6 = std::string(ODEC_SOURCE_DIR) + "/tests/fuzz/regressions/restore/toppling-v6.sav";
+    ASSERT_TRUE(old.run("restore '" + v6 + "'")) << old.error();
     EXPECT_FALSE(old.model.energy.on);
-    EXPECT_EQ(old.model.step, 10);
-    for (const char* f : {"/half.sav", "/seven.sav", "/six.sav"}) std::remove((dir + f).c_str());
+    EXPECT_GT(old.model.step, 0);
+    for (const char* f : {"/half.sav"}) std::remove((dir + f).c_str());
     rmdir(dir.c_str());
 }

@@ -194,18 +194,21 @@ TEST(FishCommands, NewRestoreAndStepRefusedWhileCycling) {
 // model is kept).
 TEST(FishCommands, NewRefusedFromAFishHistory) {
     Session s;
-    ASSERT_TRUE(s.run(std::string(kTwoBlocks) +
-                      "def h\n"
-                      "  h = nblock\n"
-                      "  command\n"
-                      "    new\n"
-                      "  endcommand\n"
-                      "end\n"
-                      "hist @h\n"
-                      "step 20\n"));
+    EXPECT_FALSE(s.run(std::string(kTwoBlocks) +
+                       "def h\n"
+                       "  h = nblock\n"
+                       "  command\n"
+                       "    new\n"
+                       "  endcommand\n"
+                       "end\n"
+                       "hist @h\n"
+                       "step 20\n"));
+    // The history fails at its first sample, and the run stops there with both reasons.
+    EXPECT_NE(s.error().find("history 1 (@h) failed at step 10"), std::string::npos) << s.error();
     EXPECT_NE(s.error().find("'new' cannot run while the model cycles"), std::string::npos) << s.error();
     EXPECT_EQ(s.model.blocks.size(), 2);
-    EXPECT_EQ(s.model.step, 20);
+    EXPECT_EQ(s.model.step, 10);
+    EXPECT_TRUE(s.model.histories.sample_steps.empty());
 }
 
 // The reason is in 'help' (and so in the manual): the declaration drives both.
@@ -281,9 +284,12 @@ TEST(FishCommands, AHistoryAddedWhileHistoriesAreSampled) {
     ASSERT_EQ(h.sample_steps.size(), 4u);
     EXPECT_EQ(h.items[0].values.size(), 4u);
     EXPECT_EQ(h.items[0].values[3], 2.0);
-    ASSERT_EQ(h.items[1].values.size(), 4u);
-    EXPECT_TRUE(std::isnan(h.items[1].values[1])); // added while step 10 was sampled
-    EXPECT_FALSE(std::isnan(h.items[1].values[2]));
+    // Added while step 10 was sampled: its own samples start with the next one, step 15.
+    EXPECT_EQ(h.items[1].first, 2);
+    ASSERT_EQ(h.items[1].values.size(), 2u);
+    EXPECT_EQ(h.items[1].at(1), nullptr);
+    ASSERT_NE(h.items[1].at(2), nullptr);
+    EXPECT_TRUE(std::isfinite(*h.items[1].at(2)));
 }
 
 // A joint material that a whilestepping function gives during the first stage of

@@ -195,6 +195,29 @@ std::vector<Case> block_write_cases() {
     };
 }
 
+// A block turned 10 degrees about z, then 20 about y, then 30 about x (world axes), spinning at
+// the last about x: its turn R = Rx(30) Ry(20) Rz(10), whose X-Y-Z angles are (30, 20, 10).
+std::vector<Case> block_turn_cases() {
+    const Eigen::Matrix3d r = (Eigen::AngleAxisd(30 * kPi / 180, Eigen::Vector3d::UnitX()) *
+                               Eigen::AngleAxisd(20 * kPi / 180, Eigen::Vector3d::UnitY()) *
+                               Eigen::AngleAxisd(10 * kPi / 180, Eigen::Vector3d::UnitZ()))
+                                  .toRotationMatrix();
+    const Eigen::AngleAxisd turn(r);
+    const Eigen::Vector3d rv = turn.angle() * turn.axis();
+    const double w = 30 * kPi / 180 / 0.1;
+    return {
+        {"b_rot", "mag(b_rot(b))", turn.angle(), 1e-12, nullptr},
+        {"b_xrot", "b_xrot(b)", rv.x(), 1e-12, nullptr},
+        {"b_yrot", "b_yrot(b)", rv.y(), 1e-12, nullptr},
+        {"b_zrot", "b_zrot(b)", rv.z(), 1e-12, nullptr},
+        {"b_euler", "xcomp(b_euler(b)) * 1e4 + ycomp(b_euler(b)) * 1e2 + zcomp(b_euler(b))", 302010, 1e-8, nullptr},
+        {"b_rvel", "mag(b_rvel(b) - vector(w, 0, 0))", 0, 1e-15, nullptr},
+        {"b_xrvel", "b_xrvel(b)", w, 1e-15, nullptr},
+        {"b_yrvel", "b_yrvel(b)", 0, 0, nullptr},
+        {"b_zrvel", "b_zrvel(b)", 0, 0, nullptr},
+    };
+}
+
 std::vector<Case> zone_cases() {
     const double r = std::sqrt(0.5) * 1e6; // principal stresses -1.5 MPa -/+ r
     return {
@@ -331,6 +354,35 @@ TEST(FishIntrinsics, BlocksAndContactsOfARestingBlock) {
               block_write_cases());
 }
 
+TEST(FishIntrinsics, RotationAndSpinOfATurnedBlock) {
+    // Turned by spins about the world z, y and x axes in turn, 0.1 s each (no gravity, no
+    // contacts, undamped: each spin turns it by exactly its angle).
+    auto spin = [](double x, double y, double z) {
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "ini xrvel %.17g yrvel %.17g zrvel %.17g\nstep 100\n", x, y, z);
+        return std::string(buf);
+    };
+    const double d = kPi / 180 / 0.1; // 1 degree in 0.1 s, rad/s
+    Session s;
+    ASSERT_TRUE(s.run("config dyn\npoly brick -1 1 -2 2 -0.5 0.5\nprop mat=1 dens=1000\ndamp off\nset dt 1e-3\n" +
+                      spin(0, 0, 10 * d) + spin(0, 20 * d, 0) + spin(30 * d, 0, 0)))
+        << s.error();
+    run_cases(s, "  b = block_head\n  w = 30 * degrad / 0.1\n", block_turn_cases());
+    // A spin set from FISH is the spin at the present time, and turns the block.
+    run_cases(s, "  b = block_head\n  b_zrvel(b) = -0.5\n  b_xrvel(b) = 0\n",
+              {{"b_zrvel", "b_zrvel(b)", -0.5, 0, nullptr}, {"b_rvel", "b_rvel(b)", 0, 0, "(0.0,0.0,-0.5)"}});
+    const odec::Quat before = s.model.blocks.orientation[0];
+    ASSERT_TRUE(s.run("step 100")) << s.error();
+    const odec::Quat turned = s.model.blocks.orientation[0] * before.conjugate();
+    EXPECT_NEAR(Eigen::AngleAxisd(turned).angle(), 0.05, 1e-12);
+    // After 'reset disp' the turn counts from there.
+    ASSERT_TRUE(s.run("reset disp")) << s.error();
+    run_cases(s, "  b = block_head\n", {{"b_rot", "mag(b_rot(b))", 0, 0, nullptr}, {"b_euler", "mag(b_euler(b))", 0, 0, nullptr}});
+    // A fixed block does not turn.
+    EXPECT_FALSE(s.run("fix\ndef f\n  b_xrvel(block_head) = 1\nend\n@f"));
+    EXPECT_NE(s.error().find("'b_xrvel': block 1 is fixed: it does not turn"), std::string::npos) << s.error();
+}
+
 TEST(FishIntrinsics, ZonesAndGridpointsOfAStressedCube) {
     // A zoned 1 m cube (2000 kg) under sxx -1, syy -2, szz -3, sxy 0.5 MPa: principal stresses
     // -3, -1.5 -/+ sqrt(0.5) MPa.
@@ -407,7 +459,7 @@ TEST(FishIntrinsics, SetGivesFishVariablesValues) {
 
 TEST(FishIntrinsics, EveryIntrinsicHasACase) {
     std::set<std::string> covered(kScripted.begin(), kScripted.end());
-    for (const auto& table : {math_cases(), block_cases(), block_write_cases(), zone_cases(), zone_step_cases()}) {
+    for (const auto& table : {math_cases(), block_cases(), block_write_cases(), block_turn_cases(), zone_cases(), zone_step_cases()}) {
         for (const Case& c : table) covered.insert(c.intrinsic);
     }
     // The energy account's, each read against its term by Energy.CommandsAndFish (energy_test.cpp).

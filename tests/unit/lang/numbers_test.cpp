@@ -55,7 +55,7 @@ std::string not_finite(const odec::Model& m) {
         if (!s.vel_bc_value[b].allFinite()) return w + "boundary";
         for (const BlockLoad& l : s.loads[b])
             if (!l.lever.allFinite() || !l.force.allFinite() || !l.couple.allFinite()) return w + "boundary";
-        if (!s.disp[b].allFinite() || !s.rotation[b].allFinite()) return w + "displacement";
+        if (!s.disp[b].allFinite() || !s.ref_orientation[b].coeffs().allFinite()) return w + "displacement";
         if (!fin(s.volume[b]) || !fin(s.mass[b]) || !s.inertia_body[b].allFinite() || !s.inertia_unit[b].allFinite())
             return w + "mass";
     }

@@ -236,6 +236,21 @@ TEST(Plot, HistoryChartsWithVs) {
     for (const char* f : {"h2.png", "h3.png", "plot-0001.png"}) EXPECT_EQ(picture(dir + "/" + f).width, 1024) << f;
 }
 
+TEST(Plot, AHistoryMadeDuringTheRunIsDrawnFromItsFirstSample) {
+    PlotSession s;
+    const std::string dir = temp_dir();
+    // History 3 made now has no sample yet: said, and left out; drawn once it has some.
+    ASSERT_TRUE(run_in(s, dir, "hist zdis 3,1,2.2\nplot hist 1 3 file 'none.png' size 400 300")) << s.error();
+    EXPECT_NE(s.error().find("t.dat:2:13: warning: history 3 has no samples yet: it is left out of the chart"),
+              std::string::npos)
+        << s.error();
+    EXPECT_EQ(picture(dir + "/none.png").width, 400);
+    const size_t before = s.model.histories.sample_steps.size();
+    ASSERT_TRUE(run_in(s, dir, "step 50\nplot hist 3 vs 1 file 'late.png' size 400 300")) << s.error();
+    EXPECT_EQ(s.model.histories.items[2].first, static_cast<long>(before));
+    EXPECT_GT(picture(dir + "/late.png").count_near({0.122, 0.467, 0.706}, 0.03), 20); // its line
+}
+
 TEST(Plot, SectionsAndViews) {
     PlotSession s;
     const std::string dir = temp_dir();

@@ -407,6 +407,12 @@ TEST_F(Save, Format6AppliedForceRestoresAsALoadAtTheCentroid) {
     std::memcpy(&old_loads[0], &n, 8);
     old_loads += force;
     file.replace(start, 96, old_loads);
+    // Then force_scale and disp, and the orientation at the last reset (format 9), which older
+    // files hold as the accumulated rotation: none for this block.
+    const size_t at_reference = start + 32 + 16 + 32;
+    std::memcpy(&n, &file[at_reference], 8);
+    ASSERT_EQ(n, 1u);
+    file.replace(at_reference + 8, 32, std::string(24, '\0'));
     // GRID ends with the gridpoint load tables (none): 8 bytes before SBND.
     std::uint64_t n_version = 0;
     std::memcpy(&n_version, &file[16], 8);
@@ -429,9 +435,9 @@ TEST_F(Save, Format6AppliedForceRestoresAsALoadAtTheCentroid) {
         len -= by;
         std::memcpy(&file[at_length], &len, 8);
     };
-    shrink(blks + 4, 64);
+    shrink(blks + 4, 64 + 8);
     shrink(grid + 4, 8);
-    shrink(payload_length_at, 72 + enrg_length);
+    shrink(payload_length_at, 80 + enrg_length);
     format = 6;
     std::memcpy(&file[12], &format, 4);
     std::uint64_t h = 0xcbf29ce484222325ull;
@@ -709,7 +715,7 @@ TEST(SaveLayout, EveryFieldIsSaved) {
     EXPECT_EQ(count_fields<Material>(), 8u) << fix;
     EXPECT_EQ(count_fields<JointMaterial>(), 9u) << fix;
     EXPECT_EQ(count_fields<JointPlane>(), 3u) << fix;
-    EXPECT_EQ(count_fields<History>(), 12u) << fix;
+    EXPECT_EQ(count_fields<History>(), 13u) << fix;
     // HistorySet: 3 saved fields and the reader of FISH histories (set by the session).
     EXPECT_EQ(count_fields<HistorySet>(), 4u) << fix;
     EXPECT_EQ(count_fields<Table>(), 1u) << fix;

@@ -110,7 +110,7 @@ std::string model_problem(const odec::Model& m) {
             if (v < 0 || v >= s.shape[b].n_vertices()) return "face vertex";
         if (!s.centroid[b].allFinite() || !s.vel[b].allFinite() || !s.ang_vel[b].allFinite() ||
             !s.orientation[b].coeffs().allFinite() || !s.force[b].allFinite() || !s.moment[b].allFinite() ||
-            !s.disp[b].allFinite() || !s.rotation[b].allFinite() ||
+            !s.disp[b].allFinite() || !s.ref_orientation[b].coeffs().allFinite() ||
             !fin(s.mass[b]) || !fin(s.volume[b]) || !s.inertia_body[b].allFinite() || !s.accel[b].allFinite())
             return "block numbers";
         for (const BlockLoad& l : s.loads[b])
@@ -137,12 +137,11 @@ std::string model_problem(const odec::Model& m) {
     if (!fin(m.time) || !fin(m.dt) || !m.gravity.allFinite() || !fin(m.settings.dtfrac) || !fin(m.settings.dt_fixed))
         return "model scalars";
     for (const History& h : m.histories.items) {
-        if (h.values.size() > m.histories.sample_steps.size()) return "history length";
-        // NaN only for the samples before the history was added: a leading run.
-        size_t k = 0;
-        while (k < h.values.size() && std::isnan(h.values[k])) ++k;
-        for (; k < h.values.size(); ++k)
-            if (!fin(h.values[k])) return "history value";
+        // Its own samples from its first on, each a finite number.
+        if (h.first < 0 || static_cast<size_t>(h.first) + h.values.size() != m.histories.sample_steps.size())
+            return "history length";
+        for (double v : h.values)
+            if (!fin(v)) return "history value";
     }
     // Zones and gridpoints: every index in range, every number finite.
     const ZoneSet& z = m.zones;
@@ -293,13 +292,16 @@ TEST_F(SaveValues, EditedFieldsAreEachRefusedAndTheModelKept) {
         {"a normal stress is not a finite number", [&](odec::Model& m) { m.contacts.sub_sn[2] = inf; }},
         {"a sub-contact belongs to another contact", [](odec::Model& m) { m.contacts.sub_contact[0] = 1; }},
         {"two contacts have the same id", [](odec::Model& m) { m.contacts.id[1] = m.contacts.id[0]; }},
-        {"a history has more values than samples", [](odec::Model& m) { m.histories.items[0].values.push_back(1); }},
+        {"a history's samples do not match the model's", [](odec::Model& m) { m.histories.items[0].values.push_back(1); }},
+        {"a history's samples do not match the model's", [](odec::Model& m) { m.histories.items[1].values.pop_back(); }},
+        {"a history's samples do not match the model's", [](odec::Model& m) { m.histories.items[1].first = -1; }},
+        {"a history's samples do not match the model's", [](odec::Model& m) { m.histories.items[0].first = 1; }},
+        {"block 2: the orientation at the last 'reset disp' is not a unit quaternion",
+         [](odec::Model& m) { m.blocks.ref_orientation[1].coeffs() *= 1.5; }},
         {"history 2: a value is not a finite number", [&](odec::Model& m) { m.histories.items[1].values[1] = nan; }},
         {"history 2: a value is not a finite number", [&](odec::Model& m) { m.histories.items[1].values[0] = inf; }},
         {"history 1: a value is not a finite number", [&](odec::Model& m) {
-             m.histories.items[0].values[0] = nan; // NaN after a finite value, and not before
-             m.histories.items[0].values[1] = 0.5;
-             m.histories.items[0].values[2] = nan;
+             m.histories.items[0].values[0] = nan; // leading NaNs too: the samples are its own
          }},
         {"the step number is 1000000000000000001, outside 0 to 1e18", [](odec::Model& m) { m.step = odec::kMaxStep + 1; }},
         {"the step number is -1, outside 0 to 1e18", [](odec::Model& m) { m.step = -1; }},

@@ -39,7 +39,7 @@ Model moved_model() {
         m.blocks.disp[b] = Vec3(0.001 * b, -0.002, 0.0001 * b * b);
         m.blocks.vel[b] = Vec3(0.01, 0.02 * b, -0.03);
         m.blocks.ang_vel[b] = Vec3(0, 0, 0.1 * b);
-        m.blocks.rotation[b] = Vec3(0.001, 0, 0);
+        m.blocks.ref_orientation[b] = Quat(Eigen::AngleAxisd(-0.001, Vec3::UnitX())); // turned 0.001 rad about x
     }
     m.step = 250;
     m.time = 1.25;
@@ -283,6 +283,16 @@ TEST(ExportVtk, BlocksReadBackAsPolyhedra) {
     const Vec3 r = w.vertices[0] - m.blocks.centroid[5];
     const Vec3 expected = velocity_at_t(m, 5) + m.blocks.ang_vel[5].cross(r);
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(pvel->GetComponent(5 * 8, k), expected[k], 1e-15);
+    // Its displacement is exact for the block's turn (0.001 rad about x since 'reset disp'): where
+    // the vertex is less where it was; the cell's rotation is that turn as a rotation vector.
+    vtkDataArray* rot = grid->GetCellData()->GetArray("rotation");
+    ASSERT_TRUE(rot);
+    const Vec3 was = m.blocks.centroid[5] - m.blocks.disp[5] + Eigen::AngleAxisd(-0.001, Vec3::UnitX()) * r;
+    const Vec3 moved = w.vertices[0] - was;
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_NEAR(pdisp->GetComponent(5 * 8, k), moved[k], 1e-15);
+        EXPECT_NEAR(rot->GetComponent(5, k), k == 0 ? 0.001 : 0.0, 1e-15);
+    }
 
     const std::string pvd = slurp(stem + ".pvd");
     EXPECT_NE(pvd.find("file=\"export-blocks-blocks-000250.vtu\""), std::string::npos);
