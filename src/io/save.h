@@ -20,8 +20,9 @@ namespace odec {
 // faces, zone and reaction histories) and the zone stage of the profile; 4: contacts of
 // deformable blocks; 5: FISH histories; 6: static and dynamic analysis (the mode, the inertial
 // masses, the checks stage of the profile) and the `insitu` fields the model keeps for zones
-// made later (older files have none: their zones and joints keep the stresses they hold).
-constexpr std::uint32_t kSaveFormatVersion = 6;
+// made later (older files have none: their zones and joints keep the stresses they hold);
+// 7: the overlap tolerance ('set ovtol'; older files take the automatic one).
+constexpr std::uint32_t kSaveFormatVersion = 7;
 
 // Write the model to `path`. A model that restore would refuse (a velocity that is not a finite
 // number after a run-away, an index out of range) is not written: save and restore run the

@@ -634,7 +634,7 @@ TEST(SaveLayout, EveryFieldIsSaved) {
     EXPECT_EQ(count_fields<Table>(), 1u) << fix;
     EXPECT_EQ(count_fields<TableSet>(), 1u) << fix;
     EXPECT_EQ(count_fields<Damping>(), 5u) << fix;
-    EXPECT_EQ(count_fields<Settings>(), 9u) << fix;
+    EXPECT_EQ(count_fields<Settings>(), 10u) << fix;
     EXPECT_EQ(count_fields<Profile>(), 8u) << fix; // 7 stage times and the step count
     EXPECT_EQ(count_fields<InsituRecord>(), 2u) << fix;
     EXPECT_EQ(count_fields<StressField>(), 4u) << fix;
