@@ -13,8 +13,7 @@ const CommandSpec& set_command() {
         c.keyword("ovtol", 2, "overlap tolerance, m: the deepest overlap allowed when cycling starts between blocks "
                               "that carry no stress yet; deeper ones stop the cycling command with an error that "
                               "names them (0: 0.5 % of the smaller block's size, the cube root of its volume)")
-            .real("tol", 0)
-            .defaults("0");
+            .real("tol", 0);
         c.keyword("echo", 2, "echo script commands with their file and line").one_of("state", {"on", "off"}).defaults("on");
         c.keyword("log", 3, "copy the commands and what they print into the log file").one_of("state", {"on", "off"}).defaults("off");
         c.keyword("logfile", 4, "the log file (appended to)").string("name").defaults("odec.log");

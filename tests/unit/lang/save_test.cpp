@@ -318,6 +318,7 @@ TEST_F(Save, OlderFormatsStillRestore) {
     EXPECT_EQ(m.histories.items[0].gridpoint, -1);
     EXPECT_EQ(m.histories.items[0].zone, -1);
     EXPECT_EQ(m.profile.seconds[static_cast<int>(odec::Stage::Zones)], 0.0);
+    EXPECT_EQ(m.settings.ovtol, 0.0); // format 7: older files take the automatic overlap tolerance
     const double z_before = m.blocks.centroid[0].z();
     ASSERT_TRUE(b.run("step 10")) << b.error();
     EXPECT_LT(b.model.blocks.centroid[0].z(), z_before);
