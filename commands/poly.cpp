@@ -163,7 +163,15 @@ PrismFaces prism_faces(NearbyFaces& near, const std::vector<Vec3>& pa, const std
     const size_t n = pa.size();
     std::vector<Vec3> all = pa;
     all.insert(all.end(), pb_given.begin(), pb_given.end());
+    // A rounding as coarse as a thousandth of the block's size (integers for a block of a few
+    // metres) is no rounding: such coordinates are taken as exact.
+    Vec3 lo = all.front(), hi = all.front();
+    for (const Vec3& x : all) {
+        lo = lo.cwiseMin(x);
+        hi = hi.cwiseMax(x);
+    }
     out.precision = written_precision(all);
+    if (std::sqrt(3.0) * out.precision > 1e-3 * (hi - lo).norm()) out.precision = 0;
     out.tol = std::max(tolerance_for(all), std::sqrt(3.0) * out.precision);
     // b may start at any vertex and run either way: vertex k of a is joined to the vertex of b
     // that makes the sides shortest (the sum of their squared lengths least; as listed when tied).
@@ -397,7 +405,8 @@ const CommandSpec& poly_command() {
                    "a translated copy of 'a', the sides are parallelograms. Otherwise (a tapered column "
                    "drum) a side whose four corners lie in one plane within the rounding of the "
                    "coordinates (the finest decimal place they are written to, times the square root "
-                   "of 3; a millionth of the block's size for computed coordinates) is one face, made "
+                   "of 3, when that is less than a thousandth of the block's size; else, as for computed "
+                   "coordinates, a millionth of its size) is one face, made "
                    "exactly planar: each corner is moved onto the planes of its faces, by no more than "
                    "that rounding. A side whose corners do not lie in one plane "
                    "cannot be one face of a block: it is taken as two triangles, split along one of its "
@@ -510,8 +519,13 @@ const CommandSpec& poly_command() {
                     NearbyFaces near(m);
                     const PrismFaces pf = prism_faces(near, pa, pb);
                     if (!make_convex_pieces(pf.faces, pf.tol, inner_tag, solid, error)) {
-                        fail(a.find("a")->loc, "prism: " + name_face(error, pf.names),
-                             {"list each end's vertices in order around it, vertex k of 'a' joined to vertex k of 'b'"},
+                        const std::string text = name_face(error, pf.names);
+                        const bool planar = text.find("not planar") != std::string::npos;
+                        fail(text.find("polygon b") != std::string::npos ? a.find("b")->loc : a.find("a")->loc,
+                             "prism: " + text,
+                             planar ? std::vector<std::string>{}
+                                    : std::vector<std::string>{"list each end's vertices in order around it, vertex k "
+                                                               "of 'a' joined to vertex k of 'b'"},
                              "poly");
                     }
                     if (pf.skew > 0) {

@@ -204,22 +204,29 @@ bool merge_cells(const Solid& s, const std::vector<const Cell*>& cells, double p
     return true;
 }
 
-// Merge cells pair by pair while some pair's union is convex (in a fixed order).
-void merge_pairwise(const Solid& s, std::vector<Cell>& cells, double plane_tol) {
+// Merge cells pair by pair while some pair's union is convex (in a fixed order). `budget`
+// counts down the pairs tried; false when it runs out (the solid is too intricate).
+bool merge_pairwise(const Solid& s, std::vector<Cell>& cells, double plane_tol, long& budget) {
     bool changed = true;
     while (changed) {
         changed = false;
-        for (size_t i = 0; i < cells.size() && !changed; ++i) {
-            for (size_t j = i + 1; j < cells.size() && !changed; ++j) {
-                if (!boxes_touch(cells[i].shape, cells[j].shape, 1e-9 * s.size)) continue;
+        for (size_t i = 0; i < cells.size(); ++i) {
+            for (size_t j = i + 1; j < cells.size();) {
                 Cell merged;
-                if (!merge_cells(s, {&cells[i], &cells[j]}, plane_tol, merged)) continue;
-                cells[i] = std::move(merged);
-                cells.erase(cells.begin() + static_cast<long>(j));
-                changed = true;
+                if (boxes_touch(cells[i].shape, cells[j].shape, 1e-9 * s.size)) {
+                    if (--budget < 0) return false;
+                    if (merge_cells(s, {&cells[i], &cells[j]}, plane_tol, merged)) {
+                        cells[i] = std::move(merged);
+                        cells.erase(cells.begin() + static_cast<long>(j));
+                        changed = true;
+                        continue;
+                    }
+                }
+                ++j;
             }
         }
     }
+    return true;
 }
 
 // Read the faces into merged corners and loops; false with `error` on bad input.
@@ -452,9 +459,13 @@ bool make_convex_pieces(const std::vector<std::vector<Vec3>>& faces, double tol,
         error = "the solid could not be divided into convex pieces (its hull: " + error + ")";
         return false;
     }
-    constexpr size_t kMaxCells = 20000;
+    // Bounds on the work, so that no input makes odec cycle for minutes: the cells the planes
+    // may make and the pairs of them whose union may be tried.
+    constexpr size_t kMaxCells = 5000;
+    constexpr long kMaxMerges = 100000;
     const std::string too_intricate = "the solid is too intricate to divide into convex pieces (more than " +
-                                      std::to_string(kMaxCells) + " cells): give it as several blocks";
+                                      std::to_string(kMaxCells) + " cells, or " + std::to_string(kMaxMerges) +
+                                      " unions to try): give it as several blocks";
     std::vector<Polyhedron> cut_cells{std::move(hull)};
     for (const Plane& p : cuts) {
         std::vector<Polyhedron> next;
@@ -612,6 +623,7 @@ bool make_convex_pieces(const std::vector<std::vector<Vec3>>& faces, double tol,
     }
     // Each group into one convex piece where its cells make one; else pair by pair.
     std::vector<Cell> pieces;
+    long budget = kMaxMerges;
     for (std::vector<Cell>& g : groups) {
         if (g.empty()) continue;
         std::vector<const Cell*> ptrs;
@@ -621,10 +633,16 @@ bool make_convex_pieces(const std::vector<std::vector<Vec3>>& faces, double tol,
             pieces.push_back(std::move(merged));
             continue;
         }
-        merge_pairwise(s, g, plane_tol);
+        if (!merge_pairwise(s, g, plane_tol, budget)) {
+            error = too_intricate;
+            return false;
+        }
         for (Cell& c : g) pieces.push_back(std::move(c));
     }
-    merge_pairwise(s, pieces, plane_tol);
+    if (!merge_pairwise(s, pieces, plane_tol, budget)) {
+        error = too_intricate;
+        return false;
+    }
 
     // Tag the faces between pieces, and check that the pieces fill the solid exactly.
     double volume = 0;
