@@ -74,22 +74,27 @@ double off_plane(const std::vector<Vec3>& q) {
     return worst;
 }
 
-// Blocks near a point, with their shapes in world axes (made once per command).
+// The blocks already made, their reach and their shapes in world axes, each found once per
+// command and only when asked for.
 struct NearbyFaces {
     const Model& m;
     std::vector<int> done;                 // block index -> 1 once its world shape is made
     std::vector<Polyhedron> shape;
-    std::vector<double> radius;            // m, farthest vertex from the centroid
-    explicit NearbyFaces(const Model& model) : m(model) {
-        const BlockSet& s = m.blocks;
-        done.assign(static_cast<size_t>(s.size()), 0);
-        shape.resize(static_cast<size_t>(s.size()));
-        radius.assign(static_cast<size_t>(s.size()), 0.0);
-        for (int b = 0; b < s.size(); ++b) {
-            for (const Vec3& x : s.shape[b].vertices) radius[b] = std::max(radius[b], x.norm());
+    std::vector<double> reach;             // m, farthest vertex from the centroid (-1: not yet)
+    explicit NearbyFaces(const Model& model) : m(model) {}
+    double radius(int b) {
+        if (reach.empty()) reach.assign(static_cast<size_t>(m.blocks.size()), -1.0);
+        if (reach[b] < 0) {
+            reach[b] = 0;
+            for (const Vec3& x : m.blocks.shape[b].vertices) reach[b] = std::max(reach[b], x.norm());
         }
+        return reach[b];
     }
     const Polyhedron& world(int b) {
+        if (done.empty()) {
+            done.assign(static_cast<size_t>(m.blocks.size()), 0);
+            shape.resize(static_cast<size_t>(m.blocks.size()));
+        }
         if (!done[b]) {
             shape[b] = world_shape(m, b);
             done[b] = 1;
@@ -124,7 +129,7 @@ int diagonal_in_use(NearbyFaces& near, const Vec3 q[4], double tol, int& by) {
     int found = 0;
     const BlockSet& s = near.m.blocks;
     for (int b = 0; b < s.size(); ++b) {
-        if ((s.centroid[b] - centre).norm() > near.radius[b] + reach + tol) continue;
+        if ((s.centroid[b] - centre).norm() > near.radius(b) + reach + tol) continue;
         const Polyhedron& p = near.world(b);
         for (int f = 0; f < p.n_faces(); ++f) {
             for (int option = 0; option < 2; ++option) {
@@ -155,7 +160,7 @@ struct PrismFaces {
     double precision = 0;      // m, as written (0: not rounded)
     int skew = 0;              // sides taken as two triangles
     double worst = 0;          // m, farthest a skew side's corners are off one plane
-    std::vector<std::string> matched; // "side k: as block n"
+    std::vector<std::string> matched; // "side k as block n": the diagonal taken from that block
 };
 
 PrismFaces prism_faces(NearbyFaces& near, const std::vector<Vec3>& pa, const std::vector<Vec3>& pb_given) {
