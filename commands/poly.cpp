@@ -4,6 +4,9 @@
 #include "engine/tunnel.h"
 #include "tunnel_axis.h"
 
+#include <array>
+#include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 
@@ -38,53 +41,214 @@ double rounding_tolerance_for(const std::vector<Vec3>& pts) {
     return std::max(tolerance_for(pts), 2e-5 * big);
 }
 
-// Input that is convex only nearly (a voussoir whose curved face was given as a polygon,
-// coordinates rounded to a few digits) is taken as the convex hull of its vertices when no
-// vertex lies deeper inside that hull than this fraction of the block's size.
-constexpr double kHullDepthFraction = 0.02;
-
-// The volume a solid given by its faces encloses (m^3): each face, turned to face away from
-// `centre`, adds the cone from the origin to it (the divergence theorem). Exact for a closed
-// solid that is star-shaped about `centre`, as nearly convex input is.
-double enclosed_volume(const std::vector<std::vector<Vec3>>& faces, const Vec3& centre) {
-    double v = 0;
-    for (const auto& f : faces) {
-        Vec3 area = Vec3::Zero(), mid = Vec3::Zero();
-        for (size_t k = 0; k < f.size(); ++k) {
-            area += 0.5 * f[k].cross(f[(k + 1) % f.size()]);
-            mid += f[k];
+// Coordinates written in a script are rounded to some decimal place: this is the finest place
+// any of them uses, m, or 0 when one carries more than 9 decimals (a computed value).
+double written_precision(const std::vector<Vec3>& pts) {
+    int finest = 0;
+    for (const Vec3& p : pts) {
+        for (int i = 0; i < 3; ++i) {
+            const double x = std::abs(p[i]);
+            int k = 0;
+            for (; k <= 9; ++k) {
+                const double s = x * std::pow(10.0, k);
+                if (s > 1e15 || std::abs(s - std::round(s)) <= 1e-6 + 1e-14 * s) break;
+            }
+            if (k > 9) return 0;
+            finest = std::max(finest, k);
         }
-        mid /= static_cast<double>(f.size());
-        const double sign = area.dot(mid - centre) >= 0 ? 1.0 : -1.0;
-        v += sign * mid.dot(area) / 3.0;
     }
-    return v;
+    return std::pow(10.0, -finest);
 }
 
-// Replace a build that failed on convexity by the convex hull of the vertices when the hull
-// adds little: at most this fraction of its volume (a voussoir whose curved face was given
-// as a polygon adds about 1 %). Says how much it added. False (the original error stands)
-// when the input is further from convex.
-constexpr double kHullAddedFraction = 0.05;
+// The largest distance of the points from their least-squares plane, m.
+double off_plane(const std::vector<Vec3>& q) {
+    Vec3 c = Vec3::Zero();
+    for (const Vec3& x : q) c += x;
+    c /= static_cast<double>(q.size());
+    Mat3 cov = Mat3::Zero();
+    for (const Vec3& x : q) cov += (x - c) * (x - c).transpose();
+    const Eigen::SelfAdjointEigenSolver<Mat3> eig(cov);
+    const Vec3 n = eig.eigenvectors().col(0);
+    double worst = 0;
+    for (const Vec3& x : q) worst = std::max(worst, std::abs(n.dot(x - c)));
+    return worst;
+}
 
-bool accept_hull(CommandContext& ctx, const std::vector<std::vector<Vec3>>& faces, const std::vector<Vec3>& all,
-                 const std::string& what, Polyhedron& p) {
-    Polyhedron hull;
-    std::string error;
-    if (!make_convex_hull(all, tolerance_for(all), hull, error)) return false;
-    const MassProperties mp = mass_properties(hull);
-    const double given = enclosed_volume(faces, mp.centroid);
-    const double added = mp.volume - given;
-    if (!(given > 0) || added > kHullAddedFraction * mp.volume) return false;
-    p = std::move(hull);
-    {
-        char buf[240];
-        std::snprintf(buf, sizeof buf, "%.3g m^3 (%.2g %% of its volume)", std::max(added, 0.0),
-                      100.0 * std::max(added, 0.0) / mp.volume);
-        ctx.interp.err << "warning: " << what << ": the block is taken as the convex hull of its vertices, which adds "
-                       << buf << "\n";
+// The blocks already made, their reach and their shapes in world axes, each found once per
+// command and only when asked for.
+struct NearbyFaces {
+    const Model& m;
+    std::vector<int> done;                 // block index -> 1 once its world shape is made
+    std::vector<Polyhedron> shape;
+    std::vector<double> reach;             // m, farthest vertex from the centroid (-1: not yet)
+    explicit NearbyFaces(const Model& model) : m(model) {}
+    double radius(int b) {
+        if (reach.empty()) reach.assign(static_cast<size_t>(m.blocks.size()), -1.0);
+        if (reach[b] < 0) {
+            reach[b] = 0;
+            for (const Vec3& x : m.blocks.shape[b].vertices) reach[b] = std::max(reach[b], x.norm());
+        }
+        return reach[b];
+    }
+    const Polyhedron& world(int b) {
+        if (done.empty()) {
+            done.assign(static_cast<size_t>(m.blocks.size()), 0);
+            shape.resize(static_cast<size_t>(m.blocks.size()));
+        }
+        if (!done[b]) {
+            shape[b] = world_shape(m, b);
+            done[b] = 1;
+        }
+        return shape[b];
+    }
+};
+
+// True when polygon f (face of p) lies in triangle t (within tol) and has area.
+bool face_in_triangle(const Polyhedron& p, int f, const Vec3 t[3], double tol) {
+    const Vec3 n = (t[1] - t[0]).cross(t[2] - t[0]).normalized();
+    if (!(p.face_area(f) > tol * tol)) return false;
+    for (int k = 0; k < p.face_size(f); ++k) {
+        const Vec3& x = p.vertices[p.face_vertex(f, k)];
+        if (std::abs(n.dot(x - t[0])) > tol) return false;
+        for (int e = 0; e < 3; ++e) {
+            const Vec3 side = n.cross(t[(e + 1) % 3] - t[e]).normalized(); // points into the triangle
+            if (side.dot(x - t[e]) < -tol) return false;
+        }
     }
     return true;
+}
+
+// Which diagonal an existing block splits the skew quadrilateral q0 q1 q2 q3 along, judged by
+// its faces on either pair of triangles: 1 for q0-q2, 2 for q1-q3, 0 when none has (or both
+// have); `by` gets the id of the block.
+int diagonal_in_use(NearbyFaces& near, const Vec3 q[4], double tol, int& by) {
+    const Vec3 centre = 0.25 * (q[0] + q[1] + q[2] + q[3]);
+    double reach = 0;
+    for (int i = 0; i < 4; ++i) reach = std::max(reach, (q[i] - centre).norm());
+    const Vec3 tris[2][2][3] = {{{q[0], q[1], q[2]}, {q[0], q[2], q[3]}}, {{q[0], q[1], q[3]}, {q[1], q[2], q[3]}}};
+    int found = 0;
+    const BlockSet& s = near.m.blocks;
+    for (int b = 0; b < s.size(); ++b) {
+        if ((s.centroid[b] - centre).norm() > near.radius(b) + reach + tol) continue;
+        const Polyhedron& p = near.world(b);
+        for (int f = 0; f < p.n_faces(); ++f) {
+            for (int option = 0; option < 2; ++option) {
+                for (int t = 0; t < 2; ++t) {
+                    if (!face_in_triangle(p, f, tris[option][t], tol)) continue;
+                    if (found != 0 && found != option + 1) return 0;
+                    found = option + 1;
+                    by = s.id[b];
+                }
+            }
+        }
+    }
+    return found;
+}
+
+// A prism whose ends are not translated copies (a tapered or skewed prism), and any prism
+// that is not convex: its end polygons a and b and, for each k, the side a_k a_k+1 b_k+1 b_k.
+// A side whose corners lie in one plane within the rounding of the coordinates as written is
+// one face, made exactly planar (each corner moved onto the planes of its faces, by no more
+// than that rounding); a side that does not cannot be one face of a block: it is taken as two
+// triangles, split along the diagonal that an existing block sharing those corners already
+// uses (so that neighbours meet without gap or overlap), else along the one that keeps the
+// block convex. Returns the solid's faces, with a name for each for messages.
+struct PrismFaces {
+    std::vector<std::vector<Vec3>> faces;
+    std::vector<std::string> names;
+    double tol = 0;            // m, planarity and corner merging
+    double precision = 0;      // m, as written (0: not rounded)
+    int skew = 0;              // sides taken as two triangles
+    double worst = 0;          // m, farthest a skew side's corners are off one plane
+    std::vector<std::string> matched; // "side k as block n": the diagonal taken from that block
+};
+
+PrismFaces prism_faces(NearbyFaces& near, const std::vector<Vec3>& pa, const std::vector<Vec3>& pb_given) {
+    PrismFaces out;
+    const size_t n = pa.size();
+    std::vector<Vec3> all = pa;
+    all.insert(all.end(), pb_given.begin(), pb_given.end());
+    // A rounding as coarse as a thousandth of the block's size (integers for a block of a few
+    // metres) is no rounding: such coordinates are taken as exact.
+    Vec3 lo = all.front(), hi = all.front();
+    for (const Vec3& x : all) {
+        lo = lo.cwiseMin(x);
+        hi = hi.cwiseMax(x);
+    }
+    out.precision = written_precision(all);
+    if (std::sqrt(3.0) * out.precision > 1e-3 * (hi - lo).norm()) out.precision = 0;
+    out.tol = std::max(tolerance_for(all), std::sqrt(3.0) * out.precision);
+    // b may start at any vertex and run either way: vertex k of a is joined to the vertex of b
+    // that makes the sides shortest (the sum of their squared lengths least; as listed when tied).
+    std::vector<Vec3> pb = pb_given;
+    double best = std::numeric_limits<double>::infinity();
+    for (int dir = 1; dir >= -1; dir -= 2) {
+        for (size_t shift = 0; shift < n; ++shift) {
+            std::vector<Vec3> cand(n);
+            double sum = 0;
+            for (size_t i = 0; i < n; ++i) {
+                const long j = (static_cast<long>(shift) + dir * static_cast<long>(i) + 2 * static_cast<long>(n)) %
+                               static_cast<long>(n);
+                cand[i] = pb_given[static_cast<size_t>(j)];
+                sum += (cand[i] - pa[i]).squaredNorm();
+            }
+            if (sum < best * (1 - 1e-12)) {
+                best = sum;
+                pb = std::move(cand);
+            }
+        }
+    }
+    out.faces = {pa, pb};
+    out.names = {"polygon a", "polygon b"};
+    // Windings that agree around the solid: a as listed, b backwards, side k as a_k+1 a_k b_k b_k+1;
+    // the sign of the volume they enclose says whether that is outward.
+    std::vector<std::array<Vec3, 4>> sides(n);
+    double volume6 = 0;
+    const Vec3 o = pa[0];
+    for (size_t k = 0; k < n; ++k) {
+        const size_t j = (k + 1) % n;
+        sides[k] = {pa[j], pa[k], pb[k], pb[j]};
+        for (const auto& tri : {std::array<Vec3, 3>{pa[j], pa[k], pb[k]}, std::array<Vec3, 3>{pa[j], pb[k], pb[j]}}) {
+            volume6 += (tri[0] - o).dot((tri[1] - o).cross(tri[2] - o));
+        }
+    }
+    // Polygon a's fan from o adds nothing; polygon b backwards, fanned from its last vertex.
+    for (size_t k = n - 2; k >= 1; --k) volume6 += (pb[n - 1] - o).dot((pb[k] - o).cross(pb[k - 1] - o));
+    const double outward = volume6 >= 0 ? 1.0 : -1.0;
+    for (size_t k = 0; k < n; ++k) {
+        const auto& s = sides[k]; // s0 = a_k+1, s1 = a_k, s2 = b_k, s3 = b_k+1
+        const std::string name = "side " + std::to_string(k + 1);
+        const double off = off_plane({s[0], s[1], s[2], s[3]});
+        if (off <= out.tol) {
+            out.faces.push_back({s[0], s[1], s[2], s[3]});
+            out.names.push_back(name);
+            continue;
+        }
+        ++out.skew;
+        out.worst = std::max(out.worst, off);
+        // The quadrilateral as q0 q1 q2 q3 = a_k a_k+1 b_k+1 b_k; diagonal 1 is a_k-b_k+1.
+        const Vec3 q[4] = {s[1], s[0], s[3], s[2]};
+        int by = 0;
+        int diagonal = diagonal_in_use(near, q, out.tol, by);
+        if (diagonal != 0) {
+            out.matched.push_back(name + " as block " + std::to_string(by));
+        } else {
+            // Diagonal a_k-b_k+1 splits it into (a_k+1, a_k, b_k+1) and (a_k, b_k, b_k+1): convex
+            // when b_k lies behind the first, seen from outside.
+            const Vec3 nrm = outward * (s[1] - s[0]).cross(s[3] - s[0]);
+            diagonal = nrm.dot(s[2] - s[0]) < 0 ? 1 : 2;
+        }
+        if (diagonal == 1) {
+            out.faces.push_back({s[0], s[1], s[3]});
+            out.faces.push_back({s[1], s[2], s[3]});
+        } else {
+            out.faces.push_back({s[0], s[1], s[2]});
+            out.faces.push_back({s[0], s[2], s[3]});
+        }
+        out.names.push_back(name);
+        out.names.push_back(name);
+    }
+    return out;
 }
 
 // Blocks one 'poly tunnel' may make: a guard against a typing slip (nseg 10000 ntheta 720).
@@ -167,17 +331,19 @@ void make_tunnel(CommandContext& ctx, const Args& a) {
 
 const CommandSpec& poly_command() {
     static const CommandSpec spec = [] {
-        CommandSpec c("poly", 4, "create a rigid convex polyhedral block");
+        CommandSpec c("poly", 4, "create a rigid polyhedral block");
         c.keyword("brick", 2, "axis-aligned box from x1 to x2, y1 to y2, z1 to z2")
             .real("x1").real("x2").real("y1").real("y2").real("z1").real("z2")
             .in_choice(1);
-        c.keyword("prism", 2, "prism between polygon 'a' and its translated copy 'b'").in_choice(1);
+        c.keyword("prism", 2, "prism between polygon 'a' and polygon 'b', vertex k of one joined to vertex k of the "
+                              "other (a translated copy, or a tapered or skewed end: see below)")
+            .in_choice(1);
         c.keyword("a", 1, "with 'prism': the vertices of one end, in order; with 'tunnel': the start of the axis")
             .vec("v").repeat();
         c.keyword("b", 1, "with 'prism': the vertices of the other end, in order; with 'tunnel': the end of the axis")
             .vec("v").repeat();
-        c.keyword("face", 2, "one face of a general convex polyhedron: its vertices in order (repeat 'face' "
-                             "for every face)")
+        c.keyword("face", 2, "one face of a general polyhedron: its vertices in order (repeat 'face' for every "
+                             "face)")
             .integer("id", 1).labelled().optional()
             .vec("v").repeat()
             .many()
@@ -228,8 +394,32 @@ const CommandSpec& poly_command() {
         c.require_one_of(1);
         c.describe("The block is rigid: it moves as a whole, with three translations and three rotations "
                    "about its centroid. Its mass and inertia come from its faces and the density of its "
-                   "material ('prop mat=n dens=...'). Faces must be planar and the solid convex; an error "
-                   "names the face that is not.\n\n"
+                   "material ('prop mat=n dens=...'). Faces must be planar, within the rounding of the "
+                   "coordinates as written; an error names the face that is not.\n\n"
+                   "A solid that is not convex (an L-shaped block, a voussoir whose intrados is a polygon "
+                   "bent inward) is made of convex blocks that fill it exactly, joined, as a concave block "
+                   "is made in 3DEC, whose 'poly' takes convex solids only: each has an id of its own (a "
+                   "line says which), "
+                   "with the region, group and material given, and the faces between them are a joint set "
+                   "of their own, joined, so that they act as one body (their joints take the joint "
+                   "material of new contacts, 'set jmat'). Their volumes, centroids and inertias add up "
+                   "to the solid's own. Each block is cut at the edges where the surface folds inward, "
+                   "by planes through those edges.\n\n"
+                   "'prism' joins vertex k of 'a' to vertex k of 'b' ('b' may start at another vertex or "
+                   "run the other way: the pairing that makes the sides shortest is taken). When 'b' is "
+                   "a translated copy of 'a', the sides are parallelograms. Otherwise (a tapered column "
+                   "drum) a side whose four corners lie in one plane within the rounding of the "
+                   "coordinates (the finest decimal place they are written to, times the square root "
+                   "of 3, when that is less than a thousandth of the block's size; else, as for computed "
+                   "coordinates, a millionth of its size) is one face, made "
+                   "exactly planar: each corner is moved onto the planes of its faces, by no more than "
+                   "that rounding. A side whose corners do not lie in one plane "
+                   "cannot be one face of a block: it is taken as two triangles, split along one of its "
+                   "diagonals, and a warning says how far its corners are off one plane. The diagonal is "
+                   "the one a block already made has there, when one shares those corners (so that "
+                   "neighbours meet without gap or overlap), else the one that keeps the block convex. "
+                   "This rule is odec's own. A prism that comes out not convex is made of convex blocks, "
+                   "as above.\n\n"
                    "'tunnel' makes a box of rock around a straight tunnel in one command. In the cross-section "
                    "the tunnel wall is a regular polygon of 'ntheta' sides with the area of the circle of "
                    "'radius' (its corners a little outside the circle), one corner on the box's horizontal "
@@ -291,8 +481,22 @@ const CommandSpec& poly_command() {
                 return;
             }
             Polyhedron p;
+            SolidPieces solid;     // a solid that is not convex: its convex pieces
             std::string error;
             SourceLoc where = a.find(kind)->loc;
+            // The faces' tag between the pieces of a solid that is not convex: a joined joint set
+            // of its own, added only when pieces are made.
+            const int inner_tag = static_cast<int>(m.joint_planes.size()) + 1;
+            // A message that names a face by its number, with the face's name and where it was typed.
+            auto name_face = [](std::string text, const std::vector<std::string>& names) {
+                const size_t at = text.find("face ");
+                if (at == std::string::npos) return text;
+                const int k = std::atoi(text.c_str() + at + 5);
+                if (k < 1 || k > static_cast<int>(names.size())) return text;
+                size_t end = at + 5;
+                while (end < text.size() && std::isdigit(static_cast<unsigned char>(text[end]))) ++end;
+                return text.substr(0, at) + names[k - 1] + text.substr(end);
+            };
             if (kind == "brick") {
                 const KeywordUse* b = a.find("brick");
                 const char* axes[3] = {"x", "y", "z"};
@@ -312,29 +516,36 @@ const CommandSpec& poly_command() {
                 const std::vector<Vec3> pa = points_of(*a.find("a")), pb = points_of(*a.find("b"));
                 std::vector<Vec3> all = pa;
                 all.insert(all.end(), pb.begin(), pb.end());
-                // Ends that are not translated copies (a tapered or skewed prism) make the convex
-                // hull of the two polygons, as 3DEC does, when that hull has the two as faces.
                 if (!make_prism(pa, pb, tolerance_for(all), p, error) &&
                     !make_prism(pa, pb, rounding_tolerance_for(all), p, error)) {
-                    Polyhedron hull;
-                    std::string hull_error;
-                    if (!make_convex_hull(all, tolerance_for(all), hull, hull_error)) fail(a.find("a")->loc, error, {}, "poly");
-                    // Every vertex of both polygons must lie on the hull's surface (a vertex inside
-                    // it means the two polygons do not bound one convex solid).
-                    const double tol = rounding_tolerance_for(all);
-                    for (const Vec3& x : all) {
-                        double inside = std::numeric_limits<double>::infinity();
-                        for (int f = 0; f < hull.n_faces(); ++f) {
-                            inside = std::min(inside, hull.face_normal(f).dot(hull.vertices[hull.face_vertex(f, 0)] - x));
-                        }
-                        if (inside > tol) {
-                            fail(a.find("a")->loc, "prism: polygons a and b are not the two ends of a convex solid: "
-                                                   "the vertex " + vec_text(x) + " lies " + num(inside) +
-                                                   " m inside the hull of the others",
-                                 {"list each end's vertices in order around it; the two ends may differ in shape"}, "poly");
-                        }
+                    if (pa.size() < 3 || pb.size() != pa.size()) fail(a.find("a")->loc, error, {}, "poly");
+                    // Not a translated copy, or not convex: its faces, sides that are not planar
+                    // split in two (see prism_faces).
+                    NearbyFaces near(m);
+                    const PrismFaces pf = prism_faces(near, pa, pb);
+                    if (!make_convex_pieces(pf.faces, pf.tol, inner_tag, solid, error)) {
+                        const std::string text = name_face(error, pf.names);
+                        const bool planar = text.find("not planar") != std::string::npos;
+                        fail(text.find("polygon b") != std::string::npos ? a.find("b")->loc : a.find("a")->loc,
+                             "prism: " + text,
+                             planar ? std::vector<std::string>{}
+                                    : std::vector<std::string>{"list each end's vertices in order around it, vertex k "
+                                                               "of 'a' joined to vertex k of 'b'"},
+                             "poly");
                     }
-                    p = std::move(hull);
+                    if (pf.skew > 0) {
+                        std::string text = "prism: " + std::to_string(pf.skew) + " of its " + std::to_string(pa.size()) +
+                                           " sides are not planar (their corners up to " + num(pf.worst) +
+                                           " m off one plane";
+                        if (pf.precision > 0) text += ", with the coordinates written to " + num(pf.precision) + " m";
+                        text += "): each is taken as two triangles, split along the diagonal that keeps the block convex";
+                        if (!pf.matched.empty()) {
+                            text += ", or along the one the neighbouring block already has (";
+                            for (size_t i = 0; i < pf.matched.size(); ++i) text += (i ? ", " : "") + pf.matched[i];
+                            text += ")";
+                        }
+                        warn(ctx, a.find("a")->loc, text);
+                    }
                 }
             } else if (kind == "face") {
                 std::vector<std::vector<Vec3>> faces;
@@ -350,7 +561,8 @@ const CommandSpec& poly_command() {
                 }
                 if (!make_from_faces(faces, tolerance_for(all), p, error) &&
                     !make_from_faces(faces, rounding_tolerance_for(all), p, error) &&
-                    !(error.find("convex") != std::string::npos && accept_hull(ctx, faces, all, "the faces given are not convex", p))) {
+                    !(error.find("convex") != std::string::npos &&
+                      make_convex_pieces(faces, rounding_tolerance_for(all), inner_tag, solid, error))) {
                     // The message names the face by its number; point at that 'face' keyword.
                     const auto uses = a.all("face");
                     SourceLoc loc = uses.front()->loc;
@@ -366,20 +578,47 @@ const CommandSpec& poly_command() {
                 std::vector<Vec3> v = points_of(*t);
                 if (!make_tetra(v[0], v[1], v[2], v[3], tolerance_for(v), p, error)) fail(t->loc, error, {}, "poly");
             }
+            // The blocks to add: p, or the pieces of a solid that is not convex.
+            std::vector<Polyhedron> shapes;
+            if (!solid.pieces.empty()) {
+                shapes = std::move(solid.pieces);
+                if (shapes.size() == 1) shapes[0].face_joint.clear();
+            } else {
+                shapes.push_back(std::move(p));
+            }
             const int region = a.has("region") ? a.integer("region") : 0;
             const int material = a.has("material") ? a.integer("material") : 1;
             {
                 const double rho = material < static_cast<int>(m.materials.size()) ? m.materials[material].density : 0.0;
-                const std::string problem = block_numbers_problem(mass_properties(p), rho);
-                if (!problem.empty()) fail(where, problem, {"odec works in metres, kilograms and seconds"}, "poly");
+                for (const Polyhedron& shape : shapes) {
+                    const std::string problem = block_numbers_problem(mass_properties(shape), rho);
+                    if (!problem.empty()) fail(where, problem, {"odec works in metres, kilograms and seconds"}, "poly");
+                }
             }
-            if (ctx.interp.limits.max_blocks > 0 && m.blocks.size() >= ctx.interp.limits.max_blocks) {
-                fail(where, "this session allows at most " + std::to_string(ctx.interp.limits.max_blocks) + " blocks",
+            const long limit = ctx.interp.limits.max_blocks;
+            if (limit > 0 && m.blocks.size() + static_cast<long>(shapes.size()) > limit) {
+                fail(where, "this session allows at most " + std::to_string(limit) + " blocks" +
+                                (shapes.size() > 1 ? ": the " + std::to_string(shapes.size()) + " pieces of this one would pass it"
+                                                   : std::string()),
                      {}, "poly");
             }
+            // Everything is checked: change the model. The faces between the pieces of a solid
+            // that is not convex are a joined joint set of their own, so that they act as one.
+            if (shapes.size() > 1) {
+                ++m.n_joint_sets;
+                m.joint_planes.push_back(JointPlane{m.n_joint_sets, true, 0});
+            }
             const int group = a.has("group") ? m.group_index(a.text("group"), true) : -1;
-            const int b = add_block(m, p, region, group, material);
-            if (a.has("cons")) m.blocks.cons[b] = static_cast<std::uint8_t>(a.integer("cons"));
+            const int first_id = m.next_block_id;
+            for (const Polyhedron& shape : shapes) {
+                const int b = add_block(m, shape, region, group, material);
+                if (a.has("cons")) m.blocks.cons[b] = static_cast<std::uint8_t>(a.integer("cons"));
+            }
+            if (shapes.size() > 1 && !ctx.interp.quiet) {
+                ctx.out << "poly: the solid is not convex: made of " << shapes.size() << " convex blocks, ids " << first_id
+                        << " to " << m.next_block_id - 1 << ", joined (joint set " << m.n_joint_sets
+                        << ") so that they act as one\n";
+            }
         });
         return c;
     }();

@@ -415,6 +415,10 @@ void print_info(CommandContext& ctx) {
     o << "timestep:   " << (m.settings.dt_fixed > 0 ? num(m.settings.dt_fixed) + " s (set dt)"
                                                     : "automatic, dtfrac " + num(m.settings.dtfrac))
       << (m.dt > 0 ? ", in use " + num(m.dt) + " s" : "") << "\n";
+    // What 'set ovtol' allows: blocks that carry no stress yet may overlap this much when cycling starts.
+    o << "overlap:    at most " << (m.settings.ovtol > 0 ? num(m.settings.ovtol) + " m (set ovtol)"
+                                                       : std::string("0.5 % of the smaller block's size (automatic)"))
+      << " where unstressed\n";
     o << "analysis:   " << analysis_mode_text(m) << "\n";
     o << "threads:    " << thread_count()
       << (threads_available() ? " ('set threads n' or ODEC_THREADS; the same results with any number)"

@@ -10,6 +10,10 @@ const CommandSpec& set_command() {
         c.keyword("dt", 2, "force this timestep, s ('auto' or 0: back to the automatic one)").real("dt", 0).or_word("auto");
         c.keyword("dtfrac", 3, "fraction of the critical timestep used").real("f", 0, 1, Limit::Open).defaults("0.1");
         c.keyword("ctol", 2, "contact tolerance, m (0: chosen from block sizes)").real("tol", 0);
+        c.keyword("ovtol", 2, "overlap tolerance, m: the deepest overlap allowed when cycling starts between blocks "
+                              "that carry no stress yet; deeper ones stop the cycling command with an error that "
+                              "names them (0: 0.5 % of the smaller block's size, the cube root of its volume)")
+            .real("tol", 0);
         c.keyword("echo", 2, "echo script commands with their file and line").one_of("state", {"on", "off"}).defaults("on");
         c.keyword("log", 3, "copy the commands and what they print into the log file").one_of("state", {"on", "off"}).defaults("off");
         c.keyword("logfile", 4, "the log file (appended to)").string("name").defaults("odec.log");
@@ -138,6 +142,7 @@ const CommandSpec& set_command() {
                 m.settings.ctol = a.real("ctol");
                 m.geometry_changed = true;
             }
+            if (a.has("ovtol")) m.settings.ovtol = a.real("ovtol");
             if (a.has("dynamic")) {
                 m.settings.dynamic = a.text("dynamic") == "on";
                 m.geometry_changed = true; // the masses are chosen again

@@ -40,7 +40,9 @@ const CommandSpec& solve_command() {
                    "largest speed is falling). A run stopped by its time limit or by Ctrl-C says so, and a "
                    "time-limited run names a mechanism too. A deformable block counts through its gridpoints; "
                    "fixed and velocity-driven blocks are left out. 'print info' shows the last solve's "
-                   "criteria and verdict, and FISH's solve_verdict gives it in a word.");
+                   "criteria and verdict, and FISH's solve_verdict gives it in a word. Blocks made "
+                   "overlapping where they carry no stress yet, deeper than the overlap tolerance ('set "
+                   "ovtol'), stop it before its first step with an error that names each pair.");
         c.example("solve");
         c.example("solve ratio 1e-6 cycles 50000");
         c.refuse_while_cycling(kNoNestedCycling);

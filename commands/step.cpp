@@ -14,7 +14,10 @@ const CommandSpec& step_command() {
         c.keyword("time", 2, "advance the model time by t, s, instead").real("t", 0, kInf, Limit::Open);
         c.describe("Ctrl-C at the prompt stops the stepping between two steps; the model stays as it "
                    "was after the last whole step. A long run prints its progress every few seconds (step, "
-                   "time, unbalanced ratio, time left), unless --quiet or 'set echo off'.");
+                   "time, unbalanced ratio, time left), unless --quiet or 'set echo off'. Blocks made "
+                   "overlapping where they carry no stress yet, deeper than the overlap tolerance ('set "
+                   "ovtol'), stop it before its first step with an error that names each pair and how deep "
+                   "it overlaps, the model left as it was.");
         c.example("step 1000");
         c.example("cycle time 0.5");
         c.refuse_while_cycling(kNoNestedCycling);

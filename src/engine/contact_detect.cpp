@@ -757,7 +757,9 @@ struct Detector {
             if (tag > 0 && tag <= static_cast<int>(m.joint_planes.size())) {
                 const JointPlane& jp = m.joint_planes[tag - 1];
                 if (jp.jmat > 0) jmat = jp.jmat;
-                joined = jp.joined;
+                // Glued only where the blocks touch: two pieces of one joined mass with a thin
+                // piece between them face each other across it, apart.
+                joined = jp.joined && cp.gap <= 1e-3 * tol;
             }
             next.jmat.push_back(jmat);
             next.jcons.push_back(jcons);

@@ -171,7 +171,14 @@ struct Settings {
     bool dynamic = false;        // real masses and real time
     double mscale_dt = 0;        // s; > 0: `mscale`: in dynamic mode, masses that would need a
                                  // smaller timestep are raised to allow this one
+    // m; `set ovtol`: the deepest overlap allowed, when cycling starts, between blocks that
+    // carry no stress yet; 0: kOverlapFraction of the smaller block's size.
+    double ovtol = 0;
 };
+
+// The overlap tolerance unless 'set ovtol' gives one: this fraction of the size (the cube root
+// of the volume) of the smaller of two blocks.
+constexpr double kOverlapFraction = 0.005;
 
 // What the last choice of inertial masses did, for the commands to report.
 struct MassScalingReport {

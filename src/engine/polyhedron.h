@@ -99,6 +99,22 @@ bool make_prism(const std::vector<Vec3>& a_loop, const std::vector<Vec3>& b_loop
 bool make_tetra(const Vec3& v1, const Vec3& v2, const Vec3& v3, const Vec3& v4, double tol,
                 Polyhedron& out, std::string& error);
 
+// A closed solid that need not be convex, as convex pieces that fill it exactly.
+struct SolidPieces {
+    std::vector<Polyhedron> pieces; // convex, world coordinates; one when the solid is convex
+    MassProperties whole;           // of the solid itself
+};
+
+// Build the solid bounded by these faces (vertex loops, any winding), convex or not, as
+// convex pieces (polyhedron_pieces.cpp). Corners within tol are merged and corners lying on
+// an edge dropped, as make_from_faces does; every face must be planar within tol and a simple
+// polygon, and the faces one closed shell. Each corner is then moved onto the planes of its
+// faces (by at most tol), so that the faces are planar to round-off. A piece's faces on the
+// solid's surface get face_joint 0, those between pieces `inner_tag`. Returns false with
+// `error` (naming a face by its 1-based index) when the faces do not bound one solid.
+bool make_convex_pieces(const std::vector<std::vector<Vec3>>& faces, double tol, int inner_tag, SolidPieces& out,
+                        std::string& error);
+
 // True when p is a closed, consistently outward-oriented, convex polyhedron with volume:
 // every face planar within tol, every vertex on the inner side of every face plane within
 // tol, every edge shared by exactly two faces in opposite directions, one shell.

@@ -31,6 +31,7 @@
 // reverse partner are exactly the cap's boundary, and chaining them gives its loop with
 // the right winding for free.
 #include "engine/polyhedron.h"
+#include "engine/polyhedron_detail.h"
 
 #include <algorithm>
 #include <cmath>
@@ -40,9 +41,7 @@
 
 namespace odec {
 
-namespace {
-
-using Loops = std::vector<std::vector<int>>;
+namespace detail {
 
 // Diagonal of the bounding box: the length that relative tolerances scale with.
 double extent(const std::vector<Vec3>& pts) {
@@ -158,7 +157,9 @@ std::string closure_problem(const Loops& loops, int n_vertices) {
     return "";
 }
 
-} // namespace
+} // namespace detail
+
+using namespace detail;
 
 bool is_convex_polyhedron(const Polyhedron& p, double tol, std::string* why) {
     auto fail = [&](const std::string& s) {

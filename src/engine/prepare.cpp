@@ -11,6 +11,54 @@
 
 namespace odec {
 
+namespace {
+
+// Blocks that overlap where they carry no stress yet (blocks just made, placed or cut, not
+// loaded by cycling or 'insitu') deeper than the overlap tolerance, named with how deep;
+// "" when none do. Their joints would throw them apart at the first step.
+std::string overlap_problem(const Model& m) {
+    const ContactSet& cs = m.contacts;
+    const BlockSet& s = m.blocks;
+    struct Deep {
+        double depth, tol;
+        int c;
+    };
+    std::vector<Deep> deep;
+    auto size_of = [&](int b) { return std::cbrt(std::max(0.0, s.volume[b])); };
+    for (int c = 0; c < cs.size(); ++c) {
+        const double depth = -cs.gap[c];
+        if (!(depth > 0)) continue;
+        bool unstressed = true;
+        for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1] && unstressed; ++k) {
+            unstressed = cs.sub_sn[k] == 0 && cs.sub_ss[k].squaredNorm() == 0;
+        }
+        if (!unstressed) continue;
+        const double tol = m.settings.ovtol > 0 ? m.settings.ovtol
+                                                 : kOverlapFraction * std::min(size_of(cs.block_a[c]), size_of(cs.block_b[c]));
+        if (depth > tol) deep.push_back(Deep{depth, tol, c});
+    }
+    if (deep.empty()) return "";
+    std::stable_sort(deep.begin(), deep.end(), [](const Deep& x, const Deep& y) { return x.depth > y.depth; });
+    std::string text = std::to_string(deep.size()) + (deep.size() == 1 ? " pair" : " pairs") +
+                       " of blocks overlap deeper than the overlap tolerance (" +
+                       (m.settings.ovtol > 0 ? num_text(m.settings.ovtol) + " m, 'set ovtol'"
+                                             : std::string("0.5 % of the smaller block's size, the cube root of its volume")) +
+                       ") where they carry no stress yet, and their joints would throw them apart at the first step "
+                       "(correct their coordinates, or let the joints push them apart with a larger 'set ovtol'):";
+    constexpr size_t kShown = 10;
+    for (size_t i = 0; i < deep.size() && i < kShown; ++i) {
+        const int c = deep[i].c;
+        const Vec3& x = cs.point[c];
+        text += "\n    blocks " + std::to_string(s.id[cs.block_a[c]]) + " and " + std::to_string(s.id[cs.block_b[c]]) +
+                " overlap " + num_text(deep[i].depth) + " m deep near (" + num_text(x.x()) + "," + num_text(x.y()) + "," +
+                num_text(x.z()) + ")" + (m.settings.ovtol > 0 ? "" : " (tolerance " + num_text(deep[i].tol) + " m)");
+    }
+    if (deep.size() > kShown) text += "\n    and " + std::to_string(deep.size() - kShown) + " more pairs";
+    return text;
+}
+
+} // namespace
+
 std::string prepare_cycle(Model& m) {
     PrepareUndo undo(m);
     std::string problem = prepare_cycle_once(m);
@@ -77,6 +125,8 @@ std::string prepare_cycle_once(Model& m) {
         refresh_world_vertices(m);
         detect_contacts(m);
         update_gridpoint_masses(m);
+        const std::string overlap = overlap_problem(m);
+        if (!overlap.empty()) return overlap;
     }
     // A joint material may be assigned before its properties are given ('change jmat'), but not
     // cycled without them: such a joint would hold nothing.

@@ -219,6 +219,8 @@ auto fields(IO& io, M& x) -> If<M, Settings> {
     if (io.format >= 6) {
         io(x.dyn_configured); io(x.dynamic); io(x.mscale_dt);
     }
+    // Format 10: the overlap tolerance (older files restore with the automatic one).
+    if (io.format >= 10) io(x.ovtol);
 }
 
 template <class IO, class M>
@@ -1060,6 +1062,7 @@ std::string check_values(const Model& m) {
     c.at_least(st.dt_fixed, 0, "the forced timestep");
     if (c.finite(st.dtfrac, "dtfrac") && !(st.dtfrac > 0 && st.dtfrac <= 1)) c.fail("dtfrac is outside (0, 1]");
     c.at_least(st.ctol, 0, "the contact tolerance");
+    c.at_least(st.ovtol, 0, "the overlap tolerance");
     if (st.default_jmat < 1 || st.default_jmat > 1000000) c.fail("the default joint material is out of range");
     if (st.default_jcons < 1 || st.default_jcons > 2) c.fail("the default joint model is out of range");
     c.at_least(st.mscale_dt, 0, "the mscale timestep");

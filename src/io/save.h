@@ -26,8 +26,9 @@ namespace odec {
 // 8: the energy account and energy histories (older files restore with the account off);
 // 9: each block's orientation at the last `reset disp` (in place of the accumulated small
 // rotation), and the first sample of each history (histories made during a run no longer
-// hold a NaN for each sample before them).
-constexpr std::uint32_t kSaveFormatVersion = 9;
+// hold a NaN for each sample before them); 10: the overlap tolerance ('set ovtol'; older files
+// take the automatic one).
+constexpr std::uint32_t kSaveFormatVersion = 10;
 
 // Write the model to `path`. A model that restore would refuse (a velocity that is not a finite
 // number after a run-away, an index out of range) is not written: save and restore run the

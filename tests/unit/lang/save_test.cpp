@@ -318,6 +318,7 @@ TEST_F(Save, OlderFormatsStillRestore) {
     EXPECT_EQ(m.histories.items[0].gridpoint, -1);
     EXPECT_EQ(m.histories.items[0].zone, -1);
     EXPECT_EQ(m.profile.seconds[static_cast<int>(odec::Stage::Zones)], 0.0);
+    EXPECT_EQ(m.settings.ovtol, 0.0); // format 10: older files take the automatic overlap tolerance
     const double z_before = m.blocks.centroid[0].z();
     ASSERT_TRUE(b.run("step 10")) << b.error();
     EXPECT_LT(b.model.blocks.centroid[0].z(), z_before);
@@ -438,6 +439,13 @@ TEST_F(Save, Format6AppliedForceRestoresAsALoadAtTheCentroid) {
     shrink(blks + 4, 64 + 8);
     shrink(grid + 4, 8);
     shrink(payload_length_at, 80 + enrg_length);
+    // Format 10 added the overlap tolerance, the last of the settings: the 8 bytes before DAMP.
+    const size_t sets = file.find("SETS", payload_length_at + 8);
+    const size_t damp = file.find("DAMP", sets);
+    ASSERT_TRUE(sets != std::string::npos && damp != std::string::npos && sets < blks);
+    file.erase(damp - 8, 8);
+    shrink(sets + 4, 8);
+    shrink(payload_length_at, 8);
     format = 6;
     std::memcpy(&file[12], &format, 4);
     std::uint64_t h = 0xcbf29ce484222325ull;
@@ -721,7 +729,7 @@ TEST(SaveLayout, EveryFieldIsSaved) {
     EXPECT_EQ(count_fields<Table>(), 1u) << fix;
     EXPECT_EQ(count_fields<TableSet>(), 1u) << fix;
     EXPECT_EQ(count_fields<Damping>(), 5u) << fix;
-    EXPECT_EQ(count_fields<Settings>(), 9u) << fix;
+    EXPECT_EQ(count_fields<Settings>(), 10u) << fix;
     EXPECT_EQ(count_fields<Profile>(), 8u) << fix; // 7 stage times and the step count
     EXPECT_EQ(count_fields<InsituRecord>(), 2u) << fix;
     EXPECT_EQ(count_fields<StressField>(), 4u) << fix;
