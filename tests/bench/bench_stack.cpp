@@ -3,7 +3,8 @@
 // timestep for the same number of steps. Prints, per stack, the steps per CPU second of each
 // code (user + system seconds of the process over the steps alone: odec's contact detection
 // and cycling, YADE's O.run), their ratio, odec's share of time per cycle stage, and, to show
-// that both settled, the mean height of the cubes' centroids and their kinetic energy.
+// that both settled, the mean height of the cubes' centroids, their kinetic energy and the
+// largest speed and spin of a cube.
 //
 // Layout (the same in both codes). A stack "n x n columns of h" has n * n * h cubes:
 //   base     a fixed block, x and y in [-1, n p + 1], z in [-1, 0]
@@ -15,20 +16,24 @@
 // The stacks: 100 cubes = 5 x 5 columns of 4, 500 cubes = 10 x 10 columns of 5. Settled (rigid
 // cubes, no gaps), the centroids' mean height is h / 2 m: 2 and 2.5 m.
 // Materials: density 2700 kg/m^3; joints kn = ks = 1e9 Pa/m, friction 30 degrees, no cohesion
-// or tension; local damping 0.8; gravity 10 m/s^2; timestep 1e-4 s (a tenth of the critical
-// step of a cube on one face contact); 2000 steps (0.2 s). odec runs in dynamic mode (real
-// masses, as YADE integrates them) on one thread; YADE runs with -j1.
+// or tension; local damping 0.8; gravity 10 m/s^2; timestep 5e-5 s; 4000 steps (0.2 s). odec
+// runs in dynamic mode (real masses, as YADE integrates them) on one thread; YADE runs with -j1.
+// The timestep is the one YADE's cubes need to come to rest: at 1e-4 s they land at the same
+// height but keep rocking (spins of about 0.01 rad/s, kinetic energy about 0.5 J per 100 cubes
+// after 0.2 s, and no less 0.4 s later); odec's automatic step for these cubes is 3.3e-4 s.
 // YADE's law is volumetric (normal force kn times the overlap volume, shear force ks times the
 // shear displacement); bench_stack_yade.py chooses its moduli so that a full face contact
 // between two cubes has the normal and shear stiffness of odec's joint.
 //
 // Usage: bench_stack [cubes ...] [--steps s] [--dt t] [--no-yade]   (cubes: 100 or 500; default both)
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "engine/blocks.h"
@@ -64,6 +69,8 @@ struct Figures {
     double wall = 0;     // s over the steps
     double mean_z = 0;   // m, the cubes' centroids
     double kinetic = 0;  // J, translation and rotation of the cubes
+    double speed = 0;    // m/s, the largest of a cube's centroid
+    double spin = 0;     // rad/s, the largest of a cube
     long steps = 0;
 };
 
@@ -96,6 +103,7 @@ Figures run_odec(const Stack& st, long steps, double dt, bool profile) {
                 cubes.push_back(add_block(
                     m, make_brick(i * kPitch, i * kPitch + 1, jj * kPitch, jj * kPitch + 1, z0, z0 + 1), 0, -1, 1));
             }
+    std::printf("  odec's automatic timestep with real masses: %.3g s\n", real_mass_timestep(m));
     const double c0 = process_cpu_seconds();
     const auto w0 = std::chrono::steady_clock::now();
     const std::string err = prepare_cycle(m);
@@ -128,6 +136,8 @@ Figures run_odec(const Stack& st, long steps, double dt, bool profile) {
         f.mean_z += s.centroid[b].z() / f.cubes;
         const Vec3 spin = s.orientation[b].conjugate() * s.ang_vel[b]; // body frame
         f.kinetic += 0.5 * s.mass[b] * s.vel[b].squaredNorm() + 0.5 * spin.dot(s.inertia_body[b] * spin);
+        f.speed = std::max(f.speed, s.vel[b].norm());
+        f.spin = std::max(f.spin, s.ang_vel[b].norm());
     }
     if (profile) {
         double total = 0;
@@ -154,30 +164,52 @@ Figures run_yade(const std::string& yade, const Stack& st, long steps, double dt
     *process_cpu = r.cpu;
     const size_t at = r.output.find("RESULT ");
     if (r.status != 0 || at == std::string::npos ||
-        std::sscanf(r.output.c_str() + at, "RESULT %d %d %d %ld %lf %lf %lf %lf", &f.cubes, &f.contacts, &f.touching,
-                    &f.steps, &f.cpu, &f.wall, &f.mean_z, &f.kinetic) != 8) {
+        std::sscanf(r.output.c_str() + at, "RESULT %d %d %d %ld %lf %lf %lf %lf %lf %lf", &f.cubes, &f.contacts,
+                    &f.touching, &f.steps, &f.cpu, &f.wall, &f.mean_z, &f.kinetic, &f.speed, &f.spin) != 10) {
         std::printf("  yade failed (exit status %d):\n%s\n", r.status, r.output.c_str());
         return f;
     }
-    int warnings = 0;
-    for (size_t p = r.output.find("WARNING"); p != std::string::npos; p = r.output.find("WARNING", p + 1)) ++warnings;
-    if (warnings > 0) std::printf("  yade printed %d warnings\n", warnings);
+    // Its warnings without their colours, each printed once with how many times it came.
+    std::vector<std::pair<std::string, int>> warnings;
+    for (size_t p = r.output.find("WARNING"); p != std::string::npos; p = r.output.find("WARNING", p + 1)) {
+        const size_t end = r.output.find('\n', p);
+        const std::string line = r.output.substr(p, end == std::string::npos ? std::string::npos : end - p);
+        std::string plain;
+        for (size_t k = 0; k < line.size(); ++k) {
+            if (line[k] == '\033') {
+                while (k < line.size() && line[k] != 'm') ++k;
+            } else {
+                plain += line[k];
+            }
+        }
+        auto it = std::find_if(warnings.begin(), warnings.end(), [&](const auto& w) { return w.first == plain; });
+        if (it == warnings.end()) warnings.emplace_back(plain, 1);
+        else ++it->second;
+    }
+    for (const auto& w : warnings) std::printf("  yade warned %d times: %s\n", w.second, w.first.c_str());
+    const size_t engines = r.output.find("ENGINES ");
+    if (engines != std::string::npos) {
+        std::printf("  yade engines: %s\n", r.output.substr(engines + 8, r.output.find('\n', engines) - engines - 8).c_str());
+    }
     f.ok = true;
     return f;
 }
 
 void print_row(const char* code, const Figures& f) {
     std::printf("  %-5s %4d cubes, %5d contacts (%4d pressing), %ld steps: cpu %7.2f s, wall %7.2f s, %8.1f steps per "
-                "cpu s; mean height %.6f m, kinetic energy %.3g J\n",
-                code, f.cubes, f.contacts, f.touching, f.steps, f.cpu, f.wall, f.steps / f.cpu, f.mean_z, f.kinetic);
+                "cpu s\n",
+                code, f.cubes, f.contacts, f.touching, f.steps, f.cpu, f.wall, f.steps / f.cpu);
+    std::printf("  %-5s at the end: mean height %.6f m, kinetic energy %.3g J, largest speed %.3g m/s, largest spin "
+                "%.3g rad/s\n",
+                code, f.mean_z, f.kinetic, f.speed, f.spin);
 }
 
 } // namespace
 
 int main(int argc, char** argv) {
     std::vector<int> sizes;
-    long steps = 2000;
-    double dt = 1e-4;
+    long steps = 4000;
+    double dt = 5e-5;
     bool with_yade = true;
     for (int i = 1; i < argc; ++i) {
         if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) steps = std::atol(argv[++i]);
