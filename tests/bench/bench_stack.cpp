@@ -16,11 +16,13 @@
 // The stacks: 100 cubes = 5 x 5 columns of 4, 500 cubes = 10 x 10 columns of 5. Settled (rigid
 // cubes, no gaps), the centroids' mean height is h / 2 m: 2 and 2.5 m.
 // Materials: density 2700 kg/m^3; joints kn = ks = 1e9 Pa/m, friction 30 degrees, no cohesion
-// or tension; local damping 0.8; gravity 10 m/s^2; timestep 5e-5 s; 4000 steps (0.2 s). odec
+// or tension; local damping 0.8; gravity 10 m/s^2; timestep 2.5e-5 s; 8000 steps (0.2 s). odec
 // runs in dynamic mode (real masses, as YADE integrates them) on one thread; YADE runs with -j1.
-// The timestep is the one YADE's cubes need to come to rest: at 1e-4 s they land at the same
-// height but keep rocking (spins of about 0.01 rad/s, kinetic energy about 0.5 J per 100 cubes
-// after 0.2 s, and no less 0.4 s later); odec's automatic step for these cubes is 3.3e-4 s.
+// The timestep is the one YADE's cubes need to come to rest: at 1e-4 s the 100 cubes land at
+// the same height as odec's but keep rocking (spins of about 0.01 rad/s, kinetic energy about
+// 0.5 J after 0.2 s and no less 0.4 s later), at 5e-5 s the 100 come to rest but the 500 still
+// rock (1.1 J, 0.006 rad/s after 0.2 s). odec's automatic step for these cubes is 3.3e-4 s.
+// A run of both stacks takes YADE about 10 CPU minutes.
 // YADE's law is volumetric (normal force kn times the overlap volume, shear force ks times the
 // shear displacement); bench_stack_yade.py chooses its moduli so that a full face contact
 // between two cubes has the normal and shear stiffness of odec's joint.
@@ -28,7 +30,6 @@
 // Usage: bench_stack [cubes ...] [--steps s] [--dt t] [--no-yade]   (cubes: 100 or 500; default both)
 #include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -74,7 +75,7 @@ struct Figures {
     long steps = 0;
 };
 
-Figures run_odec(const Stack& st, long steps, double dt, bool profile) {
+Figures run_odec(const Stack& st, long steps, double dt) {
     Figures f;
     Model m;
     m.materials.resize(2);
@@ -139,15 +140,13 @@ Figures run_odec(const Stack& st, long steps, double dt, bool profile) {
         f.speed = std::max(f.speed, s.vel[b].norm());
         f.spin = std::max(f.spin, s.ang_vel[b].norm());
     }
-    if (profile) {
-        double total = 0;
-        for (double x : m.profile.seconds) total += x;
-        std::printf("  odec stages:");
-        for (int k = 0; k < static_cast<int>(Stage::Count); ++k) {
-            std::printf(" %s %.1f%%", stage_name(static_cast<Stage>(k)), 100.0 * m.profile.seconds[k] / total);
-        }
-        std::printf("\n  odec: sub-contacts %d, detections %ld\n", m.contacts.n_subs(), m.contacts.n_detections);
+    double total = 0;
+    for (double x : m.profile.seconds) total += x;
+    std::printf("  odec stages:");
+    for (int k = 0; k < static_cast<int>(Stage::Count); ++k) {
+        std::printf(" %s %.1f%%", stage_name(static_cast<Stage>(k)), 100.0 * m.profile.seconds[k] / total);
     }
+    std::printf("\n  odec: sub-contacts %d, detections %ld\n", m.contacts.n_subs(), m.contacts.n_detections);
     return f;
 }
 
@@ -208,8 +207,8 @@ void print_row(const char* code, const Figures& f) {
 
 int main(int argc, char** argv) {
     std::vector<int> sizes;
-    long steps = 4000;
-    double dt = 5e-5;
+    long steps = 8000;
+    double dt = 2.5e-5;
     bool with_yade = true;
     for (int i = 1; i < argc; ++i) {
         if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) steps = std::atol(argv[++i]);
@@ -234,7 +233,7 @@ int main(int argc, char** argv) {
         std::printf("stack of %d cubes: %d x %d columns of %d; settled mean height %.1f m\n", cubes, st.n, st.n, st.h,
                     0.5 * st.h);
         std::fflush(stdout);
-        const Figures o = run_odec(st, steps, dt, true);
+        const Figures o = run_odec(st, steps, dt);
         if (o.ok) print_row("odec", o);
         std::fflush(stdout);
         if (yade.empty()) continue;
