@@ -1119,11 +1119,11 @@ void detect_contacts(Model& m) {
         }
         // A contact that touches nowhere has no sub-contacts to feel its blocks closing in
         // (blocks meeting along an edge or at a corner carry nothing while they only touch):
-        // it is rebuilt as soon as they overlap across its plane, by a millionth of ctol more
-        // than when it was built, rather than at the next refresh (ctol/10 of motion). Left
-        // to the refresh, a toe that lifts off for a moment would sink back unseen, and its
-        // force would start from the overlap it reached: on stiff joints a kick that throws
-        // the block off its pivot.
+        // when it was built apart, it is rebuilt as soon as they overlap across its plane by a
+        // millionth of ctol, rather than at the next refresh (ctol/10 of motion). Left to the
+        // refresh, a toe that lifts off for a moment would sink back unseen, and its force
+        // would start from the overlap it reached: on stiff joints a kick that throws the
+        // block off its pivot.
         const double depth_min = 1e-6 * cs.ctol;
         const int nc = cs.size();
         closing.assign(nc, 0);
@@ -1135,9 +1135,6 @@ void detect_contacts(Model& m) {
         for (int c = 0; c < nc; ++c) {
             const int k0 = cs.sub_offset[c], k1 = cs.sub_offset[c + 1];
             if (k1 - k0 > 2) continue; // a face on a face: the tracking rule above
-            // Built overlapping and still without area (edges along one line): looking again
-            // would find the same.
-            if (k1 == k0 && cs.gap[c] < -depth_min) continue;
             const int a = cs.block_a[c], b = cs.block_b[c];
             if (!(mot[a] + mot[b] > 0)) continue;
             const Vec3& nrm = cs.normal[c];
@@ -1146,7 +1143,12 @@ void detect_contacts(Model& m) {
             double hi_a = -std::numeric_limits<double>::infinity(), lo_b = -hi_a;
             for (int i = a0; i < a1; ++i) hi_a = std::max(hi_a, nrm.dot(s.world_vertices[i]));
             for (int i = b0; i < b1; ++i) lo_b = std::min(lo_b, nrm.dot(s.world_vertices[i]));
-            const double deeper = std::max(-cs.gap[c], 0.0) + depth_min; // than when it was built
+            // Deeper than when it was built by depth_min; for a contact that touches nowhere and
+            // was built touching (blocks cut from one another, meeting along an edge) or already
+            // overlapping without area (edges along one line), by a thousandth of ctol: looking
+            // again sooner would find the same.
+            const bool apart = cs.gap[c] > 1e-2 * depth_min;
+            const double deeper = std::max(-cs.gap[c], 0.0) + (k1 > k0 || apart ? depth_min : 1e-3 * cs.ctol);
             if (hi_a - lo_b <= deeper) continue;
             if (k1 == k0) {
                 close_mark[c] = 1;
