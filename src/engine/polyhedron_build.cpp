@@ -54,6 +54,48 @@ double extent(const std::vector<Vec3>& pts) {
     return (hi - lo).norm();
 }
 
+bool read_face_loops(const std::vector<std::vector<Vec3>>& faces, double tol, std::vector<Vec3>& v, Loops& loops,
+                     std::string& error) {
+    if (faces.size() < 4) {
+        error = "a closed solid needs at least 4 faces (got " + std::to_string(faces.size()) + ")";
+        return false;
+    }
+    // Merge corners within tol: the first one met stands for the others.
+    v.clear();
+    loops.assign(faces.size(), {});
+    for (size_t f = 0; f < faces.size(); ++f) {
+        for (const Vec3& x : faces[f]) {
+            if (!x.allFinite()) {
+                error = "face " + std::to_string(f + 1) + " has a vertex that is not a finite number";
+                return false;
+            }
+            int found = -1;
+            for (size_t i = 0; i < v.size() && found < 0; ++i) {
+                if ((v[i] - x).norm() <= tol) found = static_cast<int>(i);
+            }
+            if (found < 0) {
+                found = static_cast<int>(v.size());
+                v.push_back(x);
+            }
+            auto& loop = loops[f];
+            if (loop.empty() || loop.back() != found) loop.push_back(found);
+        }
+        auto& loop = loops[f];
+        while (loop.size() > 1 && loop.front() == loop.back()) loop.pop_back();
+        if (loop.size() < 3) {
+            error = "face " + std::to_string(f + 1) + " has fewer than 3 distinct vertices";
+            return false;
+        }
+        std::vector<int> sorted = loop;
+        std::sort(sorted.begin(), sorted.end());
+        if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) {
+            error = "face " + std::to_string(f + 1) + " visits a vertex twice";
+            return false;
+        }
+    }
+    return true;
+}
+
 // Newell normal of a loop (twice the vector area; not normalised). Taken relative to the
 // loop's first vertex: far from the origin, cross products of absolute coordinates lose
 // most of their digits to cancellation.
@@ -194,44 +236,10 @@ bool is_convex_polyhedron(const Polyhedron& p, double tol, std::string* why) {
 
 bool make_from_faces(const std::vector<std::vector<Vec3>>& faces, double tol, Polyhedron& out,
                      std::string& error) {
-    if (faces.size() < 4) {
-        error = "a closed solid needs at least 4 faces (got " + std::to_string(faces.size()) + ")";
-        return false;
-    }
     tol = std::max(tol, 0.0);
-    // Merge corners within tol: the first one met stands for the others.
     std::vector<Vec3> v;
-    Loops loops(faces.size());
-    for (size_t f = 0; f < faces.size(); ++f) {
-        for (const Vec3& x : faces[f]) {
-            if (!x.allFinite()) {
-                error = "face " + std::to_string(f + 1) + " has a vertex that is not a finite number";
-                return false;
-            }
-            int found = -1;
-            for (size_t i = 0; i < v.size() && found < 0; ++i) {
-                if ((v[i] - x).norm() <= tol) found = static_cast<int>(i);
-            }
-            if (found < 0) {
-                found = static_cast<int>(v.size());
-                v.push_back(x);
-            }
-            auto& loop = loops[f];
-            if (loop.empty() || loop.back() != found) loop.push_back(found);
-        }
-        auto& loop = loops[f];
-        while (loop.size() > 1 && loop.front() == loop.back()) loop.pop_back();
-        if (loop.size() < 3) {
-            error = "face " + std::to_string(f + 1) + " has fewer than 3 distinct vertices";
-            return false;
-        }
-        std::vector<int> sorted = loop;
-        std::sort(sorted.begin(), sorted.end());
-        if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) {
-            error = "face " + std::to_string(f + 1) + " visits a vertex twice";
-            return false;
-        }
-    }
+    Loops loops;
+    if (!read_face_loops(faces, tol, v, loops, error)) return false;
     for (size_t f = 0; f < loops.size(); ++f) {
         const Vec3 a = loop_area_vector(v, loops[f]);
         const double len = a.norm();

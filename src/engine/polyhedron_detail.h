@@ -14,6 +14,13 @@ using Loops = std::vector<std::vector<int>>;
 // Diagonal of the bounding box: the length that relative tolerances scale with.
 double extent(const std::vector<Vec3>& pts);
 
+// Faces (each a loop of corners, outward or not) as one vertex array and loops of indices into
+// it: corners within tol merged (the first met stands for the others), repeated corners in a
+// row dropped. False with `error` (naming the face) for fewer than 4 faces, a corner that is
+// not finite, a face of fewer than 3 distinct corners, or one that visits a corner twice.
+bool read_face_loops(const std::vector<std::vector<Vec3>>& faces, double tol, std::vector<Vec3>& v, Loops& loops,
+                     std::string& error);
+
 // Newell normal of a loop (twice its vector area; not normalised), taken relative to the
 // loop's first vertex so that far from the origin it keeps its digits.
 Vec3 loop_area_vector(const std::vector<Vec3>& v, const std::vector<int>& loop);

@@ -231,41 +231,7 @@ bool merge_pairwise(const Solid& s, std::vector<Cell>& cells, double plane_tol, 
 
 // Read the faces into merged corners and loops; false with `error` on bad input.
 bool read_faces(const std::vector<std::vector<Vec3>>& faces, double tol, Solid& s, std::string& error) {
-    if (faces.size() < 4) {
-        error = "a closed solid needs at least 4 faces (got " + std::to_string(faces.size()) + ")";
-        return false;
-    }
-    s.loops.assign(faces.size(), {});
-    for (size_t f = 0; f < faces.size(); ++f) {
-        for (const Vec3& x : faces[f]) {
-            if (!x.allFinite()) {
-                error = "face " + std::to_string(f + 1) + " has a vertex that is not a finite number";
-                return false;
-            }
-            int found = -1;
-            for (size_t i = 0; i < s.v.size() && found < 0; ++i) {
-                if ((s.v[i] - x).norm() <= tol) found = static_cast<int>(i);
-            }
-            if (found < 0) {
-                found = static_cast<int>(s.v.size());
-                s.v.push_back(x);
-            }
-            auto& loop = s.loops[f];
-            if (loop.empty() || loop.back() != found) loop.push_back(found);
-        }
-        auto& loop = s.loops[f];
-        while (loop.size() > 1 && loop.front() == loop.back()) loop.pop_back();
-        if (loop.size() < 3) {
-            error = "face " + std::to_string(f + 1) + " has fewer than 3 distinct vertices";
-            return false;
-        }
-        std::vector<int> sorted = loop;
-        std::sort(sorted.begin(), sorted.end());
-        if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) {
-            error = "face " + std::to_string(f + 1) + " visits a vertex twice";
-            return false;
-        }
-    }
+    if (!read_face_loops(faces, tol, s.v, s.loops, error)) return false;
     s.size = extent(s.v);
     for (size_t f = 0; f < s.loops.size(); ++f) {
         const Vec3 a = loop_area_vector(s.v, s.loops[f]);
