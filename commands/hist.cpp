@@ -264,7 +264,7 @@ const CommandSpec& hist_command() {
                         fail(by_id->values[0].loc, "there is no contact " + std::to_string(static_cast<int>(by_id->values[0].number)),
                              {"'print contact' lists them"}, "history");
                     }
-                    h.point = contact_info(m, c).centroid;
+                    h.point = contact_centroid(m, c);
                 } else {
                     h.point = u->values[0].vec;
                     c = find_contact_at(m, h.point);

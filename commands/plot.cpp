@@ -213,7 +213,7 @@ std::vector<int> contacts_in_range(const Model& m, const Args& a) {
     for (int c = 0; c < cs.size(); ++c) {
         const int ba = cs.block_a[c], bb = cs.block_b[c];
         if (!block_shown(m, ba) || !block_shown(m, bb)) continue;
-        if (a.has_range && !a.range.contains_contact(m, contact_info(m, c).centroid, ba, bb)) continue;
+        if (a.has_range && !a.range.contains_contact(m, contact_centroid(m, c), ba, bb)) continue;
         out.push_back(c);
     }
     return out;

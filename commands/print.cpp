@@ -239,7 +239,8 @@ void print_contacts(CommandContext& ctx, const Args& a) {
           << (ci.joined ? ",joined" : "") << "\n";
     }
     o << n << " of " << m.contacts.size()
-      << " contacts (x, y, z: centroid; Pa, compression +; m, closure +; apart: near, not touching)\n";
+      << " contacts (x, y, z: centroid; area: where the blocks touch now; nstress, sstress: mean\n"
+         "over the sub-contacts' spring areas, Pa, compression +; m, closure +; apart: near, not touching)\n";
 }
 
 void print_max(CommandContext& ctx) {

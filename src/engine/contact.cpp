@@ -60,7 +60,7 @@ ContactInfo contact_info(const Model& m, int c) {
         all_open &= (cs.sub_flags[k] & kSubOpen) != 0;
         any_failed |= (cs.sub_flags[k] & kSubFailed) != 0;
     }
-    info.area = area;
+    info.area = contact_touch_area(m, c);
     if (area > 0) {
         info.centroid = x / area;
         info.normal_stress = sn / area;
@@ -80,6 +80,17 @@ ContactInfo contact_info(const Model& m, int c) {
     return info;
 }
 
+Vec3 contact_centroid(const Model& m, int c) {
+    const ContactSet& cs = m.contacts;
+    double area = 0;
+    Vec3 x = Vec3::Zero();
+    for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
+        x += cs.sub_area[k] * sub_point(m, c, k);
+        area += cs.sub_area[k];
+    }
+    return area > 0 ? Vec3(x / area) : cs.point[c];
+}
+
 Vec3 sub_point(const Model& m, int c, int k) {
     const ContactSet& cs = m.contacts;
     const int side = cs.sub_side[k];
@@ -92,7 +103,7 @@ int find_contact_at(const Model& m, const Vec3& x) {
     int best = -1;
     double best_d = std::numeric_limits<double>::infinity();
     for (int c = 0; c < m.contacts.size(); ++c) {
-        const double d = (contact_info(m, c).centroid - x).squaredNorm();
+        const double d = (contact_centroid(m, c) - x).squaredNorm();
         if (d < best_d) {
             best_d = d;
             best = c;
@@ -123,8 +134,7 @@ int assign_joint_material(Model& m, const Range& r, int jmat, int jcons) {
     ContactSet& cs = m.contacts;
     int changed = 0;
     for (int c = 0; c < cs.size(); ++c) {
-        const ContactInfo info = contact_info(m, c);
-        if (!r.contains_contact(m, info.centroid, cs.block_a[c], cs.block_b[c])) continue;
+        if (!r.contains_contact(m, contact_centroid(m, c), cs.block_a[c], cs.block_b[c])) continue;
         // As for blocks: hidden ones are left alone (3DEC's hide ... show ... change jmat).
         if ((m.blocks.flags[cs.block_a[c]] | m.blocks.flags[cs.block_b[c]]) & kHidden) continue;
         if (jmat > 0) cs.jmat[c] = jmat;

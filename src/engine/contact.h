@@ -177,8 +177,9 @@ struct ContactInfo {
     int block_a = -1, block_b = -1;       // block indices
     Eigen::Vector3d centroid = Eigen::Vector3d::Zero(); // m, area centroid of the sub-contacts
     Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
-    double area = 0;                      // m^2
-    double normal_stress = 0;             // Pa, mean over the area, compression positive
+    double area = 0;                      // m^2, where the blocks touch now (contact_touch_area)
+    double normal_stress = 0;             // Pa, mean over the sub-contacts (weighted by their areas),
+                                          //     compression positive
     double shear_stress = 0;              // Pa, magnitude of the mean shear stress vector
     double normal_disp = 0;               // m, mean closure (> 0 compressed), dilation included
     double shear_disp = 0;                // m, magnitude of the mean shear displacement
@@ -190,6 +191,15 @@ struct ContactInfo {
     ContactState state = ContactState::Elastic;
 };
 ContactInfo contact_info(const Model& m, int contact_index);
+// Area-weighted centroid of a contact's sub-contacts (its reference point when they have none).
+Eigen::Vector3d contact_centroid(const Model& m, int contact_index);
+// The area where contact c's blocks touch now, m^2. Where faces lie on the common plane (within
+// ctol of it): the shares of the contact polygon that belong to its closed sub-contacts (those
+// that carry stress or are glued; one away from the other block carries nothing and is open).
+// Where a face is tilted to the plane (an edge or a corner pressing into a face): the part where
+// the solids overlap, a strip as thin as the penetration, however large the spring areas of the
+// sub-contacts that carry it. For a deformable block: the areas of its gridpoints that press.
+double contact_touch_area(const Model& m, int contact_index);
 // World position of sub-contact k (of contact c) now.
 Eigen::Vector3d sub_point(const Model& m, int c, int k);
 // Index of the contact whose centroid is nearest x, or -1 when there are none.

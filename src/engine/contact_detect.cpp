@@ -1220,4 +1220,74 @@ void detect_contacts(Model& m) {
     if (held > 8192 + (cs.sub_contact.size() + cs.id.size()) / 8) rebuilt = Rebuilt{};
 }
 
+double contact_touch_area(const Model& m, int c) {
+    const ContactSet& cs = m.contacts;
+    const BlockSet& s = m.blocks;
+    const int a = cs.block_a[c], b = cs.block_b[c];
+    const int k0 = cs.sub_offset[c], k1 = cs.sub_offset[c + 1];
+    if ((s.flags[a] | s.flags[b]) & kDeformable) {
+        // Gridpoints pressing on a surface: each carries its own share of it.
+        double area = 0;
+        for (int k = k0; k < k1; ++k) {
+            if (!(cs.sub_flags[k] & kSubOpen)) area += cs.sub_area[k];
+        }
+        return area;
+    }
+    // The blocks as they are now (the world vertices may be a step old between commands).
+    std::vector<Vec3> wv[2];
+    const int blk[2] = {a, b};
+    for (int i = 0; i < 2; ++i) {
+        const Mat3 r = s.orientation[blk[i]].toRotationMatrix();
+        for (const Vec3& v : s.shape[blk[i]].vertices) wv[i].push_back(s.centroid[blk[i]] + r * v);
+    }
+    const BlockView va{wv[0].data(), &s.shape[a]}, vb{wv[1].data(), &s.shape[b]};
+    const double tol = cs.ctol > 0 ? cs.ctol : contact_tolerance(m);
+    const CommonPlane cp = common_plane(va, vb, &cs.normal[c], tol, 0.1 * tol);
+    const Frame fr = make_frame(cp);
+    std::vector<Piece> pa, pb;
+    std::vector<double> nodal;
+    present_faces(va, fr, 0, tol, pa, nodal);
+    present_faces(vb, fr, 1, tol, pb, nodal);
+    // A face tilted to the plane touches only where the solids overlap: a strip as thin as the
+    // penetration along an edge. The corners pressing into it carry that with their own spring
+    // areas, which are not the area touched. Faces on the plane touch over the shares of their
+    // closed sub-contacts (those that carry stress or are glued; one away from the other block
+    // carries nothing and is open).
+    const int nv_a = s.shape[a].n_vertices(), nv_b = s.shape[b].n_vertices();
+    const double eps = 1e-9 * tol;
+    double area = 0;
+    std::vector<std::int64_t> pressing, on_plane;
+    Poly q, tmp;
+    for (const Piece& A : pa) {
+        for (const Piece& B : pb) {
+            clip_convex(A.poly, B.poly, B.orient, eps, q, tmp);
+            if (q.n < 3) continue;
+            if (A.flat && B.flat) {
+                for (int i = 0; i < q.n; ++i) on_plane.push_back(as_vertex(q.vkey[i], nv_a, nv_b));
+                continue;
+            }
+            clip_step(q, [&](int i) { return A.height(q.u[i], q.v[i]) - B.height(q.u[i], q.v[i]); }, eps, 0, tmp);
+            std::swap(q, tmp);
+            if (q.n < 3) continue;
+            area += std::abs(signed_area(q));
+            for (int i = 0; i < q.n; ++i) {
+                const std::int64_t key = as_vertex(q.vkey[i], nv_a, nv_b);
+                if (key_side(key) < 2) pressing.push_back(key);
+            }
+        }
+    }
+    // A corner of a face on the plane that also presses into a tilted face keeps its share.
+    std::sort(on_plane.begin(), on_plane.end());
+    pressing.erase(std::remove_if(pressing.begin(), pressing.end(),
+                                  [&](std::int64_t key) { return std::binary_search(on_plane.begin(), on_plane.end(), key); }),
+                   pressing.end());
+    std::sort(pressing.begin(), pressing.end());
+    for (int k = k0; k < k1; ++k) {
+        if (cs.sub_flags[k] & kSubOpen) continue;
+        if (std::binary_search(pressing.begin(), pressing.end(), cs.sub_key[k])) continue;
+        area += cs.sub_area[k];
+    }
+    return area;
+}
+
 } // namespace odec

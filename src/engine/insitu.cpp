@@ -276,8 +276,7 @@ void load_contacts(Model& m, const Range& r, const StressField& f, const std::ve
         const int a = cs.block_a[c], b = cs.block_b[c];
         if ((s.flags[a] | s.flags[b]) & kExcavated) continue;
         if (!only.empty() && !only[a] && !only[b]) continue;
-        const ContactInfo info = contact_info(m, c);
-        if (!r.contains_contact(m, info.centroid, a, b)) continue;
+        if (!r.contains_contact(m, contact_centroid(m, c), a, b)) continue;
         const int jm = cs.jmat[c];
         const bool has_mat = jm > 0 && jm < static_cast<int>(m.joint_materials.size()) && m.joint_materials[jm].defined &&
                              m.joint_materials[jm].kn > 0;

@@ -197,10 +197,10 @@ Value f_c_cx(Runtime& rt, A a, int, L loc) {
     CONTACT("c_cx");
     return C.sub_offset[c] < C.sub_offset[c + 1] ? Value::pointer(PtrKind::Sub, C.sub_offset[c], c) : Value::null();
 }
-Value f_c_pos(Runtime& rt, A a, int, L loc) { CONTACT("c_pos"); return vec(contact_info(model(rt), c).centroid); }
-Value f_c_x(Runtime& rt, A a, int, L loc) { CONTACT("c_x"); return num(contact_info(model(rt), c).centroid.x()); }
-Value f_c_y(Runtime& rt, A a, int, L loc) { CONTACT("c_y"); return num(contact_info(model(rt), c).centroid.y()); }
-Value f_c_z(Runtime& rt, A a, int, L loc) { CONTACT("c_z"); return num(contact_info(model(rt), c).centroid.z()); }
+Value f_c_pos(Runtime& rt, A a, int, L loc) { CONTACT("c_pos"); return vec(contact_centroid(model(rt), c)); }
+Value f_c_x(Runtime& rt, A a, int, L loc) { CONTACT("c_x"); return num(contact_centroid(model(rt), c).x()); }
+Value f_c_y(Runtime& rt, A a, int, L loc) { CONTACT("c_y"); return num(contact_centroid(model(rt), c).y()); }
+Value f_c_z(Runtime& rt, A a, int, L loc) { CONTACT("c_z"); return num(contact_centroid(model(rt), c).z()); }
 Value f_c_n(Runtime& rt, A a, int, L loc) { CONTACT("c_n"); return vec(C.normal[c]); }
 Value f_c_nx(Runtime& rt, A a, int, L loc) { CONTACT("c_nx"); return num(C.normal[c].x()); }
 Value f_c_ny(Runtime& rt, A a, int, L loc) { CONTACT("c_ny"); return num(C.normal[c].y()); }
@@ -431,7 +431,7 @@ const std::vector<Intrinsic>& model_intrinsics() {
         {"c_nx", 1, 1, "c", "x component of the contact's unit normal", "contact", f_c_nx, nullptr},
         {"c_ny", 1, 1, "c", "y component of the contact's unit normal", "contact", f_c_ny, nullptr},
         {"c_nz", 1, 1, "c", "z component of the contact's unit normal", "contact", f_c_nz, nullptr},
-        {"c_area", 1, 1, "c", "contact area, m^2", "contact", f_c_area, nullptr},
+        {"c_area", 1, 1, "c", "area where the contact's blocks touch now, m^2 (an edge pressing into a face: the strip its penetration makes; cx_area: the sub-contacts' spring areas)", "contact", f_c_area, nullptr},
         {"c_jmat", 1, 1, "c", "the contact's joint material number", "contact", f_c_jmat, nullptr},
         {"c_nforce", 1, 1, "c", "normal force, compression positive, N", "contact", f_c_nforce, nullptr},
         {"c_sforce", 1, 1, "c", "shear force on b2 (vector), N", "contact", f_c_sforce, nullptr},
@@ -439,7 +439,7 @@ const std::vector<Intrinsic>& model_intrinsics() {
         {"c_extra", 1, 1, "c", "a value the script stored with the contact (assignable; 0 until then)", "contact", f_c_extra, s_c_extra},
         {"cx_next", 1, 1, "s", "the next sub-contact of the same contact (0 after the last)", "contact", f_cx_next, nullptr},
         {"cx_pos", 1, 1, "s", "position of the sub-contact (vector), m", "contact", f_cx_pos, nullptr},
-        {"cx_area", 1, 1, "s", "area of the sub-contact, m^2", "contact", f_cx_area, nullptr},
+        {"cx_area", 1, 1, "s", "spring area of the sub-contact, m^2: its share of the contact polygon, or, for a corner pressing into a face tilted to the plane, its own share of its faces", "contact", f_cx_area, nullptr},
         {"cx_nforce", 1, 1, "s", "normal force, compression positive, N", "contact", f_cx_nforce, nullptr},
         {"cx_sforce", 1, 1, "s", "shear force on the second block (vector), N", "contact", f_cx_sforce, nullptr},
         {"cx_xsforce", 1, 1, "s", "x component of the shear force, N", "contact", f_cx_xsforce, nullptr},
