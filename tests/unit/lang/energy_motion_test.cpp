@@ -1,0 +1,115 @@
+// The energy account (engine/energy.h) of rigid blocks that rock, swing and settle on joints of
+// 1e8 to 1e12 Pa/m, in dynamic mode without damping, the joints too rough to slip: kinetic +
+// joint strain energy - work of gravity stays where it began, to 0.1 % of the most energy the
+// account has handled; what the joints dissipate (at a corner that unloads, a little) never
+// decreases. A toppling block's balance on these joints: contact_topple_test.cpp.
+//
+// Not met yet, so these run only when asked (--gtest_also_run_disabled_tests). Measured:
+//   rocking block    kn 1e8 / 1e10 / 1e12: |error| 1.35 / 0.75 / 0.47 % of the peak, and the
+//                    slip term decreases at some samples (it must never)
+//   glued pendulum   kn 1e8 / 1e10 / 1e12: 10.8 / 8.9 / 0.005 %
+//   arch             kn 1e8 / 1e10 / 1e12: 5.7 / 0.22 / 0.27 %
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "engine/energy.h"
+#include "test_util.h"
+
+using odec::test::Session;
+
+namespace {
+
+const std::vector<double>& hist(const Session& s, int n) { return s.model.histories.items.at(n - 1).values; }
+
+double max_abs(const std::vector<double>& v) {
+    double x = 0;
+    for (double e : v) x = std::max(x, std::abs(e));
+    return x;
+}
+
+std::string pt(double x, double y, double z) {
+    std::ostringstream o;
+    o.precision(12);
+    o << "(" << x << "," << y << "," << z << ")";
+    return o.str();
+}
+
+// A prism from four corners in the x-z plane, 1 m deep in y.
+std::string prism(const double (&x)[4], const double (&z)[4], const char* extra = "") {
+    std::string s = "poly prism a";
+    for (int i = 0; i < 4; ++i) s += " " + pt(x[i], 0, z[i]);
+    s += " b";
+    for (int i = 0; i < 4; ++i) s += " " + pt(x[i], 1, z[i]);
+    return s + " " + extra + "\n";
+}
+
+const char* const kHistories = "set energy on\nhist ncyc 10\nhist energy error\nhist energy slip\nhist energy kinetic\n";
+
+// Runs `model` (blocks, properties with jkn=KN jks=KN) at each stiffness for `time` s, checks the
+// balance and the dissipation, and returns the largest kinetic energy seen at the stiffest.
+double check_balance(const char* name, const std::string& model, double time) {
+    double kinetic = 0;
+    for (const char* kn : {"1e8", "1e10", "1e12"}) {
+        SCOPED_TRACE(std::string(name) + " kn " + kn);
+        std::string text = model;
+        for (size_t p; (p = text.find("KN")) != std::string::npos;) text.replace(p, 2, kn);
+        Session s;
+        EXPECT_TRUE(s.run("config dyn\ndamp off\n" + text + kHistories + "solve time " + std::to_string(time)))
+            << s.error();
+        const auto& err = hist(s, 1);
+        const auto& slip = hist(s, 2);
+        kinetic = max_abs(hist(s, 3));
+        const double peak = s.model.energy.peak;
+        std::printf("[energy] %s, kn %s Pa/m: %ld steps, largest kinetic %.6g J, slip %.3g J, largest |error| "
+                    "%.3g J = %.4f %% of %.6g J\n",
+                    name, kn, s.model.step, kinetic, slip.back(), max_abs(err), 100 * max_abs(err) / peak, peak);
+        EXPECT_GT(kinetic, 0.05 * peak) << "it hardly moved";
+        EXPECT_LT(max_abs(err), 1e-3 * peak) << "energy made or lost";
+        for (size_t i = 1; i < slip.size(); ++i) EXPECT_GE(slip[i], slip[i - 1]) << "sample " << i;
+        EXPECT_GE(slip.front(), 0.0);
+    }
+    return kinetic;
+}
+
+} // namespace
+
+// A 1 x 1 x 2 m block let go tilted 10 degrees on one edge of its base: it falls back onto its
+// base, rocks up onto the other edge and back, three landings in 1.2 s.
+TEST(EnergyMotion, DISABLED_ARockingBlockKeepsItsEnergy) {
+    const double t = 10 * M_PI / 180, c = std::cos(t), s = std::sin(t);
+    const double x[4] = {0, c, c - 2 * s, -2 * s}, z[4] = {0, s, s + 2 * c, 2 * c};
+    const std::string model = "poly brick -3 4 -1 2 -1 0\n" + prism(x, z) +
+                              "prop mat=1 dens=2500\nprop jmat=1 jkn=KN jks=KN jfric=80\ngrav 0 0 -10\n"
+                              "fix range z -1 0\n";
+    check_balance("rocking block", model, 1.2);
+}
+
+// A column of three 0.4 x 1 x 1 m blocks glued to one another and hanging from a fixed block by
+// a glued joint, kicked sideways: it swings on the joints' springs (tension, shear and bending).
+TEST(EnergyMotion, DISABLED_APendulumOfGluedBlocksKeepsItsEnergy) {
+    const std::string model =
+        "poly brick -2 2.4 -1 2 3 4 region 1\npoly brick 0 0.4 0 1 2 3 region 2\npoly brick 0 0.4 0 1 1 2 region 2\n"
+        "poly brick 0 0.4 0 1 0 1 region 2\nprop mat=1 dens=2500\nprop jmat=1 jkn=KN jks=KN jfric=80\n"
+        "grav 0 0 -10\nfix range region 1\njoin range x -3 3\nini xvel 0.5 range region 2\n";
+    check_balance("pendulum of glued blocks", model, 0.5);
+}
+
+// A semicircular arch of nine voussoirs (centre-line radius 5 m, 1 m thick) on a fixed base,
+// under gravity from rest: it settles onto its joints and swings about its loaded shape.
+TEST(EnergyMotion, DISABLED_AnArchUnderGravityKeepsItsEnergy) {
+    std::string model = "poly brick -7 7 -1 2 -1 0\n";
+    const int n = 9;
+    for (int i = 0; i < n; ++i) {
+        const double a0 = M_PI * i / n, a1 = M_PI * (i + 1) / n;
+        const double x[4] = {4.5 * std::cos(a0), 5.5 * std::cos(a0), 5.5 * std::cos(a1), 4.5 * std::cos(a1)};
+        const double z[4] = {4.5 * std::sin(a0), 5.5 * std::sin(a0), 5.5 * std::sin(a1), 4.5 * std::sin(a1)};
+        model += prism(x, z);
+    }
+    model += "prop mat=1 dens=2500\nprop jmat=1 jkn=KN jks=KN jfric=80\ngrav 0 0 -10\nfix range z -1 0\n";
+    check_balance("arch under gravity", model, 0.2);
+}
