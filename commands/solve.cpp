@@ -83,7 +83,7 @@ const CommandSpec& solve_command() {
                    "from f1, which must be stable, and f2, which must fail (the search ends saying the factor is "
                    "below f1 or above f2 otherwise); with f1 = f2 only that factor is tried. Each trial prints its "
                    "factor and verdict: equilibrium (steps, ratio) or fails (a mechanism: the blocks moving, as "
-                   "'solve' names them; or the ratio that stopped falling). The search ends with the factor of "
+                   "'solve' names them; the ratio that stopped falling; or a motion that ran away, whose state is not kept). The search ends with the factor of "
                    "safety, the middle of the final bracket, +/- half its width, and the trials, steps, Nr and "
                    "wall time. The model is then left as the last failing trial left it (positions, velocities, "
                    "displacements, contacts and stresses, step and time), so that 'plot' shows the failure "

@@ -112,6 +112,11 @@ Trial run_trial(CommandContext& ctx, const SourceLoc& loc, long nr, long cap, do
             t.stable = true;
             break;
         }
+        if (r.reason == StopReason::BlowUp) {
+            // The motion ran away: the model failed, and this state is not one to keep.
+            t.message = r.message;
+            return t;
+        }
         if (r.reason != StopReason::Steps) {
             t.message = r.message;
             return t;
@@ -138,7 +143,9 @@ Trial run_trial(CommandContext& ctx, const SourceLoc& loc, long nr, long cap, do
 std::string trial_text(const Trial& t, long cap) {
     if (t.stable) return "equilibrium after " + std::to_string(t.steps) + " steps (ratio " + g3(t.ratio) + ")";
     std::string s = "fails after " + std::to_string(t.steps) + " steps: ";
-    if (t.verdict && t.verdict->outcome == SolveOutcome::Mechanism) {
+    if (t.reason == StopReason::BlowUp) {
+        s += "the motion ran away (" + t.message + "); the model is not kept in this state";
+    } else if (t.verdict && t.verdict->outcome == SolveOutcome::Mechanism) {
         s += "mechanism, " + mechanism_text(*t.verdict);
     } else if (t.stalled) {
         s += "no equilibrium, the ratio stopped falling (mean " + g3(t.mean_before) + ", then " + g3(t.mean) + ")";
@@ -297,7 +304,7 @@ void solve_fos(CommandContext& ctx, const Args& a) {
         res.steps += tr.steps;
         ++res.trials;
         if (tr.reason == StopReason::Interrupted) return interrupted("in the trial at F = " + factor_text(F));
-        if (tr.reason == StopReason::Error || tr.reason == StopReason::BlowUp) {
+        if (tr.reason == StopReason::Error) {
             fail(loc, "in the trial at F = " + factor_text(F) + ": " + tr.message,
                  {"the model is left as it was before 'solve fos'"}, "solve");
         }
@@ -308,7 +315,7 @@ void solve_fos(CommandContext& ctx, const Args& a) {
             o.flush();
         }
         bracket.report(tr.stable);
-        if (!tr.stable) {
+        if (!tr.stable && tr.reason != StopReason::BlowUp) {
             if (!failing) failing = std::make_unique<Model>();
             *failing = std::move(m);
             failing_factor = F;
@@ -364,6 +371,8 @@ void solve_fos(CommandContext& ctx, const Args& a) {
     if (failing_factor > 0) {
         o << "solve fos: the model is left as the trial at F = " << factor_text(failing_factor)
           << " left it (its strengths as they were): 'plot' shows the failure\n";
+    } else if (res.fails > 0) {
+        o << "solve fos: every failing trial ran away; the model is as it was before 'solve fos'\n";
     } else {
         o << "solve fos: no trial failed; the model is as it was before 'solve fos'\n";
     }
