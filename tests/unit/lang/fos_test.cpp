@@ -159,19 +159,17 @@ TEST(SolveFos, HoekAndBrayWedge) {
     EXPECT_NE(s.said().find("mechanism, 1 block (id " + std::to_string(id) + ")"), std::string::npos) << s.said();
 }
 
-TEST(SolveFos, MohrCoulombColumnUnderItsWeightLiesBetweenItsBounds) {
+TEST(SolveFos, MohrCoulombColumnUnderItsWeightIsAboveItsLowerBound) {
     // A 1 x 1 x 2 m column of purely cohesive Mohr-Coulomb zones (c = 30 kPa, phi = 0) on a
-    // smooth base, free at its sides, under its weight (20 kPa/m). Lower bound: the elastic
-    // uniaxial stress field reaches the strength 2 c / F at its base at F = 2 c / (rho g H) = 1.5.
-    // Upper bound: a rigid wedge sliding on a plane at theta across the whole section,
-    // F = c / (cos theta sin theta rho g (H - tan(theta) / 2)), least near theta = 38 degrees.
+    // smooth base, held in x on its face x = 0 and in y on y = 0 (planes of symmetry: a quarter
+    // of a 2 x 2 column), free on the others, under its weight (20 kPa/m). Lower bound: the
+    // uniaxial stress field rho g (H - z) is in equilibrium, free of traction on the sides, and
+    // reaches the strength 2 c / F at the base at F = 2 c / (rho g H) = 1.5, so the factor of
+    // the collapse is at least that. (No upper bound is checked: the mechanisms of the
+    // symmetric column are not the single sliding wedge's, and 4 tetrahedral zones across are
+    // too few to be held to one.)
     const double c = 30000, rho_g = 20000, H = 2;
     const double lower = 2 * c / (rho_g * H);
-    double upper = 1e9;
-    for (double th = 20; th <= 60; th += 0.1) {
-        const double t = th * kDeg;
-        upper = std::min(upper, c / (std::cos(t) * std::sin(t) * rho_g * (H - std::tan(t) / 2)));
-    }
     Talking s;
     ASSERT_TRUE(s.run("poly brick 0 1 0 1 0 2\nprop mat=1 dens=2000 k=1e8 g=6e7 coh=30000 fric=0 ten=1e6 dil=0\n"
                       "change cons=2\ngen edge 0.25\nbound zvel 0 range z -0.001 0.001\n"
@@ -181,11 +179,10 @@ TEST(SolveFos, MohrCoulombColumnUnderItsWeightLiesBetweenItsBounds) {
     ASSERT_TRUE(s.run("solve fos")) << s.error();
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const odec::FosResult& r = *s.interp.last_fos;
-    std::printf("[verification] MC column: F computed %.5f, lower bound %.4f, upper bound %.4f; %d trials, %ld steps (Nr %ld), %.2f s\n",
-                r.factor, lower, upper, r.trials, r.steps, r.nr, seconds);
+    std::printf("[verification] MC column: F computed %.5f, lower bound %.4f; %d trials, %ld steps (Nr %ld), %.2f s\n",
+                r.factor, lower, r.trials, r.steps, r.nr, seconds);
     ASSERT_EQ(r.end, odec::FosBracket::End::Found);
     EXPECT_GE(r.stable, lower);
-    EXPECT_LE(r.fails, upper + 0.01);
     EXPECT_NE(s.said().find("reducing friction (its tangent), cohesion and tension of the Mohr-Coulomb zones of material 1"),
               std::string::npos)
         << s.said();
