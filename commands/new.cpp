@@ -17,6 +17,7 @@ const CommandSpec& new_command() {
         c.refuse_while_cycling("it would clear the model that is cycling");
         c.handle([](CommandContext& ctx, const Args& a) {
             ctx.interp.last_solve.reset();
+            ctx.interp.last_fos.reset();
             if (ctx.interp.fish_running()) {
                 ctx.model = Model();
                 ctx.interp.fish().forget_model();

@@ -29,7 +29,8 @@ const CommandSpec& restore_command() {
             check_file_allowed(ctx, file.loc, path, "restore");
             std::string error;
             if (!restore_model(path, ctx.model, error)) fail(file.loc, error, {}, "restore");
-            ctx.interp.last_solve.reset(); // it spoke of the model replaced
+            ctx.interp.last_solve.reset(); // they spoke of the model replaced
+            ctx.interp.last_fos.reset();
             const Model& m = ctx.model;
             if (!ctx.interp.quiet) {
                 ctx.out << "restored '" << path << "': " << m.blocks.size() << " blocks, " << m.contacts.size()

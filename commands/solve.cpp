@@ -5,8 +5,10 @@
 #include "commands.h"
 #include "common.h"
 #include "engine/cycle.h"
+#include "engine/fos.h"
 #include "engine/verdict.h"
 #include "progress.h"
+#include "solve_fos.h"
 #include "verdict_text.h"
 
 namespace odec {
@@ -27,6 +29,24 @@ const CommandSpec& solve_command() {
             .real("t", 0, kInf, Limit::Open);
         c.keyword("elastic", 3, "(3DEC) solve first with joints that cannot slip or open, then with their "
                                 "strengths: the start of a model whose joints would fail under the first jolt");
+        c.keyword("fos", 3, "(3DEC) the factor of safety by strength reduction: see below");
+        c.keyword("resolution", 3, "with fos: stop when the bracket of the factor is no wider than f")
+            .real("f", 0, 1, Limit::Open, Limit::Closed)
+            .defaults("0.01");
+        c.keyword("bracket", 3, "with fos: start from f1 (must be stable) and f2 (must fail); f1 = f2: test that one")
+            .real("f1", 0, kFosFar, Limit::Open, Limit::Closed)
+            .real("f2", 0, kFosFar, Limit::Open, Limit::Closed);
+        c.keyword("nchar", 3, "with fos: the characteristic response Nr, steps (instead of finding it)")
+            .integer("n", 1, 2e9);
+        c.keyword("associated", 3, "with fos: the dilation angle made equal to the reduced friction angle");
+        c.keyword("include", 3, "with fos: reduce only these (kinds: joints, zones; strengths: friction, cohesion, tension)")
+            .one_of("what", {"joints", "zones", "friction", "cohesion", "tension"})
+            .repeat()
+            .many();
+        c.keyword("exclude", 3, "with fos: leave these as they are (the same words as include)")
+            .one_of("what", {"joints", "zones", "friction", "cohesion", "tension"})
+            .repeat()
+            .many();
         c.describe("The mean unbalanced-force ratio is the sum over free blocks of the unbalanced force "
                    "divided by the sum of the magnitudes of all the forces acting on them. A long run prints "
                    "its progress every few seconds (step, time, ratio, and the time left when it runs to a "
@@ -42,11 +62,51 @@ const CommandSpec& solve_command() {
                    "fixed and velocity-driven blocks are left out. 'print info' shows the last solve's "
                    "criteria and verdict, and FISH's solve_verdict gives it in a word. Blocks made "
                    "overlapping where they carry no stress yet, deeper than the overlap tolerance ('set "
-                   "ovtol'), stop it before its first step with an error that names each pair.");
+                   "ovtol'), stop it before its first step with an error that names each pair.\n\n"
+                   "'solve fos' (3DEC's SOLVE fos) finds the factor of safety F by strength reduction: the factor by "
+                   "which the strengths must be divided for the model, as it is now (bring it to equilibrium "
+                   "first), to just fail. A trial factor F gives tan(phi)/F, c/F and t/F to the joint materials "
+                   "the contacts use (a joint model 2's residual friction too) and to the materials of "
+                   "Mohr-Coulomb zones, each from its value before; the dilation angle is kept at most the reduced "
+                   "friction angle, or made equal to it with 'associated'. 'include' narrows what is reduced to "
+                   "the kinds (joints, zones) and strengths (friction, cohesion, tension) it names, 'exclude' "
+                   "leaves out those it names; whole materials are reduced, wherever they are. First the "
+                   "characteristic response Nr is found (unless 'nchar' gives it): the steps the model takes to "
+                   "come back to equilibrium after its joint closures, shear stresses and zone stresses are "
+                   "doubled with its strengths raised (at least 100). Each trial starts from the state before "
+                   "'solve fos' and cycles in runs of Nr steps: it is stable when the mean unbalanced-force ratio "
+                   "falls below 'ratio' (1e-5), and fails when the mean ratio over a run of Nr steps is more than "
+                   "0.9 of that over the run before (it stopped falling) or when 'cycles' steps (50000) have "
+                   "passed. The first trial is at F = 1; the factor doubles while stable and halves while failing "
+                   "until one of each is known (up to 1024 or down to 1/1024), then the middle of the bracket is "
+                   "tried until the bracket is no wider than 'resolution' (0.01). 'bracket f1 f2' starts instead "
+                   "from f1, which must be stable, and f2, which must fail (the search ends saying the factor is "
+                   "below f1 or above f2 otherwise); with f1 = f2 only that factor is tried. Each trial prints its "
+                   "factor and verdict: equilibrium (steps, ratio) or fails (a mechanism: the blocks moving, as "
+                   "'solve' names them; the ratio that stopped falling; or a motion that ran away, whose state is not kept). The search ends with the factor of "
+                   "safety, the middle of the final bracket, +/- half its width, and the trials, steps, Nr and "
+                   "wall time. The model is then left as the last failing trial left it (positions, velocities, "
+                   "displacements, contacts and stresses, step and time), so that 'plot' shows the failure "
+                   "mechanism and 'print info' and FISH's solve_verdict its verdict, but with its strengths "
+                   "given back their values from before 'solve fos'; when no trial failed it is left as it was. "
+                   "FISH's fos_f gives the factor. An error or Ctrl-C during the search leaves the model as it "
+                   "was before it. The search holds up to three copies of the model in memory.");
         c.example("solve");
         c.example("solve ratio 1e-6 cycles 50000");
+        c.example("solve fos");
+        c.example("solve fos resolution 0.005 exclude tension");
         c.refuse_while_cycling(kNoNestedCycling);
         c.handle([](CommandContext& ctx, const Args& a) {
+            if (a.has("fos")) {
+                solve_fos(ctx, a);
+                return;
+            }
+            for (const char* kw : {"resolution", "bracket", "nchar", "associated", "include", "exclude"}) {
+                if (const KeywordUse* u = a.find(kw)) {
+                    fail(u->loc, std::string("'") + kw + "' belongs to 'solve fos'", {"add 'fos' to search for the factor of safety"},
+                         "solve");
+                }
+            }
             Model& m = ctx.model;
             CycleLimits lim;
             lim.each_step = ctx.interp.stepping_functions();

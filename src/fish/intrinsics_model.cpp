@@ -354,6 +354,7 @@ Value f_nzone(Runtime& rt, A, int, L) { return Value::integer(model(rt).zones.si
 Value f_ngp(Runtime& rt, A, int, L) { return Value::integer(model(rt).gridpoints.size()); }
 Value f_gravity(Runtime& rt, A, int, L) { return vec(model(rt).gravity); }
 Value f_solve_verdict(Runtime& rt, A, int, L) { return Value::string(rt.host.solve_verdict()); }
+Value f_fos_f(Runtime& rt, A, int, L) { return num(rt.host.fos_factor()); }
 
 // A term of the energy account (energy.h), J; 0 while it is off.
 template <int K>
@@ -509,6 +510,9 @@ const std::vector<Intrinsic>& model_intrinsics() {
         {"solve_verdict", 0, 0, "", "how the last solve ended: 'equilibrium', 'mechanism', 'not converged' or "
                                     "'interrupted' ('' before any solve since 'new' or 'restore')", "model",
          f_solve_verdict, nullptr},
+        {"fos_f", 0, 0, "", "the factor of safety the last 'solve fos' found (the middle of its final bracket); 0 "
+                            "before any since 'new' or 'restore', or when the search ended without one", "model",
+         f_fos_f, nullptr},
         {"energy_kinetic", 0, 0, "", "kinetic energy of the free blocks and gridpoints (translation and rotation, real masses), J ('set energy on'; 0 while the account is off)", "model", f_energy<0>, nullptr},
         {"energy_jstrain", 0, 0, "", "strain energy stored in the joints, J", "model", f_energy<1>, nullptr},
         {"energy_zstrain", 0, 0, "", "elastic strain energy stored in the zones, J", "model", f_energy<2>, nullptr},

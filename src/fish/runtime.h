@@ -47,6 +47,8 @@ public:
     // How the last `solve` ended, in a word (equilibrium, mechanism, not converged,
     // interrupted), or "" before any.
     virtual std::string solve_verdict() { return ""; }
+    // The factor of safety the last `solve fos` found, or 0 (none yet, or not found).
+    virtual double fos_factor() { return 0; }
 };
 
 // A global name: a variable, a function (whose value is what it assigns to its own name), or

@@ -16,6 +16,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "engine/fos.h"
 #include "engine/verdict.h"
 #include "fish/ast.h"
 #include "fish/intrinsics.h"
@@ -41,6 +42,7 @@ public:
     std::ostream& err() override { return in_.err; }
     bool interrupted() override { return in_.interrupt.load(); }
     std::string solve_verdict() override;
+    double fos_factor() override { return in_.last_fos ? in_.last_fos->factor : 0.0; }
     bool confine_files() override { return in_.limits.confine_files; }
 
 private:

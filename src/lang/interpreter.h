@@ -31,6 +31,7 @@ class Host;
 
 class Interpreter;
 struct SolveVerdict; // engine/verdict.h
+struct FosResult;    // engine/fos.h
 
 // Picture options kept between plots of a session (`plot set ...`).
 struct PlotSettings {
@@ -164,6 +165,9 @@ public:
     // How the last `solve` ended: its criteria and verdict (null before any; `new` and `restore`
     // clear it). `print info` and FISH's solve_verdict read it.
     std::shared_ptr<const SolveVerdict> last_solve;
+    // What the last `solve fos` found (null before any; `new` and `restore` clear it). FISH's
+    // fos_f reads it.
+    std::shared_ptr<const FosResult> last_fos;
     NamedRanges named_ranges;     // `range name X ...`, for `nrange X`
 
     // Bounds for a session that runs input nobody wrote by hand (the fuzzing targets of

@@ -179,6 +179,7 @@ std::vector<Case> block_cases() {
         {"unbal", "unbal < 20", 1, 0, nullptr},
         {"mech_ratio", "mech_ratio < 1e-7", 1, 0, nullptr},
         {"solve_verdict", "solve_verdict", 0, 0, "equilibrium"},
+        {"fos_f", "fos_f", 0, 0, nullptr}, // before any 'solve fos' (after one: SolveFos, fos_test.cpp)
         {"zone_head", "zone_head", 0, 0, nullptr},
         {"gp_head", "gp_head", 0, 0, nullptr},
     };
