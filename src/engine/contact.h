@@ -43,6 +43,10 @@ enum SubContactFlags : std::uint8_t {
     kSubOpen = 2,    // no compression: the joint is open here
     kSubFailed = 4,  // failed in shear or tension: cohesion and tension lost for good
     kSubNew = 8,     // created by the last geometry refresh: its first increment is already in it
+    kSubFresh = 16,  // created by the last refresh where the contact was already carried: its
+                     // closure was measured then (the step's normal increment is in it), its shear
+                     // and dilation taken from the nearest sub-contact before (the step's shear
+                     // increment is not)
 };
 
 // What `print contact` shows as the state of a whole contact.

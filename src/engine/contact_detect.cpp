@@ -56,6 +56,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <limits>
 #include <type_traits>
 
@@ -714,7 +715,7 @@ struct Detector {
             next.sub_sn.push_back(cs.sub_sn[k]);
             next.sub_us.push_back(retangent(cs.sub_us[k], normal));
             next.sub_ss.push_back(retangent(cs.sub_ss[k], normal));
-            next.sub_flags.push_back(cs.sub_flags[k] & ~kSubNew);
+            next.sub_flags.push_back(cs.sub_flags[k] & ~(kSubNew | kSubFresh));
         } else {
             next.sub_un.push_back(closure);
             next.sub_udil.push_back(0);
@@ -723,6 +724,44 @@ struct Detector {
             next.sub_ss.push_back(Vec3::Zero());
             next.sub_flags.push_back(kSubNew);
         }
+    }
+
+    // A sub-contact new to a contact that was already carried: its closure is what the geometry
+    // shows; its shear displacement and stress, dilation and whether the joint has failed are
+    // those of old sub-contact k nearest it (the joint's state is continuous along it; starting
+    // from nothing would drop what the shear springs held whenever the polygon's corners change).
+    void push_inherited(int k, double closure, const Vec3& normal) {
+        next.sub_un.push_back(closure);
+        next.sub_udil.push_back(cs.sub_udil[k]);
+        next.sub_sn.push_back(0);
+        next.sub_us.push_back(retangent(cs.sub_us[k], normal));
+        next.sub_ss.push_back(retangent(cs.sub_ss[k], normal));
+        next.sub_flags.push_back(static_cast<std::uint8_t>((cs.sub_flags[k] & kSubFailed) | kSubFresh));
+    }
+
+    // The old sub-contact of contact oc nearest the world point x, or -1 when it had none.
+    int nearest_old(int oc, const Vec3& x) const {
+        int best = -1;
+        double best_d = std::numeric_limits<double>::infinity();
+        // Where the old polygon was degenerate (a sub-contact with next to no area beside the
+        // others: two corners all but coinciding), the points' histories do not describe one
+        // continuous joint state: take nothing from them.
+        double lo = std::numeric_limits<double>::infinity(), hi = 0;
+        for (int j = cs.sub_offset[oc]; j < cs.sub_offset[oc + 1]; ++j) {
+            lo = std::min(lo, cs.sub_area[j]);
+            hi = std::max(hi, cs.sub_area[j]);
+        }
+        if (!(lo >= 1e-3 * hi)) return -1;
+        for (int j = cs.sub_offset[oc]; j < cs.sub_offset[oc + 1]; ++j) {
+            if (cs.sub_side[j] > 2) continue;
+            const int owner = cs.sub_side[j] == 1 ? cs.block_b[oc] : cs.block_a[oc];
+            const double d = (m.blocks.centroid[owner] + m.blocks.orientation[owner] * cs.sub_local[j] - x).squaredNorm();
+            if (d < best_d) {
+                best_d = d;
+                best = j;
+            }
+        }
+        return best;
     }
 
     // The contact's own entries in `next`: id, joint material and model (from the old
@@ -826,7 +865,14 @@ struct Detector {
             const Vec3 local = rot[side == 1 ? 1 : 0].transpose() * (ns.x - s.centroid[owner]);
             const int vertex = side < 2 ? corner_vertex(ns.key) : -1;
             push_sub(next, nc, side, ns.key, vertex, ns.area, local);
-            push_history(k < k_end && cs.sub_key[k] == ns.key ? k : -1, ns.closure, on_touch_line(ns.key), cp.normal);
+            const bool moving = on_touch_line(ns.key);
+            if (k < k_end && cs.sub_key[k] == ns.key) {
+                push_history(k, ns.closure, moving, cp.normal);
+            } else {
+                const int j = oc >= 0 && !moving ? nearest_old(oc, ns.x) : -1;
+                if (j >= 0) push_inherited(j, ns.closure, cp.normal);
+                else push_history(-1, ns.closure, moving, cp.normal);
+            }
         }
         next.sub_offset.push_back(next.n_subs());
         return true;

@@ -178,7 +178,7 @@ int load_sub(ContactSet& cs, int k, const Vec3& n, const Vec3& traction_on_b, do
              const Strength& st) {
     double sn = traction_on_b.dot(n);
     Vec3 ss = traction_on_b - sn * n;
-    std::uint8_t flags = cs.sub_flags[k] & static_cast<std::uint8_t>(~(kSubOpen | kSubSlip | kSubNew));
+    std::uint8_t flags = cs.sub_flags[k] & static_cast<std::uint8_t>(~(kSubOpen | kSubSlip | kSubNew | kSubFresh));
     int result = 1;
     if (!joined) {
         const bool failed = flags & kSubFailed;

@@ -77,6 +77,11 @@ inline Vec3 joint_step(ContactSet& cs, int k, const LawParams& p, bool joined, c
     if (flags & kSubNew) {
         // Its closure was measured from the geometry at t: the step is already in it.
         flags &= ~kSubNew;
+    } else if (flags & kSubFresh) {
+        // The same for its closure; its shear, taken over from the sub-contact before, takes the step.
+        flags &= ~kSubFresh;
+        dus = du - du.dot(nrm) * nrm;
+        cs.sub_us[k] += dus;
     } else {
         const double dun = du.dot(nrm);
         cs.sub_un[k] -= dun;
@@ -96,7 +101,9 @@ inline Vec3 joint_step(ContactSet& cs, int k, const LawParams& p, bool joined, c
         sn = p.kn * (cs.sub_un[k] + cs.sub_udil[k]);
         if (sn < -ten || (sn <= 0 && ten <= 0)) {
             if (dissipated && p.ks > 0) {
-                *dissipated += cs.sub_area[k] * 0.5 * cs.sub_ss[k].dot(ss) / p.ks;
+                // Never below zero: where the step's own shear work is more than the spring held
+                // (a trial that reverses within the step), the difference is the step's error.
+                *dissipated += std::max(0.0, cs.sub_area[k] * 0.5 * cs.sub_ss[k].dot(ss) / p.ks);
             }
             if (dissipated && sn < -ten && ten > 0 && p.kn > 0) {
                 // Broken in tension: the normal work of the step less the change of what the
@@ -123,7 +130,7 @@ inline Vec3 joint_step(ContactSet& cs, int k, const LawParams& p, bool joined, c
                 ss *= tmax / t;
                 flags |= kSubSlip;
                 if (dissipated && p.ks > 0) {
-                    *dissipated += cs.sub_area[k] * 0.5 * (cs.sub_ss[k] + ss).dot(trial - ss) / p.ks;
+                    *dissipated += std::max(0.0, cs.sub_area[k] * 0.5 * (cs.sub_ss[k] + ss).dot(trial - ss) / p.ks);
                 }
                 if (p.tan_dil != 0 && (p.zdil <= 0 || cs.sub_us[k].norm() < p.zdil)) {
                     const double dil = dus.norm() * p.tan_dil;

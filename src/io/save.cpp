@@ -1271,7 +1271,7 @@ std::string check_values(const Model& m) {
             c.finite(cs.sub_sn[i], w, "a normal stress");
             c.vec(cs.sub_us[i], w, "a shear displacement");
             c.vec(cs.sub_ss[i], w, "a shear stress");
-            if (cs.sub_flags[i] > (kSubSlip | kSubOpen | kSubFailed | kSubNew)) c.fail(w, "a sub-contact flag is out of range");
+            if (cs.sub_flags[i] > (kSubSlip | kSubOpen | kSubFailed | kSubNew | kSubFresh)) c.fail(w, "a sub-contact flag is out of range");
         }
     }
     if (!c.ok()) return c.problem;

@@ -1,17 +1,14 @@
 // The energy account (engine/energy.h) of rigid blocks that rock, swing and settle on joints of
-// 1e8 to 1e12 Pa/m, in dynamic mode without damping, the joints too rough to slip: kinetic +
-// joint strain energy - work of gravity stays where it began, to 0.1 % of the most energy the
-// account has handled; what the joints dissipate (at a corner that unloads, a little) never
-// decreases. A toppling block's balance on these joints: contact_topple_test.cpp.
-//
-// Not met yet, so these run only when asked (--gtest_also_run_disabled_tests). Measured:
-//   rocking block    kn 1e8 / 1e10 / 1e12: |error| 1.35 / 0.75 / 0.47 % of the peak, and the
-//                    slip term decreases at some samples (it must never)
-//   glued pendulum   kn 1e8 / 1e10 / 1e12: 10.8 / 8.9 / 0.005 %
-//   arch             kn 1e8 / 1e10 / 1e12: 5.7 / 0.22 / 0.27 %
+// 1e8 to 1e12 Pa/m, in dynamic mode without damping, the joints rough (friction 80): kinetic +
+// joint strain energy + what the joints dissipate - work of gravity stays where it began, to
+// 0.1 % of the most energy the account has handled; what the joints dissipate (a corner that
+// lifts off while its shear spring still holds, a landing) never decreases. A toppling block's balance on these joints: contact_topple_test.cpp.
+// The timestep is a fifth of the default (dtfrac 0.02), as for the bouncing block (energy_test.cpp):
+// a corner that lands or lifts within a step gives or takes up to k dx^2 / 8.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <initializer_list>
 #include <cstdio>
 #include <sstream>
 #include <string>
@@ -52,14 +49,15 @@ const char* const kHistories = "set energy on\nhist ncyc 10\nhist energy error\n
 
 // Runs `model` (blocks, properties with jkn=KN jks=KN) at each stiffness for `time` s, checks the
 // balance and the dissipation, and returns the largest kinetic energy seen at the stiffest.
-double check_balance(const char* name, const std::string& model, double time) {
+double check_balance(const char* name, const std::string& model, double time,
+                     std::initializer_list<const char*> stiffnesses = {"1e10", "1e12"}) {
     double kinetic = 0;
-    for (const char* kn : {"1e8", "1e10", "1e12"}) {
+    for (const char* kn : stiffnesses) {
         SCOPED_TRACE(std::string(name) + " kn " + kn);
         std::string text = model;
         for (size_t p; (p = text.find("KN")) != std::string::npos;) text.replace(p, 2, kn);
         Session s;
-        EXPECT_TRUE(s.run("config dyn\ndamp off\n" + text + kHistories + "solve time " + std::to_string(time)))
+        EXPECT_TRUE(s.run("config dyn\ndamp off\nset dtfrac 0.02\n" + text + kHistories + "solve time " + std::to_string(time)))
             << s.error();
         const auto& err = hist(s, 1);
         const auto& slip = hist(s, 2);
@@ -76,32 +74,26 @@ double check_balance(const char* name, const std::string& model, double time) {
     return kinetic;
 }
 
-} // namespace
-
 // A 1 x 1 x 2 m block let go tilted 10 degrees on one edge of its base: it falls back onto its
 // base, rocks up onto the other edge and back, three landings in 1.2 s.
-TEST(EnergyMotion, DISABLED_ARockingBlockKeepsItsEnergy) {
+std::string rocking_block() {
     const double t = 10 * M_PI / 180, c = std::cos(t), s = std::sin(t);
     const double x[4] = {0, c, c - 2 * s, -2 * s}, z[4] = {0, s, s + 2 * c, 2 * c};
-    const std::string model = "poly brick -3 4 -1 2 -1 0\n" + prism(x, z) +
-                              "prop mat=1 dens=2500\nprop jmat=1 jkn=KN jks=KN jfric=80\ngrav 0 0 -10\n"
-                              "fix range z -1 0\n";
-    check_balance("rocking block", model, 1.2);
+    return "poly brick -3 4 -1 2 -1 0\n" + prism(x, z) +
+           "prop mat=1 dens=2500\nprop jmat=1 jkn=KN jks=KN jfric=80\ngrav 0 0 -10\nfix range z -1 0\n";
 }
 
 // A column of three 0.4 x 1 x 1 m blocks glued to one another and hanging from a fixed block by
 // a glued joint, kicked sideways: it swings on the joints' springs (tension, shear and bending).
-TEST(EnergyMotion, DISABLED_APendulumOfGluedBlocksKeepsItsEnergy) {
-    const std::string model =
-        "poly brick -2 2.4 -1 2 3 4 region 1\npoly brick 0 0.4 0 1 2 3 region 2\npoly brick 0 0.4 0 1 1 2 region 2\n"
-        "poly brick 0 0.4 0 1 0 1 region 2\nprop mat=1 dens=2500\nprop jmat=1 jkn=KN jks=KN jfric=80\n"
-        "grav 0 0 -10\nfix range region 1\njoin range x -3 3\nini xvel 0.5 range region 2\n";
-    check_balance("pendulum of glued blocks", model, 0.5);
+std::string glued_pendulum() {
+    return "poly brick -2 2.4 -1 2 3 4 region 1\npoly brick 0 0.4 0 1 2 3 region 2\npoly brick 0 0.4 0 1 1 2 region 2\n"
+           "poly brick 0 0.4 0 1 0 1 region 2\nprop mat=1 dens=2500\nprop jmat=1 jkn=KN jks=KN jfric=80\n"
+           "grav 0 0 -10\nfix range region 1\njoin range x -3 3\nini xvel 0.5 range region 2\n";
 }
 
 // A semicircular arch of nine voussoirs (centre-line radius 5 m, 1 m thick) on a fixed base,
 // under gravity from rest: it settles onto its joints and swings about its loaded shape.
-TEST(EnergyMotion, DISABLED_AnArchUnderGravityKeepsItsEnergy) {
+std::string arch() {
     std::string model = "poly brick -7 7 -1 2 -1 0\n";
     const int n = 9;
     for (int i = 0; i < n; ++i) {
@@ -110,6 +102,23 @@ TEST(EnergyMotion, DISABLED_AnArchUnderGravityKeepsItsEnergy) {
         const double z[4] = {4.5 * std::sin(a0), 5.5 * std::sin(a0), 5.5 * std::sin(a1), 4.5 * std::sin(a1)};
         model += prism(x, z);
     }
-    model += "prop mat=1 dens=2500\nprop jmat=1 jkn=KN jks=KN jfric=80\ngrav 0 0 -10\nfix range z -1 0\n";
-    check_balance("arch under gravity", model, 0.2);
+    return model + "prop mat=1 dens=2500\nprop jmat=1 jkn=KN jks=KN jfric=80\ngrav 0 0 -10\nfix range z -1 0\n";
+}
+
+} // namespace
+
+TEST(EnergyMotion, ARockingBlockKeepsItsEnergy) { check_balance("rocking block", rocking_block(), 1.2); }
+
+TEST(EnergyMotion, APendulumOfGluedBlocksKeepsItsEnergy) { check_balance("pendulum of glued blocks", glued_pendulum(), 0.5); }
+
+TEST(EnergyMotion, AnArchUnderGravityKeepsItsEnergy) { check_balance("arch under gravity", arch(), 0.2); }
+
+// On joints of 1e8 Pa/m the blocks sink and shear by millimetres, and the balance is not yet
+// within 0.1 % (measured: rocking block 0.14 %, glued pendulum 0.41 %, arch 1.9 %): the area of a
+// contact's sub-contacts is shared out anew at each geometry refresh among points whose stresses
+// differ, and that gives or takes energy. Run with --gtest_also_run_disabled_tests.
+TEST(EnergyMotion, DISABLED_OnSoftJointsToo) {
+    check_balance("rocking block", rocking_block(), 1.2, {"1e8"});
+    check_balance("pendulum of glued blocks", glued_pendulum(), 0.5, {"1e8"});
+    check_balance("arch under gravity", arch(), 0.2, {"1e8"});
 }
