@@ -7,6 +7,7 @@
 #include "engine/contact.h"
 #include "engine/contact_gridpoint.h"
 #include "engine/mass_scaling.h"
+#include "engine/cable.h"
 #include "engine/stages.h"
 
 namespace odec {
@@ -120,11 +121,15 @@ std::string prepare_cycle_once(Model& m) {
     {
         const std::string zp = zones_problem(m);
         if (!zp.empty()) return zp;
+        const std::string cp = cables_problem(m);
+        if (!cp.empty()) return cp;
     }
     if (m.geometry_changed) {
         refresh_world_vertices(m);
         detect_contacts(m);
         update_gridpoint_masses(m);
+        // Cable nodes are tied to whatever rock holds them now.
+        attach_cable_nodes(m);
         const std::string overlap = overlap_problem(m);
         if (!overlap.empty()) return overlap;
     }

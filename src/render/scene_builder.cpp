@@ -790,6 +790,8 @@ std::string history_axis_title(HistoryKind k) {
     case HistoryKind::Damp: return "damping coefficient (1/s)";
     case HistoryKind::Fish: return "FISH value";
     case HistoryKind::Energy: return "energy (J)";
+    case HistoryKind::CableForce: return "cable axial force, tension + (N)";
+    case HistoryKind::CableGrout: return "cable grout force (N)";
     }
     return "value";
 }
