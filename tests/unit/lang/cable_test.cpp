@@ -4,14 +4,18 @@
 // yields), in rigid and deformable blocks; and the commands, FISH and histories around them.
 #include <gtest/gtest.h>
 
+#include <stdlib.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "engine/cable.h"
 #include "fish/runtime.h"
+#include "render/scene_builder.h"
 #include "test_util.h"
 
 using odec::test::Session;
@@ -252,4 +256,39 @@ TEST(Cable, BoltedBlockOnIncline) {
     // The bolt carries what the joint cannot: about W (sin 40 - cos 40 tan 20) / (cos b + sin b tan 20).
     EXPECT_GT(force.back(), 3e5);
     EXPECT_LT(force.back(), 2e6);
+}
+
+TEST(Cable, PlotAndVtkExport) {
+    char tmpl[] = "/tmp/odec-cable-test-XXXXXX";
+    ASSERT_NE(mkdtemp(tmpl), nullptr);
+    const std::string dir = tmpl;
+    Session s;
+    ASSERT_TRUE(s.interp.run_file(kDir + "cable-joint.dat")) << s.error();
+    EXPECT_FALSE(s.run("new\nplot cable file '" + dir + "/none.png'"));
+    EXPECT_NE(s.error().find("there are no cables to plot"), std::string::npos) << s.error();
+    s.all_succeeded = true;
+    ASSERT_TRUE(s.interp.run_file(kDir + "cable-joint.dat")) << s.error();
+    // The picture: a tube of 4 faces per segment, coloured by the axial force over its range.
+    odec::render::PlotOptions opt;
+    odec::render::Scene scene = odec::render::begin_scene(s.model, opt);
+    EXPECT_EQ(odec::render::add_cables(scene, s.model, opt), 41);
+    ASSERT_EQ(scene.polygons.size(), 1u);
+    const auto& layer = scene.polygons[0];
+    EXPECT_EQ(layer.cell_scalars.size(), 4u * 41u);
+    EXPECT_DOUBLE_EQ(*std::max_element(layer.cell_scalars.begin(), layer.cell_scalars.end()), 1e5);
+    EXPECT_EQ(layer.scale.units, "N");
+    ASSERT_TRUE(s.run("plot block cable file '" + dir + "/bolt.png' size 320 240\nexport vtk '" + dir + "/bolt'"))
+        << s.error();
+    EXPECT_GT(odec::test::read_bytes(dir + "/bolt.png").size(), 1000u);
+    const std::string vtp = odec::test::read_bytes(dir + "/bolt-cables-" + [&] {
+        char step[32];
+        std::snprintf(step, sizeof step, "%06ld", s.model.step);
+        return std::string(step);
+    }() + ".vtp");
+    EXPECT_NE(vtp.find("NumberOfPoints=\"42\""), std::string::npos);
+    EXPECT_NE(vtp.find("NumberOfLines=\"41\""), std::string::npos);
+    EXPECT_NE(vtp.find("Name=\"axial_force\""), std::string::npos);
+    EXPECT_NE(vtp.find("Name=\"grout_force\""), std::string::npos);
+    std::error_code ec;
+    std::filesystem::remove_all(dir, ec);
 }
