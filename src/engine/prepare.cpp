@@ -158,6 +158,13 @@ std::string prepare_cycle_once(Model& m) {
                    " s ('set dt') is larger than the stable limit of the zones, about " + num_text(zone_dt / 0.9) +
                    " s: the motion would run away. Use 'set dt auto' or a timestep below " + num_text(zone_dt) + " s";
         }
+        const double cable_dt = cable_critical_timestep(m);
+        if (cable_dt > 0 && m.settings.dt_fixed > cable_dt) {
+            return "the forced timestep " + num_text(m.settings.dt_fixed) +
+                   " s ('set dt') is larger than the stable limit of the cables, about " + num_text(cable_dt) +
+                   " s with the steel's mass (cb_dens): the motion would run away. Use 'set dt auto' or a "
+                   "timestep below " + num_text(cable_dt) + " s";
+        }
         int worst = -1;
         const double limit = stable_timestep_limit(m, &worst);
         if (limit > 0 && m.settings.dt_fixed > limit) {

@@ -292,3 +292,23 @@ TEST(Cable, PlotAndVtkExport) {
     std::error_code ec;
     std::filesystem::remove_all(dir, ec);
 }
+
+TEST(Cable, RestoredModelCyclesOnToTheSameBits) {
+    // A cable model saved mid-run and restored steps on to the same bits as one never saved.
+    char tmpl[] = "/tmp/odec-cable-save-XXXXXX";
+    ASSERT_NE(mkdtemp(tmpl), nullptr);
+    const std::string dir = tmpl;
+    std::string text = read_text(kDir + "cable-joint.dat");
+    text.replace(text.find("step time 0.8"), std::string("step time 0.8").size(), "step 2000");
+    Session straight;
+    ASSERT_TRUE(straight.run(text + "\nstep 1000\nsave '" + dir + "/straight'")) << straight.error();
+    Session first;
+    ASSERT_TRUE(first.run(text + "\nsave '" + dir + "/half'")) << first.error();
+    Session second;
+    ASSERT_TRUE(second.run("restore '" + dir + "/half'\nstep 1000\nsave '" + dir + "/resumed'")) << second.error();
+    EXPECT_EQ(straight.model.cables.axial, second.model.cables.axial);
+    EXPECT_EQ(straight.model.cables.pos, second.model.cables.pos);
+    EXPECT_EQ(straight.model.histories.items[1].values, second.model.histories.items[1].values);
+    std::error_code ec;
+    std::filesystem::remove_all(dir, ec);
+}
