@@ -31,7 +31,12 @@ const CommandSpec& cable_command() {
                    "its last), 'hist cable_force' and 'hist cable_grout' record them. A node driven with 'velocity' "
                    "moves at that velocity until 'free'. The timestep and the nodes' masses follow the cables' "
                    "stiffness (in static mode every node gets the mass that makes the model's timestep its own "
-                   "stable one; in dynamic mode the steel's mass, cb_dens).");
+                   "stable one; in dynamic mode the steel's mass, cb_dens); under gravity the steel weighs its real mass. "
+                   "A node is tied to the first block (in the order blocks were made) that holds it, so a node "
+                   "exactly on a joint goes with the block made first: cut the cable so that its nodes fall "
+                   "either side of the joints it crosses. A node keeps its tie while the rock holding it stands; "
+                   "when that block is deleted, excavated, cut away or zoned anew, the node is tied afresh to "
+                   "whatever holds it then (or to nothing: no grout). Cables are not in the energy account.");
         c.example("prop mat=2 cb_area=1.81e-4 cb_e=98.6e9 cb_yield=0.5e6 cb_kbond=112e6 cb_sbond=0.175e6 cb_dens=7800");
         c.example("cable 0,0,0 0,0,-3 seg 10 prop 2");
         c.example("cable 0,0,0 0,0,-3 seg 10 prop 2 pretension 5e4");

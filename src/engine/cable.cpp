@@ -339,7 +339,8 @@ void cable_forces(Model& m, double dt) {
         static_cast<int>(m.contacts.joint_kr.size()) == s.size()) {
         add_cable_block_stiffness(m, m.contacts.joint_kt, m.contacts.joint_kr);
     }
-    for (int i = 0; i < cs.n_nodes(); ++i) cs.force[i].setZero();
+    // Each node starts with the weight of its steel (cb_dens; the real mass, in static mode too).
+    for (int i = 0; i < cs.n_nodes(); ++i) cs.force[i] = cs.mass[i] * m.gravity;
     for (int c = 0; c < cs.size(); ++c) {
         const CableMaterial& p = cs.materials[cs.material[c]];
         const int first = cs.node_offset[c], last = cs.node_offset[c + 1] - 1;

@@ -14,6 +14,7 @@
 // that force, without softening. A node outside every block has no grout and moves freely.
 //
 // Each step (the 'cables' stage, after the joints and before the integration):
+//   weight     each node starts with the weight of its share of steel (cb_dens) under gravity
 //   segments   axial force += E A / L0 * (v_j - v_i) . t dt, capped at ytens / -ycomp
 //   grout      shear force += -kbond L (v_node - v_host) . t dt, capped at sbond L
 //   forces     the node keeps the axial part of its segment and grout forces; the host takes the
