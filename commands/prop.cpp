@@ -58,7 +58,8 @@ const CommandSpec& prop_command() {
                 if (n == "material" || n == "jmat") continue;
                 const bool is_joint = n[0] == 'j' || n == "zdilation";
                 if (is_joint != joint) {
-                    fail(u.loc, "'" + n + "' is a " + (is_joint ? "joint" : "block") + " property: give it with '" +
+                    const char* kind = is_joint ? "joint" : n.compare(0, 3, "cb_") == 0 ? "cable" : "block";
+                    fail(u.loc, "'" + n + "' is a " + kind + " property: give it with '" +
                                     (is_joint ? "jmat" : "mat") + "=n'",
                          {}, "property");
                 }
@@ -86,9 +87,13 @@ const CommandSpec& prop_command() {
                 if (kw == "material") continue;
                 (kw.compare(0, 3, "cb_") == 0 ? cable_props : block_props) = true;
             }
+            // Cable properties: computed aside and checked first, stored last, so that a refused
+            // command (here or in the block properties below) changes nothing.
+            CableMaterial cable_mat;
             if (cable_props) {
-                CableSet& cs = m.cables;
-                CableMaterial p = n < static_cast<int>(cs.materials.size()) ? cs.materials[n] : CableMaterial();
+                const CableSet& cs = m.cables;
+                CableMaterial& p = cable_mat;
+                p = n < static_cast<int>(cs.materials.size()) ? cs.materials[n] : CableMaterial();
                 p.defined = true;
                 p.area = a.real_or("cb_area", p.area);
                 p.e = a.real_or("cb_e", p.e);
@@ -104,17 +109,24 @@ const CommandSpec& prop_command() {
                                         ": it needs cb_area and cb_e above 0", {}, "property");
                     }
                 }
+            }
+            auto store_cable = [&] {
+                if (!cable_props) return;
+                CableSet& cs = m.cables;
                 ensure_index(cs.materials, n);
-                cs.materials[n] = p;
+                cs.materials[n] = cable_mat;
                 // The nodes' real masses follow the density.
                 for (int c = 0; c < cs.size(); ++c) {
                     if (cs.material[c] != n) continue;
                     for (int i = cs.node_offset[c]; i < cs.node_offset[c + 1]; ++i) {
-                        cs.mass[i] = p.density * p.area * cs.length[i];
+                        cs.mass[i] = cable_mat.density * cable_mat.area * cs.length[i];
                     }
                 }
                 m.geometry_changed = true; // stiffness and masses may change the timestep
-                if (!block_props) return;
+            };
+            if (!block_props) {
+                store_cable();
+                return;
             }
             if (a.has("density")) {
                 // Check first: every block of this material must keep a mass it can compute with.
@@ -140,6 +152,7 @@ const CommandSpec& prop_command() {
             if (a.has("density")) update_masses(m);
             // Zone masses, stiffnesses and the timestep follow the new values.
             m.geometry_changed = true;
+            store_cable();
         });
         return c;
     }();

@@ -312,3 +312,25 @@ TEST(Cable, RestoredModelCyclesOnToTheSameBits) {
     std::error_code ec;
     std::filesystem::remove_all(dir, ec);
 }
+
+TEST(Cable, RefusedPropertiesChangeNothing) {
+    Session s;
+    ASSERT_TRUE(s.run("poly brick 0 1 0 1 0 1\nprop mat=2 cb_area=1e-4 cb_e=2e11 cb_kbond=1e8\n"
+                      "cable 0.5,0.5,0.2 0.5,0.5,0.8 seg 3 prop 2"))
+        << s.error();
+    // A cable property with a joint material, a cable left without steel, a bad block density
+    // beside a good cable property: each refused, the cable material as it was.
+    EXPECT_FALSE(s.run("prop jmat=1 cb_area=1"));
+    EXPECT_NE(s.error().find("'cb_area' is a cable property: give it with 'mat=n'"), std::string::npos) << s.error();
+    EXPECT_FALSE(s.run("prop mat=2 cb_e=0"));
+    EXPECT_FALSE(s.run("prop mat=2 cb_kbond=5e8 ymod=1e9"));
+    EXPECT_NE(s.error().find("'ymod' and 'prat' go together"), std::string::npos) << s.error();
+    s.all_succeeded = true;
+    EXPECT_EQ(s.model.cables.materials[2].kbond, 1e8);
+    EXPECT_EQ(s.model.cables.materials[2].e, 2e11);
+    // Both at once when both are right.
+    ASSERT_TRUE(s.run("prop mat=2 cb_kbond=5e8 cb_dens=7800 dens=2700")) << s.error();
+    EXPECT_EQ(s.model.cables.materials[2].kbond, 5e8);
+    EXPECT_EQ(s.model.materials[2].density, 2700);
+    EXPECT_DOUBLE_EQ(s.model.cables.mass[1], 7800 * 1e-4 * 0.2);
+}
