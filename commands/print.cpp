@@ -205,9 +205,10 @@ void print_cables(CommandContext& ctx) {
               << col(n3(cs.grout_force[i]), 10) << col(n3(cs.slip[i]), 10) << " " << state << "\n";
         }
     }
-    o << cs.size() << " cables (m; axial force N, tension positive; grout: its force on the cable along it, from "
-         "the first node to the last, N; slip: the grout's plastic slip along it, m; state: yield-t/yield-c yielding "
-         "in tension/compression now, yield-p earlier; slip now, slip-p earlier; free: in no block, no grout)\n";
+    o << cs.size() << " cables (m; axial force N, tension positive; grout: its force on the cable along it,\n"
+         "  from the first node to the last, N; slip: the grout's plastic slip along it, m; block: the block the\n"
+         "  node is grouted into; state: yield-t, yield-c yielding in tension, compression now, yield-p earlier;\n"
+         "  slip now, slip-p earlier; free: in no block, no grout; driven: moved at a given velocity)\n";
 }
 
 void print_properties(CommandContext& ctx) {

@@ -135,7 +135,8 @@ void refresh_stiffness(CableSet& cs) {
     }
 }
 
-// Whether node i's mass is the steel's (a node velocity just prescribed keeps as given).
+// A new inertial mass for node i: when it grows, the velocity keeps the momentum (the kinetic
+// energy never rises from the change), as blocks and gridpoints do.
 void set_node_mass(CableSet& cs, int i, double mass) {
     if (cs.inertial_mass[i] > 0 && mass > cs.inertial_mass[i]) cs.vel[i] *= cs.inertial_mass[i] / mass;
     cs.inertial_mass[i] = mass;
@@ -287,15 +288,21 @@ std::string choose_cable_masses(Model& m, double raise_to) {
     CableSet& cs = m.cables;
     if (cs.n_nodes() == 0) return "";
     refresh_stiffness(cs);
-    for (int i = 0; i < cs.n_nodes(); ++i) {
-        double mass = cs.mass[i];
-        if (!m.settings.dynamic) {
-            mass = cs.stiffness[i] * (m.dt / kNodeSpan) * (m.dt / kNodeSpan);
-        } else if (raise_to > 0) {
-            mass = std::max(mass, cs.stiffness[i] * (raise_to / kNodeSpan) * (raise_to / kNodeSpan));
+    for (int c = 0; c < cs.size(); ++c) {
+        for (int i = cs.node_offset[c]; i < cs.node_offset[c + 1]; ++i) {
+            double mass = cs.mass[i];
+            if (!m.settings.dynamic) {
+                mass = cs.stiffness[i] * (m.dt / kNodeSpan) * (m.dt / kNodeSpan);
+            } else if (raise_to > 0) {
+                mass = std::max(mass, cs.stiffness[i] * (raise_to / kNodeSpan) * (raise_to / kNodeSpan));
+            }
+            if (!(mass > 0) || !std::isfinite(mass)) {
+                return "node " + std::to_string(i - cs.node_offset[c] + 1) + " of cable " + std::to_string(cs.id[c]) +
+                       " gets no usable mass (" + num_text(mass) + " kg): give its material a density (cb_dens) and "
+                       "a cross-section (cb_area) and modulus (cb_e) of sensible size";
+            }
+            if (mass != cs.inertial_mass[i]) set_node_mass(cs, i, mass);
         }
-        if (!(mass > 0)) return "cable node " + std::to_string(i + 1) + " has no mass";
-        if (mass != cs.inertial_mass[i]) set_node_mass(cs, i, mass);
     }
     return "";
 }
