@@ -12,7 +12,7 @@ namespace odec {
 const CommandSpec& export_command() {
     static const CommandSpec spec = [] {
         CommandSpec c("export", 3, "write the model as files for other programs");
-        c.keyword("vtk", 2, "VTK XML files for ParaView: blocks and zones (.vtu), contacts and sub-contacts (.vtp), and a .pvd")
+        c.keyword("vtk", 2, "VTK XML files for ParaView: blocks and zones (.vtu), contacts, sub-contacts and cables (.vtp), and a .pvd")
             .string("name")
             .in_choice(1);
         c.require_one_of(1);

@@ -2,6 +2,7 @@
 #include "commands.h"
 #include "common.h"
 #include "engine/blocks.h"
+#include "engine/cable.h"
 #include "engine/contact.h"
 #include "engine/zones.h"
 #include "fish/intrinsics.h"
@@ -73,6 +74,13 @@ const CommandSpec& hist_command() {
                 .one_of("term", terms)
                 .in_choice(1);
         }
+        c.keyword("cable_force", 7, "axial force of the cable segment whose middle is nearest the point, N (tension positive)")
+            .vec("x,y,z")
+            .in_choice(1);
+        c.keyword("cable_grout", 7, "grout force on the cable node nearest the point, along the cable from its first "
+                                    "node to its last, N")
+            .vec("x,y,z")
+            .in_choice(1);
         c.keyword("contact", 4, "with a contact quantity: follow the contact with this id instead of a point")
             .integer("id", 1);
         c.keyword("write", 2, "write histories n ... to a CSV file").integer("n", 1).repeat().in_choice(1);
@@ -271,6 +279,16 @@ const CommandSpec& hist_command() {
                     if (c < 0) fail(u->loc, "there are no contacts to follow", {"blocks touch once they are made and cycled"}, "history");
                 }
                 h.contact_id = m.contacts.id[c];
+            }
+            if (what == "cable_force" || what == "cable_grout") {
+                const bool force = what == "cable_force";
+                h.kind = force ? HistoryKind::CableForce : HistoryKind::CableGrout;
+                h.point = a.vec(what);
+                int c = -1;
+                const int k = force ? nearest_cable_segment(m, h.point, c) : nearest_cable_node(m, h.point, c);
+                if (k < 0) fail(a.find(what)->loc, "there are no cables to follow", {"make one with 'cable'"}, "history");
+                h.cable_id = m.cables.id[c];
+                h.cable_item = force ? k - m.cables.first_segment(c) + 1 : k - m.cables.node_offset[c] + 1;
             }
             h.label = history_default_label(h);
             // Its own samples start with the next one the model takes.

@@ -316,12 +316,13 @@ void handle_plot(CommandContext& ctx, const Args& a) {
     const KeywordUse* contact = a.find("contact");
     const KeywordUse* zone = a.find("zone");
     const KeywordUse* history = a.find("history");
-    const bool any_3d = block || vector || principal || contact || zone;
+    const KeywordUse* cable = a.find("cable");
+    const bool any_3d = block || vector || principal || contact || zone || cable;
     if (a.has("vs") && !history) fail(a.find("vs")->loc, "'vs' goes with 'history'", {}, "plot");
     if (history) {
         for (const KeywordUse& u : a.uses) {
             const std::string& k = u.spec->name;
-            if (k == "block" || k == "vector" || k == "principal" || k == "contact" || k == "zone" || k == "cut" ||
+            if (k == "block" || k == "vector" || k == "principal" || k == "contact" || k == "zone" || k == "cable" || k == "cut" ||
                 k == "range" || k == "view" || k == "map" || k == "scale" || k == "ids" || k == "magnify") {
                 fail(u.loc, "'" + k + "' cannot go with 'history'",
                      {"a history chart is a picture of its own: plot it with a separate 'plot' command"}, "plot");
@@ -400,6 +401,9 @@ void handle_plot(CommandContext& ctx, const Args& a) {
              {"divide blocks into zones with 'gen edge e'"}, "plot");
     }
     const bool range_misses_zones = !all_zones.empty() && zones.empty();
+    if (cable && m.cables.size() == 0) {
+        fail(cable->loc, "there are no cables to plot", {"make one with 'cable x1,y1,z1 x2,y2,z2 seg n prop p'"}, "plot");
+    }
     if (range_misses_zones && zone) fail(a.range_loc, "the range selects no zones to plot", {"widen the range"}, "plot");
     if (range_misses_zones && principal && !contact && contacts_in_range(m, a).empty()) {
         fail(a.range_loc, "the range selects no zones or contacts for 'principal'", {"widen the range"}, "plot");
@@ -479,6 +483,13 @@ void handle_plot(CommandContext& ctx, const Args& a) {
         }
     }
     if (vector) render::add_vectors(scene, m, quantity_of(*vector, "disp") == "vel" ? VectorKind::Vel : VectorKind::Disp, opt);
+    if (cable) {
+        // Cables run inside the rock: see them through the blocks and zones.
+        for (auto& layer : scene.polygons) {
+            if (layer.name == "blocks" || layer.name == "zones") layer.opacity = std::min(layer.opacity, 0.3);
+        }
+        render::add_cables(scene, m, opt);
+    }
 
     draw(ctx, a, scene, path, t0);
 }
@@ -495,6 +506,8 @@ const CommandSpec& plot_command() {
             .one_of("quantity", {"disp", "vel"})
             .optional("disp");
         c.keyword("principal", 2, "principal-stress bars at the zones, or on the contacts when there are no zones");
+        c.keyword("cable", 3, "cables as thin tubes coloured by their axial force (N, tension positive), through "
+                              "translucent blocks");
         c.keyword("contact", 2, "contact patches coloured by a quantity")
             .one_of("quantity", kContactQuantities)
             .optional("nstress");
@@ -546,9 +559,10 @@ const CommandSpec& plot_command() {
         c.keyword("yaxis", 3, "(3DEC) the chart's y axis title: accepted and ignored").rest_as_words();
         c.range("which blocks (and the contacts between them, and the zones whose centroid it contains) to draw: see 'help range'");
         c.describe(
-            "Items are 'block', 'zone', 'vector', 'principal' and 'contact', each with an optional quantity "
-            "after it; several may be given and are layered in one picture (blocks, then zones, contacts, "
-            "principal stresses and vectors; blocks turn translucent under contacts and arrows). 'plot' alone "
+            "Items are 'block', 'zone', 'vector', 'principal', 'contact' and 'cable', each but 'cable' with an "
+            "optional quantity after it; several may be given and are layered in one picture (blocks, then zones, "
+            "contacts, principal stresses, vectors and cables; blocks turn translucent under contacts, arrows and "
+            "cables). 'cable' draws each cable segment as a thin tube coloured by its axial force. 'plot' alone "
             "is 'plot block disp'. Without 'block' or 'zone', the other items are drawn over the block edges. "
             "'history n ... [vs m]' draws a line chart instead, with 'file', 'size' and 'background' as its only "
             "options. "
@@ -597,6 +611,7 @@ const CommandSpec& plot_command() {
         c.example("plot zone state principal cut plane dip 90 dd 90 origin 0.5,0,0");
         c.example("plot block disp magnify 200 vector disp");
         c.example("plot hist 2 vs 1 file 'fall.png'");
+        c.example("plot cable");
         c.example("plot set size 1280 960 view eye 20,-30,15 background black map viridis");
         c.handle(handle_plot);
         return c;

@@ -2,6 +2,7 @@
 #include "commands.h"
 #include "common.h"
 #include "engine/blocks.h"
+#include "engine/cable.h"
 #include "engine/contact.h"
 #include "engine/cycle.h"
 #include "engine/parallel.h"
@@ -163,6 +164,53 @@ void print_gridpoints(CommandContext& ctx, const Args& a) {
       << " gridpoints (m, m/s; held: velocity components held by 'fix' or 'bound ...vel')\n";
 }
 
+void print_cables(CommandContext& ctx) {
+    const Model& m = ctx.model;
+    const CableSet& cs = m.cables;
+    std::ostream& o = ctx.out;
+    if (cs.size() == 0) {
+        o << "no cables\n";
+        return;
+    }
+    auto seg_state = [](std::uint8_t st) -> std::string {
+        if (st & kCableYieldTensionNow) return "yield-t";
+        if (st & kCableYieldCompNow) return "yield-c";
+        if (st & kCableYieldPast) return "yield-p";
+        return "-";
+    };
+    auto grout_state = [](std::uint8_t st) -> std::string {
+        if (st & kGroutSlipNow) return "slip";
+        if (st & kGroutSlipPast) return "slip-p";
+        return "-";
+    };
+    for (int c = 0; c < cs.size(); ++c) {
+        const int first = cs.node_offset[c], last = cs.node_offset[c + 1] - 1;
+        o << "cable " << cs.id[c] << " (material " << cs.material[c] << "): " << cs.segments_of(c) << " segments from "
+          << vec_text(cs.pos[first]) << " to " << vec_text(cs.pos[last]) << "\n";
+        o << col("seg", 5) << col("x", 9) << col("y", 9) << col("z", 9) << col("axial", 10) << " state\n";
+        for (int k = 0; k < cs.segments_of(c); ++k) {
+            const int i = first + k, seg = cs.first_segment(c) + k;
+            const Vec3 x = 0.5 * (cs.pos[i] + cs.pos[i + 1]);
+            o << col(std::to_string(k + 1), 5) << col(n3(x.x()), 9) << col(n3(x.y()), 9) << col(n3(x.z()), 9)
+              << col(n3(cs.axial[seg]), 10) << " " << seg_state(cs.seg_state[seg]) << "\n";
+        }
+        o << col("node", 5) << col("x", 9) << col("y", 9) << col("z", 9) << col("xdis", 10) << col("ydis", 10)
+          << col("zdis", 10) << col("block", 7) << col("grout", 10) << col("slip", 10) << " state\n";
+        for (int i = first; i <= last; ++i) {
+            std::string state = cs.host_block[i] > 0 ? grout_state(cs.state[i]) : "free";
+            if (cs.vel_bc[i]) state += " driven";
+            o << col(std::to_string(i - first + 1), 5) << col(n3(cs.pos[i].x()), 9) << col(n3(cs.pos[i].y()), 9)
+              << col(n3(cs.pos[i].z()), 9) << col(n3(cs.disp[i].x()), 10) << col(n3(cs.disp[i].y()), 10)
+              << col(n3(cs.disp[i].z()), 10) << col(cs.host_block[i] > 0 ? std::to_string(cs.host_block[i]) : "-", 7)
+              << col(n3(cs.grout_force[i]), 10) << col(n3(cs.slip[i]), 10) << " " << state << "\n";
+        }
+    }
+    o << cs.size() << " cables (m; axial force N, tension positive; grout: its force on the cable along it,\n"
+         "  from the first node to the last, N; slip: the grout's plastic slip along it, m; block: the block the\n"
+         "  node is grouted into; state: yield-t, yield-c yielding in tension, compression now, yield-p earlier;\n"
+         "  slip now, slip-p earlier; free: in no block, no grout; driven: moved at a given velocity)\n";
+}
+
 void print_properties(CommandContext& ctx) {
     const Model& m = ctx.model;
     std::ostream& o = ctx.out;
@@ -193,6 +241,20 @@ void print_properties(CommandContext& ctx) {
           << col(n3(j.res_friction), 10) << "\n";
     }
     if (n == 0) o << "  none\n";
+    const CableSet& cs = m.cables;
+    n = 0;
+    for (size_t k = 1; k < cs.materials.size(); ++k) n += cs.materials[k].defined;
+    if (n > 0) {
+        o << "cable materials (area m^2; e Pa; yield, ycomp N; kbond N/m/m; sbond N/m; dens kg/m^3; 0: see 'help prop')\n";
+        o << col("mat", 5) << col("area", 10) << col("e", 10) << col("yield", 10) << col("ycomp", 10) << col("kbond", 10)
+          << col("sbond", 10) << col("dens", 10) << "\n";
+        for (size_t k = 1; k < cs.materials.size(); ++k) {
+            const CableMaterial& p = cs.materials[k];
+            if (!p.defined) continue;
+            o << col(std::to_string(k), 5) << col(n3(p.area), 10) << col(n3(p.e), 10) << col(n3(p.ytens), 10)
+              << col(n3(p.ycomp), 10) << col(n3(p.kbond), 10) << col(n3(p.sbond), 10) << col(n3(p.density), 10) << "\n";
+        }
+    }
 }
 
 void print_histories(CommandContext& ctx, const Args& a) {
@@ -469,6 +531,8 @@ const CommandSpec& print_command() {
         c.keyword("gp", 2, "same as 'gridpoint'").in_choice(1);
         c.keyword("energy", 2, "the energy account ('set energy on'): each term in J, the balance and its error")
             .in_choice(1);
+        c.keyword("cable", 3, "cables: axial force and state of each segment; position, displacement, grout force, "
+                              "slip and state of each node").in_choice(1);
         c.range();
         c.require_one_of(1);
         c.example("print block range z 0 10");
@@ -486,6 +550,7 @@ const CommandSpec& print_command() {
             else if (what == "history") print_histories(ctx, a);
             else if (what == "property") print_properties(ctx);
             else if (what == "energy") print_energy(ctx, a);
+            else if (what == "cable") print_cables(ctx);
             else print_info(ctx);
         });
         return c;

@@ -32,10 +32,21 @@ const CommandSpec& prop_command() {
         c.keyword("zdilation", 3, "same as 'jzdilation' (the older name)").real("u", 0);
         c.keyword("jres_friction", 4, "residual friction angle after failure, degrees (joint model 2)")
             .real("phi", 0, 90, Limit::Closed, Limit::Open);
+        c.keyword("cb_area", 5, "cable: cross-section area of the steel, m^2").real("A", 0, kMaxMagnitude, Limit::Open);
+        c.keyword("cb_e", 4, "cable: Young's modulus of the steel, Pa").real("E", 0, kMaxMagnitude, Limit::Open);
+        c.keyword("cb_yield", 4, "cable: tensile yield force, N (0: no limit)").real("F", 0, kMaxMagnitude);
+        c.keyword("cb_ycomp", 4, "cable: compressive yield force, N (0: the cable carries no compression)").real("F", 0, kMaxMagnitude);
+        c.keyword("cb_kbond", 4, "cable: grout shear stiffness per unit length of cable, N/m/m").real("k", 0, kMaxMagnitude);
+        c.keyword("cb_sbond", 4, "cable: grout bond strength per unit length of cable, N/m (0: no limit)").real("s", 0, kMaxMagnitude);
+        c.keyword("cb_dens", 4, "cable: density of the steel, kg/m^3 (the nodes' masses in dynamic mode)").real("rho", 0, kMaxMagnitude);
         c.require_one_of(1);
         c.describe("Properties not given keep their earlier values (0 for a new material). Block "
                    "properties go with 'mat', joint properties (those starting with j) with 'jmat'. "
-                   "Changing the density of a material updates the mass of its blocks.");
+                   "Changing the density of a material updates the mass of its blocks. Cable properties "
+                   "(those starting with cb_) also go with 'mat': they make the cable material of that "
+                   "number, which 'cable ... prop n' takes; a material number may hold block and cable "
+                   "properties side by side.");
+        c.example("prop mat=2 cb_area=1.81e-4 cb_e=98.6e9 cb_yield=0.5e6 cb_kbond=112e6 cb_sbond=0.175e6");
         c.example("prop mat=1 dens=2700");
         c.example("prop jmat=1 jkn=1e10 jks=5e9 jfric=30 jcoh=0 jten=0");
         c.handle([](CommandContext& ctx, const Args& a) {
@@ -47,7 +58,8 @@ const CommandSpec& prop_command() {
                 if (n == "material" || n == "jmat") continue;
                 const bool is_joint = n[0] == 'j' || n == "zdilation";
                 if (is_joint != joint) {
-                    fail(u.loc, "'" + n + "' is a " + (is_joint ? "joint" : "block") + " property: give it with '" +
+                    const char* kind = is_joint ? "joint" : n.compare(0, 3, "cb_") == 0 ? "cable" : "block";
+                    fail(u.loc, "'" + n + "' is a " + kind + " property: give it with '" +
                                     (is_joint ? "jmat" : "mat") + "=n'",
                          {}, "property");
                 }
@@ -69,6 +81,53 @@ const CommandSpec& prop_command() {
                 return;
             }
             const int n = a.integer("material");
+            bool block_props = false, cable_props = false;
+            for (const KeywordUse& u : a.uses) {
+                const std::string& kw = u.spec->name;
+                if (kw == "material") continue;
+                (kw.compare(0, 3, "cb_") == 0 ? cable_props : block_props) = true;
+            }
+            // Cable properties: computed aside and checked first, stored last, so that a refused
+            // command (here or in the block properties below) changes nothing.
+            CableMaterial cable_mat;
+            if (cable_props) {
+                const CableSet& cs = m.cables;
+                CableMaterial& p = cable_mat;
+                p = n < static_cast<int>(cs.materials.size()) ? cs.materials[n] : CableMaterial();
+                p.defined = true;
+                p.area = a.real_or("cb_area", p.area);
+                p.e = a.real_or("cb_e", p.e);
+                p.ytens = a.real_or("cb_yield", p.ytens);
+                p.ycomp = a.real_or("cb_ycomp", p.ycomp);
+                p.kbond = a.real_or("cb_kbond", p.kbond);
+                p.sbond = a.real_or("cb_sbond", p.sbond);
+                p.density = a.real_or("cb_dens", p.density);
+                // The cables already made of it keep a steel they can compute with.
+                for (int c = 0; c < cs.size(); ++c) {
+                    if (cs.material[c] == n && (!(p.area > 0) || !(p.e > 0))) {
+                        fail(a.loc, "cable " + std::to_string(cs.id[c]) + " is of material " + std::to_string(n) +
+                                        ": it needs cb_area and cb_e above 0", {}, "property");
+                    }
+                }
+            }
+            auto store_cable = [&] {
+                if (!cable_props) return;
+                CableSet& cs = m.cables;
+                ensure_index(cs.materials, n);
+                cs.materials[n] = cable_mat;
+                // The nodes' real masses follow the density.
+                for (int c = 0; c < cs.size(); ++c) {
+                    if (cs.material[c] != n) continue;
+                    for (int i = cs.node_offset[c]; i < cs.node_offset[c + 1]; ++i) {
+                        cs.mass[i] = cable_mat.density * cable_mat.area * cs.length[i];
+                    }
+                }
+                m.geometry_changed = true; // stiffness and masses may change the timestep
+            };
+            if (!block_props) {
+                store_cable();
+                return;
+            }
             if (a.has("density")) {
                 // Check first: every block of this material must keep a mass it can compute with.
                 const double rho = a.real("density");
@@ -93,6 +152,7 @@ const CommandSpec& prop_command() {
             if (a.has("density")) update_masses(m);
             // Zone masses, stiffnesses and the timestep follow the new values.
             m.geometry_changed = true;
+            store_cable();
         });
         return c;
     }();

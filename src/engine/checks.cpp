@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "engine/contact.h"
+#include "engine/cable.h"
 #include "engine/stages.h"
 
 namespace odec {
@@ -107,7 +108,7 @@ double max_unbalanced_force(const Model& m) {
         if (!(g.mass[i] > 0) || g.vel_bc[i] == 7) continue;
         fmax = std::max(fmax, free_part(g.force[i], g.vel_bc[i]).norm());
     }
-    return fmax;
+    return std::max(fmax, cable_max_unbalanced(m));
 }
 
 double unbalanced_ratio(const Model& m) {
@@ -124,6 +125,7 @@ double unbalanced_ratio(const Model& m) {
         unbal += free_part(g.force[i], g.vel_bc[i]).norm();
         total += g.force_scale[i];
     }
+    cable_unbalanced_sums(m, unbal, total);
     return total > 0 ? unbal / total : 0.0;
 }
 

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "engine/blocks.h"
+#include "engine/cable.h"
 #include "engine/contact.h"
 #include "engine/stages.h"
 
@@ -130,11 +131,22 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
             StageTimer t{prof, Stage::UpdateContacts};
             update_contacts(m, m.dt);
         }
+        if (m.cables.size() > 0) {
+            // Cable forces after the joints': they add into the same blocks and gridpoints.
+            StageTimer t{prof, Stage::Cables};
+            cable_forces(m, m.dt);
+        }
         int bad;
         {
             StageTimer t{prof, Stage::Integrate};
             bad = integrate(m, m.dt);
             refresh_world_vertices(m);
+        }
+        int bad_node = -1;
+        if (m.cables.size() > 0) {
+            // The nodes follow the rock across their axis: after the blocks and gridpoints moved.
+            StageTimer t{prof, Stage::Cables};
+            bad_node = integrate_cables(m, m.dt);
         }
         m.time += m.dt;
         ++m.step;
@@ -146,6 +158,11 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
             res.message = "the motion of block " + std::to_string(m.blocks.id[bad]) + " has run away (step " +
                           std::to_string(m.step) + "): its velocity is no longer a finite number; likely cause: " +
                           runaway_cause(m, bad);
+        } else if (bad_node >= 0) {
+            res.reason = StopReason::BlowUp;
+            res.message = "the motion of cable node " + std::to_string(bad_node + 1) + " has run away (step " +
+                          std::to_string(m.step) + "): its position is no longer a finite number";
+            bad = -2;
         }
         {
             StageTimer t{prof, Stage::Record};
@@ -156,7 +173,7 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
                 const double ke_before = fish ? watch.kinetic(m) : 0.0;
                 if (fish) mark_energy(m);
                 const std::string failed = m.histories.sample(m);
-                if (!failed.empty() && bad < 0) {
+                if (!failed.empty() && bad == -1) {
                     // The step stands; the sample of it is not taken, so every history still
                     // has the same samples. What the failed function changed is given.
                     if (fish && !m.geometry_changed && !watch.stale(m)) take_energy(m);
@@ -168,7 +185,7 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
                 if (fish && !m.geometry_changed && !watch.stale(m)) take_energy(m);
             }
         }
-        if (bad >= 0) break;
+        if (bad != -1) break;
         if (m.geometry_changed || watch.stale(m)) {
             // A FISH history changed the blocks: the checks below wait for the next step, which
             // prepares the model again first.

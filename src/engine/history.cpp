@@ -18,6 +18,18 @@ double history_value(const Model& m, const History& h) {
     case HistoryKind::Step: return static_cast<double>(m.step);
     case HistoryKind::Ratio: return unbalanced_ratio(m);
     case HistoryKind::Fish: return 0.0; // read through HistorySet::external
+    case HistoryKind::CableForce:
+    case HistoryKind::CableGrout: {
+        // 0 once the cable was deleted.
+        const CableSet& cs = m.cables;
+        const int c = cs.index(h.cable_id);
+        if (c < 0) return 0.0;
+        const int k = h.cable_item - 1;
+        if (h.kind == HistoryKind::CableForce) {
+            return k >= 0 && k < cs.segments_of(c) ? cs.axial[cs.first_segment(c) + k] : 0.0;
+        }
+        return k >= 0 && k <= cs.segments_of(c) ? cs.grout_force[cs.node_offset[c] + k] : 0.0;
+    }
     case HistoryKind::Energy: {
         double v = 0;
         energy_term(m, h.source, v);
@@ -163,6 +175,8 @@ static const char* kind_word(HistoryKind k) {
     case HistoryKind::Damp: return "damp";
     case HistoryKind::Fish: return "fish";
     case HistoryKind::Energy: return "energy";
+    case HistoryKind::CableForce: return "cable_force";
+    case HistoryKind::CableGrout: return "cable_grout";
     }
     return "?";
 }
@@ -172,7 +186,11 @@ std::string history_default_label(const History& h) {
     if (h.kind == HistoryKind::Energy) return "energy " + h.source + " (J)";
     std::string s = kind_word(h.kind);
     char buf[160];
-    if (h.zone >= 0) {
+    if (h.kind == HistoryKind::CableForce || h.kind == HistoryKind::CableGrout) {
+        std::snprintf(buf, sizeof buf, " cable %d %s %d (N)", h.cable_id,
+                      h.kind == HistoryKind::CableForce ? "segment" : "node", h.cable_item);
+        s += buf;
+    } else if (h.zone >= 0) {
         std::snprintf(buf, sizeof buf, " (%g,%g,%g) zone %d", h.point.x(), h.point.y(), h.point.z(), h.zone + 1);
         s += buf;
     } else if (h.gridpoint >= 0) {

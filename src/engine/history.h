@@ -28,6 +28,8 @@ enum class HistoryKind {
     Damp,       // mass-proportional damping coefficient in use, 1/s (0 with local damping or none)
     Fish,       // the value of a FISH variable or function (`hist @name`), in its own unit
     Energy,     // a term of the energy account (`hist energy name`, the name in `source`), J
+    CableForce, // axial force of a cable segment, N (tension positive)
+    CableGrout, // grout force on a cable node along the cable, N (toward its last node positive)
 };
 
 struct History {
@@ -45,6 +47,9 @@ struct History {
     std::vector<int> blocks;                         // reactions: the rigid block ids summed
     std::string label;                               // column title
     std::string source;                              // Fish: the FISH name sampled; Energy: the term
+    int cable_id = 0;                                // cable quantities: the cable's id
+    int cable_item = 0;                              // its segment (CableForce) or node (CableGrout),
+                                                     // from 1 along the cable
     // Its samples: values[i] was taken at HistorySet::sample_steps[first + i]. A history made
     // while the model already had samples starts with the next one (first > 0); the samples
     // before it are none of its own.

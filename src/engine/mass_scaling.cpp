@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/cable.h"
 #include "engine/contact.h"
 #include "engine/model.h"
 #include "engine/parallel.h"
@@ -168,6 +169,7 @@ void scale_block_masses(Model& m, bool from_contact_update) {
             }
         }
     }
+    add_cable_block_stiffness(m, kt, kr);
     assign_block_masses(m, kt, kr);
 }
 
@@ -207,6 +209,9 @@ std::string choose_timestep_and_masses(Model& m, double rigid_dt, double zone_dt
     r.total = total_real_mass(m);
     double real_dt = rigid_dt;
     if (zone_dt > 0 && (!(real_dt > 0) || zone_dt < real_dt)) real_dt = zone_dt;
+    // Cables (cable.h): their nodes' own stable step with real masses.
+    const double cable_dt = cable_critical_timestep(m);
+    if (cable_dt > 0 && (!(real_dt > 0) || cable_dt < real_dt)) real_dt = cable_dt;
     r.real_dt = real_dt;
     double dt = 0;
     if (r.is_static) {
@@ -216,9 +221,14 @@ std::string choose_timestep_and_masses(Model& m, double rigid_dt, double zone_dt
             const double zone_static = median_gridpoint_timestep(m, gridpoint_stiffness(m));
             dt = rigid_dt;
             if (zone_static > 0 && (!(dt > 0) || zone_static < dt)) dt = zone_static;
+            // Nothing else to set the pace: the cables' own step with the steel's mass.
+            if (!(dt > 0)) dt = cable_dt;
         }
         if (!(dt > 0)) {
-            return "no timestep: there are no contacts or zones to set one, so give it with 'set dt'";
+            return m.cables.size() > 0
+                       ? "no timestep: there are no contacts or zones to set one, and the cables have no density "
+                         "(cb_dens) to set it: give one, or the timestep with 'set dt'"
+                       : "no timestep: there are no contacts or zones to set one, so give it with 'set dt'";
         }
         m.dt = dt;
         GridpointSet& g = m.gridpoints;
@@ -229,6 +239,8 @@ std::string choose_timestep_and_masses(Model& m, double rigid_dt, double zone_dt
             if (mass != g.inertial_mass[i]) set_gridpoint(g, i, mass);
         }
         scale_block_masses(m, false);
+        const std::string cp = choose_cable_masses(m, 0.0);
+        if (!cp.empty()) return cp;
     } else {
         real_masses(m);
         dt = m.settings.dt_fixed > 0 ? m.settings.dt_fixed : real_dt;
@@ -240,6 +252,9 @@ std::string choose_timestep_and_masses(Model& m, double rigid_dt, double zone_dt
             dt = m.settings.mscale_dt;
         }
         m.dt = dt;
+        const std::string cp =
+            choose_cable_masses(m, m.settings.dt_fixed <= 0 && m.settings.mscale_dt >= dt ? m.settings.mscale_dt : 0.0);
+        if (!cp.empty()) return cp;
     }
     r.dt = m.dt;
     const MassScalingReport& old = m.mass_scaling;

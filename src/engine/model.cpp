@@ -13,6 +13,7 @@ const char* stage_name(Stage s) {
     case Stage::Integrate: return "integrate";
     case Stage::Record: return "record";
     case Stage::Checks: return "checks";
+    case Stage::Cables: return "cables";
     case Stage::Count: break;
     }
     return "?";

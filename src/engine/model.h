@@ -20,6 +20,7 @@
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
 
+#include "engine/cable.h"
 #include "engine/contact.h"
 #include "engine/energy.h"
 #include "engine/history.h"
@@ -140,7 +141,7 @@ struct BlockSet {
 };
 
 // Cycle stages, timed into Profile.
-enum class Stage { ApplyLoads, DetectContacts, UpdateContacts, Zones, Integrate, Record, Checks, Count };
+enum class Stage { ApplyLoads, DetectContacts, UpdateContacts, Zones, Integrate, Record, Checks, Cables, Count };
 const char* stage_name(Stage s);
 
 struct Profile {
@@ -210,6 +211,7 @@ struct Model {
     ContactSet contacts;
     ZoneSet zones;                              // tetrahedral zones of deformable blocks
     GridpointSet gridpoints;                    // their corners
+    CableSet cables;                            // cables and rock bolts (cable.h)
     StressBoundary stress_boundary;             // faces loaded by `bound stress`
     std::vector<InsituRecord> insitu;           // `insitu` fields, in order, for zones made later
     HistorySet histories;

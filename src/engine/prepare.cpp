@@ -7,6 +7,7 @@
 #include "engine/contact.h"
 #include "engine/contact_gridpoint.h"
 #include "engine/mass_scaling.h"
+#include "engine/cable.h"
 #include "engine/stages.h"
 
 namespace odec {
@@ -120,11 +121,15 @@ std::string prepare_cycle_once(Model& m) {
     {
         const std::string zp = zones_problem(m);
         if (!zp.empty()) return zp;
+        const std::string cp = cables_problem(m);
+        if (!cp.empty()) return cp;
     }
     if (m.geometry_changed) {
         refresh_world_vertices(m);
         detect_contacts(m);
         update_gridpoint_masses(m);
+        // Cable nodes are tied to whatever rock holds them now.
+        attach_cable_nodes(m);
         const std::string overlap = overlap_problem(m);
         if (!overlap.empty()) return overlap;
     }
@@ -152,6 +157,13 @@ std::string prepare_cycle_once(Model& m) {
             return "the forced timestep " + num_text(m.settings.dt_fixed) +
                    " s ('set dt') is larger than the stable limit of the zones, about " + num_text(zone_dt / 0.9) +
                    " s: the motion would run away. Use 'set dt auto' or a timestep below " + num_text(zone_dt) + " s";
+        }
+        const double cable_dt = cable_critical_timestep(m);
+        if (cable_dt > 0 && m.settings.dt_fixed > cable_dt) {
+            return "the forced timestep " + num_text(m.settings.dt_fixed) +
+                   " s ('set dt') is larger than the stable limit of the cables, about " + num_text(cable_dt) +
+                   " s with the steel's mass (cb_dens): the motion would run away. Use 'set dt auto' or a "
+                   "timestep below " + num_text(cable_dt) + " s";
         }
         int worst = -1;
         const double limit = stable_timestep_limit(m, &worst);

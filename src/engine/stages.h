@@ -67,11 +67,12 @@ struct PrepareUndo {
     std::vector<double> block_mass, block_moment, gp_mass;
     std::vector<Vec3> vel, ang_vel, gp_vel;
     MassScalingReport report;
+    CableSet cables; // their ties to the rock and their masses
 
     explicit PrepareUndo(const Model& m)
         : dt(m.dt), geometry_changed(m.geometry_changed), block_mass(m.blocks.inertial_mass),
           block_moment(m.blocks.inertial_moment), gp_mass(m.gridpoints.inertial_mass), vel(m.blocks.vel),
-          ang_vel(m.blocks.ang_vel), gp_vel(m.gridpoints.vel), report(m.mass_scaling) {
+          ang_vel(m.blocks.ang_vel), gp_vel(m.gridpoints.vel), report(m.mass_scaling), cables(m.cables) {
         if (m.geometry_changed) {
             saved = true;
             contacts = m.contacts;
@@ -96,6 +97,7 @@ struct PrepareUndo {
             m.gridpoints.vel = std::move(gp_vel);
         }
         m.mass_scaling = report;
+        m.cables = std::move(cables);
     }
 };
 std::string prepare_cycle_once(Model& m);
@@ -174,6 +176,8 @@ struct EnergyWatch {
                 initial += cs.sub_area[k] * e;
             }
         }
+        // The elastic energy of the cables (a pretension) may be given to the blocks.
+        initial += cable_strain_energy(m);
         boundary_work = 0;
         applied_work = 0;
         peak_work = 0;
@@ -228,6 +232,11 @@ struct EnergyWatch {
             work += (s.mass[b] * m.gravity).dot(s.centroid[b] - start[b]);
         }
         work += applied_work;
+        // Cable nodes driven at a velocity work on the cables and, through them, the rock.
+        const CableSet& cbl = m.cables;
+        for (int i = 0; i < cbl.n_nodes(); ++i) {
+            if (cbl.vel_bc[i]) boundary_work += m.dt * std::abs(cbl.force[i].dot(cbl.vel_bc_value[i]));
+        }
         energy = ke;
         // The most work the loads have done at any time: the energy they put in may have been
         // carried back up since (an undamped block bouncing), and explicit impacts do not

@@ -1,5 +1,7 @@
 #include "engine/zones.h"
 
+#include "engine/cable.h"
+
 #include "engine/contact.h"
 
 #include <algorithm>
@@ -379,6 +381,8 @@ std::vector<double> gridpoint_stiffness(const Model& m, double joint_factor) {
     std::vector<double> k = m.gridpoints.stiffness;
     const std::vector<double> joint = joint_stiffness_on_gridpoints(m);
     for (size_t i = 0; i < joint.size() && i < k.size(); ++i) k[i] += joint_factor * joint[i];
+    // The grout of cables tied to the zones (cable.h).
+    add_cable_gridpoint_stiffness(m, k);
     return k;
 }
 

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "engine/blocks.h"
+#include "engine/cable.h"
 #include "engine/contact.h"
 #include "engine/cycle.h"
 #include "engine/model.h"
@@ -371,6 +372,87 @@ Value f_memory(Runtime&, A, int, L loc) {
 
 } // namespace
 
+namespace {
+
+// -- cables ------------------------------------------------------------------------------------
+// A cable by its id (argument 0) and, when `item` is "segment" or "node", one of its segments or
+// nodes (argument 1, from 1 at the cable's first end): its index in the cable arrays.
+int cable_arg(Runtime& rt, A a, const char* fn, L loc, int& item, const char* kind) {
+    const CableSet& cs = model(rt).cables;
+    const long long id = int_arg(a, 0, fn, loc);
+    const int c = id > 0 && id <= 2000000000 ? cs.index(static_cast<int>(id)) : -1;
+    if (c < 0) fish_fail(loc, std::string("'") + fn + "': there is no cable " + std::to_string(id), {"'print cable' lists them"});
+    item = -1;
+    if (kind) {
+        const bool seg = kind[0] == 's';
+        const int n = seg ? cs.segments_of(c) : cs.segments_of(c) + 1;
+        const long long k = int_arg(a, 1, fn, loc);
+        if (k < 1 || k > n) {
+            fish_fail(loc, std::string("'") + fn + "': cable " + std::to_string(id) + " has " + std::to_string(n) + " " +
+                               kind + "s, numbered from 1");
+        }
+        item = static_cast<int>(k - 1) + (seg ? cs.first_segment(c) : cs.node_offset[c]);
+    }
+    return c;
+}
+Value f_cable_num(Runtime& rt, A, int, L) { return Value::integer(model(rt).cables.size()); }
+Value f_cable_id(Runtime& rt, A a, int, L loc) {
+    const CableSet& cs = model(rt).cables;
+    const long long k = int_arg(a, 0, "cable_id", loc);
+    if (k < 1 || k > cs.size()) fish_fail(loc, "'cable_id': there are " + std::to_string(cs.size()) + " cables, numbered from 1 in order");
+    return Value::integer(cs.id[static_cast<size_t>(k - 1)]);
+}
+Value f_cable_nseg(Runtime& rt, A a, int, L loc) {
+    int i;
+    const int c = cable_arg(rt, a, "cable_nseg", loc, i, nullptr);
+    return Value::integer(model(rt).cables.segments_of(c));
+}
+Value f_cable_force(Runtime& rt, A a, int, L loc) {
+    int i;
+    cable_arg(rt, a, "cable_force", loc, i, "segment");
+    return num(model(rt).cables.axial[i]);
+}
+Value f_cable_yield(Runtime& rt, A a, int, L loc) {
+    int i;
+    cable_arg(rt, a, "cable_yield", loc, i, "segment");
+    const std::uint8_t st = model(rt).cables.seg_state[i];
+    return Value::integer((st & kCableYieldTensionNow) ? 1 : (st & kCableYieldCompNow) ? 2 : (st & kCableYieldPast) ? 3 : 0);
+}
+Value f_cable_grout(Runtime& rt, A a, int, L loc) {
+    int i;
+    cable_arg(rt, a, "cable_grout", loc, i, "node");
+    return num(model(rt).cables.grout_force[i]);
+}
+Value f_cable_slip(Runtime& rt, A a, int, L loc) {
+    int i;
+    cable_arg(rt, a, "cable_slip", loc, i, "node");
+    return num(model(rt).cables.slip[i]);
+}
+Value f_cable_gstate(Runtime& rt, A a, int, L loc) {
+    int i;
+    cable_arg(rt, a, "cable_gstate", loc, i, "node");
+    const CableSet& cs = model(rt).cables;
+    if (cs.host_block[i] <= 0) return Value::integer(-1);
+    return Value::integer((cs.state[i] & kGroutSlipNow) ? 1 : (cs.state[i] & kGroutSlipPast) ? 2 : 0);
+}
+Value f_cable_pos(Runtime& rt, A a, int, L loc) {
+    int i;
+    cable_arg(rt, a, "cable_pos", loc, i, "node");
+    return vec(model(rt).cables.pos[i]);
+}
+Value f_cable_disp(Runtime& rt, A a, int, L loc) {
+    int i;
+    cable_arg(rt, a, "cable_disp", loc, i, "node");
+    return vec(model(rt).cables.disp[i]);
+}
+Value f_cable_block(Runtime& rt, A a, int, L loc) {
+    int i;
+    cable_arg(rt, a, "cable_block", loc, i, "node");
+    return Value::integer(model(rt).cables.host_block[i]);
+}
+
+} // namespace
+
 const std::vector<Intrinsic>& model_intrinsics() {
     static const std::vector<Intrinsic> t = {
         {"block_head", 0, 0, "", "the first block (0 when there are none)", "block", f_block_head, nullptr},
@@ -451,6 +533,17 @@ const std::vector<Intrinsic>& model_intrinsics() {
         {"cx_ndis", 1, 1, "s", "normal closure, compression positive, m", "contact", f_cx_ndis, nullptr},
         {"cx_sdis", 1, 1, "s", "magnitude of the shear displacement, m", "contact", f_cx_sdis, nullptr},
         {"cx_state", 1, 1, "s", "state bits: 1 slipping, 2 open, 4 failed (0 elastic)", "contact", f_cx_state, nullptr},
+        {"cable_num", 0, 0, "", "the number of cables", "cable", f_cable_num, nullptr},
+        {"cable_id", 1, 1, "k", "the id of the k-th cable (from 1, in order)", "cable", f_cable_id, nullptr},
+        {"cable_nseg", 1, 1, "id", "the number of segments of cable id (it has one node more)", "cable", f_cable_nseg, nullptr},
+        {"cable_force", 2, 2, "id,k", "axial force of segment k of cable id, N (tension positive)", "cable", f_cable_force, nullptr},
+        {"cable_yield", 2, 2, "id,k", "state of segment k: 0 elastic, 1 yielding in tension, 2 in compression, 3 yielded earlier", "cable", f_cable_yield, nullptr},
+        {"cable_grout", 2, 2, "id,k", "grout force on node k of cable id, along the cable from its first node to its last, N", "cable", f_cable_grout, nullptr},
+        {"cable_slip", 2, 2, "id,k", "plastic slip of the grout at node k, along the cable, m", "cable", f_cable_slip, nullptr},
+        {"cable_gstate", 2, 2, "id,k", "grout at node k: 0 elastic, 1 slipping, 2 slipped earlier, -1 no grout (in no block)", "cable", f_cable_gstate, nullptr},
+        {"cable_pos", 2, 2, "id,k", "position of node k of cable id (vector), m", "cable", f_cable_pos, nullptr},
+        {"cable_disp", 2, 2, "id,k", "displacement of node k since it was made or 'reset disp' (vector), m", "cable", f_cable_disp, nullptr},
+        {"cable_block", 2, 2, "id,k", "id of the block node k is grouted into (0: none)", "cable", f_cable_block, nullptr},
         {"gp_head", 0, 0, "", "the first gridpoint of the model (0 when none)", "gridpoint", f_gp_head, nullptr},
         {"gp_next", 1, 1, "g", "the next gridpoint: of the same block after b_gp, of the model after gp_head", "gridpoint", f_gp_next, nullptr},
         {"gp_id", 1, 1, "g", "the gridpoint's number, as print gp shows it", "gridpoint", f_gp_id, nullptr},

@@ -110,6 +110,21 @@ auto fields(IO& io, M& x) -> If<M, JointMaterial> {
     io(x.dilation); io(x.zdilation); io(x.res_friction);
 }
 
+// Format 11: cables (cable.h).
+template <class IO, class M>
+auto fields(IO& io, M& x) -> If<M, CableMaterial> {
+    io(x.defined); io(x.area); io(x.e); io(x.ytens); io(x.ycomp); io(x.kbond); io(x.sbond); io(x.density);
+}
+
+template <class IO, class M>
+auto fields(IO& io, M& x) -> If<M, CableSet> {
+    io(x.id); io(x.material); io(x.node_offset); io(x.next_id);
+    io(x.pos); io(x.vel); io(x.disp); io(x.force); io(x.length); io(x.mass); io(x.inertial_mass);
+    io(x.stiffness); io(x.host_block); io(x.host_lever); io(x.host_gp); io(x.host_w);
+    io(x.grout_force); io(x.slip); io(x.state); io(x.vel_bc); io(x.vel_bc_value);
+    io(x.axial); io(x.rest_length); io(x.seg_state); io(x.materials);
+}
+
 template <class IO, class M>
 auto fields(IO& io, M& x) -> If<M, JointPlane> {
     io(x.set); io(x.joined); io(x.jmat);
@@ -160,7 +175,8 @@ auto fields(IO& io, M& x) -> If<M, Table> {
 template <class IO, class M>
 auto fields(IO& io, M& x) -> If<M, History> {
     // The last kind each format knows: format 3 added zone stresses and reactions.
-    const HistoryKind last = io.format >= 8   ? HistoryKind::Energy
+    const HistoryKind last = io.format >= 11  ? HistoryKind::CableGrout
+                             : io.format >= 8 ? HistoryKind::Energy
                              : io.format >= 5 ? HistoryKind::Fish
                              : io.format >= 3 ? HistoryKind::ZReaction
                                               : HistoryKind::SDis;
@@ -178,6 +194,10 @@ auto fields(IO& io, M& x) -> If<M, History> {
     // Format 7: the sample a history made during a run starts with (older files give it a
     // NaN for each sample before it: restore_model takes them off).
     if (io.format >= 9) io(x.first);
+    // Format 11: the cable a cable history samples.
+    if (io.format >= 11) {
+        io(x.cable_id); io(x.cable_item);
+    }
 }
 
 // Format 7 keeps each block's orientation at the last 'reset disp'. Older files kept the turn
@@ -240,9 +260,10 @@ auto fields(IO& io, M& x) -> If<M, EnergyAccount> {
 
 template <class IO, class M>
 auto fields(IO& io, M& x) -> If<M, Profile> {
-    // Format 3 added the zone stage, format 6 the checks; older files time the others, in the
-    // same order.
-    const int expected = static_cast<int>(Stage::Count) - (io.format >= 3 ? 0 : 1) - (io.format >= 6 ? 0 : 1);
+    // Format 3 added the zone stage, format 6 the checks, format 11 the cables; older files time
+    // the others, in the same order.
+    const int expected = static_cast<int>(Stage::Count) - (io.format >= 3 ? 0 : 1) - (io.format >= 6 ? 0 : 1) -
+                         (io.format >= 11 ? 0 : 1);
     int n_stages = expected;
     io(n_stages);
     io.check(n_stages == expected, "the profile has " + std::to_string(n_stages) + " stages, save format " +
@@ -250,6 +271,7 @@ auto fields(IO& io, M& x) -> If<M, Profile> {
     for (int k = 0; k < static_cast<int>(Stage::Count); ++k) {
         if (io.format < 3 && k == static_cast<int>(Stage::Zones)) continue;
         if (io.format < 6 && k == static_cast<int>(Stage::Checks)) continue;
+        if (io.format < 11 && k == static_cast<int>(Stage::Cables)) continue;
         io(x.seconds[k]);
     }
     io(x.steps);
@@ -374,6 +396,7 @@ void model_sections(IO& io, M& m) {
     io.section("HIST", [&] { io(m.histories); });
     io.section("TABL", [&] { io(m.tables); });
     if (io.format >= 8) io.section("ENRG", [&] { io(m.energy); });
+    if (io.format >= 11) io.section("CABL", [&] { io(m.cables); });
 }
 
 // ---- writing ----
@@ -872,6 +895,62 @@ std::string check_zones_consistent(const Model& m) {
 
 // Sizes and indices that the cycle trusts without checking, so that a file which passed its
 // checksum but was written wrongly cannot make the cycle read out of bounds.
+// Cables: every array its length, every index in range, every number finite.
+std::string check_cables_consistent(const Model& m) {
+    const CableSet& cs = m.cables;
+    const size_t nc = cs.id.size();
+    if (cs.material.size() != nc) return "the cable arrays differ in length";
+    if (nc == 0 ? !cs.node_offset.empty() : cs.node_offset.size() != nc + 1) return "the cable node offsets do not match the cables";
+    const size_t nn = cs.pos.size();
+    if (nc > 0 && (cs.node_offset[0] != 0 || static_cast<size_t>(cs.node_offset[nc]) != nn)) {
+        return "the cable node offsets do not match the nodes";
+    }
+    for (size_t c = 0; c < nc; ++c) {
+        if (cs.node_offset[c + 1] - cs.node_offset[c] < 2) return "a cable has fewer than two nodes";
+        if (cs.id[c] < 1 || cs.id[c] >= cs.next_id || (c > 0 && cs.id[c] <= cs.id[c - 1])) return "the cable ids are not increasing";
+        if (cs.material[c] < 1 || static_cast<size_t>(cs.material[c]) >= cs.materials.size()) {
+            return "cable " + std::to_string(cs.id[c]) + " has a material that does not exist";
+        }
+    }
+    const size_t nseg = nn - nc;
+    if (cs.vel.size() != nn || cs.disp.size() != nn || cs.force.size() != nn || cs.length.size() != nn ||
+        cs.mass.size() != nn || cs.inertial_mass.size() != nn || cs.stiffness.size() != nn ||
+        cs.host_block.size() != nn || cs.host_lever.size() != nn || cs.host_gp.size() != nn ||
+        cs.host_w.size() != nn || cs.grout_force.size() != nn || cs.slip.size() != nn || cs.state.size() != nn ||
+        cs.vel_bc.size() != nn || cs.vel_bc_value.size() != nn || cs.axial.size() != nseg ||
+        cs.rest_length.size() != nseg || cs.seg_state.size() != nseg) {
+        return "the cable node and segment arrays differ in length";
+    }
+    for (size_t i = 0; i < nn; ++i) {
+        if (cs.host_block[i] < 0) return "a cable node refers to a negative block id";
+        for (int g : cs.host_gp[i]) {
+            if (g < -1 || g >= m.gridpoints.size()) return "a cable node refers to a gridpoint that does not exist";
+        }
+        if (!cs.pos[i].allFinite() || !cs.vel[i].allFinite() || !cs.disp[i].allFinite() || !cs.force[i].allFinite() ||
+            !cs.host_lever[i].allFinite() || !cs.vel_bc_value[i].allFinite() || !std::isfinite(cs.grout_force[i]) ||
+            !std::isfinite(cs.slip[i]) || !(cs.length[i] > 0) || !(cs.mass[i] >= 0) || !(cs.inertial_mass[i] >= 0) ||
+            !(cs.stiffness[i] >= 0) || !std::isfinite(cs.length[i] + cs.mass[i] + cs.inertial_mass[i] + cs.stiffness[i])) {
+            return "a number of cable node " + std::to_string(i + 1) + " is not finite or out of range";
+        }
+        for (double w : cs.host_w[i]) {
+            if (!std::isfinite(w)) return "a weight of cable node " + std::to_string(i + 1) + " is not a finite number";
+        }
+    }
+    for (size_t k = 0; k < nseg; ++k) {
+        if (!std::isfinite(cs.axial[k]) || !(cs.rest_length[k] > 0) || !std::isfinite(cs.rest_length[k])) {
+            return "a number of cable segment " + std::to_string(k + 1) + " is not finite or out of range";
+        }
+    }
+    for (const CableMaterial& p : cs.materials) {
+        if (!(p.area >= 0 && p.e >= 0 && p.ytens >= 0 && p.ycomp >= 0 && p.kbond >= 0 && p.sbond >= 0 &&
+              p.density >= 0) ||
+            !std::isfinite(p.area + p.e + p.ytens + p.ycomp + p.kbond + p.sbond + p.density)) {
+            return "a cable material has a number that is negative or not finite";
+        }
+    }
+    return "";
+}
+
 std::string check_consistent(const Model& m) {
     const BlockSet& s = m.blocks;
     const size_t n = s.id.size();
@@ -953,6 +1032,8 @@ std::string check_consistent(const Model& m) {
     }
     const std::string zones = check_zones_consistent(m);
     if (!zones.empty()) return zones;
+    const std::string cables = check_cables_consistent(m);
+    if (!cables.empty()) return cables;
     const HistorySet& h = m.histories;
     for (const History& item : h.items) {
         if (item.first < 0 || static_cast<size_t>(item.first) > h.sample_steps.size() ||

@@ -27,8 +27,9 @@ namespace odec {
 // 9: each block's orientation at the last `reset disp` (in place of the accumulated small
 // rotation), and the first sample of each history (histories made during a run no longer
 // hold a NaN for each sample before them); 10: the overlap tolerance ('set ovtol'; older files
-// take the automatic one).
-constexpr std::uint32_t kSaveFormatVersion = 10;
+// take the automatic one); 11: cables and rock bolts, their histories and the cables stage of
+// the profile (older files have none).
+constexpr std::uint32_t kSaveFormatVersion = 11;
 
 // Write the model to `path`. A model that restore would refuse (a velocity that is not a finite
 // number after a run-away, an index out of range) is not written: save and restore run the

@@ -529,6 +529,65 @@ bool write_contacts_vtp(const ContactRows& rows, const std::vector<std::string>&
     return write_atomically(path, out, error);
 }
 
+bool write_cables_vtp(const Model& m, const std::string& path, std::string& error) {
+    const CableSet& cs = m.cables;
+    const int nn = cs.n_nodes();
+    // Points: the nodes, with their data.
+    std::vector<double> node_no, host, grout, slip, gstate;
+    for (int c = 0; c < cs.size(); ++c) {
+        for (int i = cs.node_offset[c]; i < cs.node_offset[c + 1]; ++i) {
+            node_no.push_back(i - cs.node_offset[c] + 1);
+            host.push_back(cs.host_block[i]);
+            grout.push_back(cs.grout_force[i]);
+            slip.push_back(cs.slip[i]);
+            gstate.push_back(cs.host_block[i] <= 0 ? -1 : (cs.state[i] & kGroutSlipNow) ? 1 : (cs.state[i] & kGroutSlipPast) ? 2 : 0);
+        }
+    }
+    std::vector<VtkArray> point_data;
+    point_data.push_back(scalar_array("node", node_no, true));
+    point_data.push_back(vector_array("displacement", cs.disp));
+    point_data.push_back(scalar_array("block_id", host, true));
+    point_data.push_back(scalar_array("grout_force", grout, false));
+    point_data.push_back(scalar_array("grout_slip", slip, false));
+    point_data.push_back(scalar_array("grout_state", gstate, true));
+    // Cells: the segments, one line each, with their data.
+    std::vector<double> axial, yield, cable_id, seg_no;
+    std::vector<long> conn, offs;
+    for (int c = 0; c < cs.size(); ++c) {
+        for (int k = 0; k < cs.segments_of(c); ++k) {
+            const int seg = cs.first_segment(c) + k, i = cs.node_offset[c] + k;
+            const std::uint8_t st = cs.seg_state[seg];
+            axial.push_back(cs.axial[seg]);
+            yield.push_back((st & kCableYieldTensionNow) ? 1 : (st & kCableYieldCompNow) ? 2 : (st & kCableYieldPast) ? 3 : 0);
+            cable_id.push_back(cs.id[c]);
+            seg_no.push_back(k + 1);
+            conn.push_back(i);
+            conn.push_back(i + 1);
+            offs.push_back(static_cast<long>(conn.size()));
+        }
+    }
+    std::vector<VtkArray> cell_data;
+    cell_data.push_back(scalar_array("axial_force", axial, false));
+    cell_data.push_back(scalar_array("yield_state", yield, true));
+    cell_data.push_back(scalar_array("cable_id", cable_id, true));
+    cell_data.push_back(scalar_array("segment", seg_no, true));
+    std::string out;
+    out += "<?xml version=\"1.0\"?>\n";
+    out += "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n";
+    out += "  <PolyData>\n";
+    put_field_data(out, m);
+    out += "    <Piece NumberOfPoints=\"" + std::to_string(nn) + "\" NumberOfVerts=\"0\" NumberOfLines=\"" +
+           std::to_string(axial.size()) + "\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n";
+    put_data_section(out, "PointData", point_data);
+    put_data_section(out, "CellData", cell_data);
+    put_points(out, cs.pos);
+    out += "      <Lines>\n";
+    put_int_array(out, "Int64", "connectivity", conn);
+    put_int_array(out, "Int64", "offsets", offs);
+    out += "      </Lines>\n    </Piece>\n  </PolyData>\n</VTKFile>\n";
+    return write_atomically(path, out, error);
+}
+
 bool export_vtk(const Model& m, const ContactView* contacts, const std::string& name,
                 std::vector<std::string>& written, std::string& error) {
     written.clear();
@@ -559,6 +618,11 @@ bool export_vtk(const Model& m, const ContactView* contacts, const std::string& 
             if (!write_tet_vtu(zones, m, path, error)) return false;
             parts.push_back({path, 3});
         }
+    }
+    if (m.cables.size() > 0) {
+        const std::string path = stem + "-cables-" + step + ".vtp";
+        if (!write_cables_vtp(m, path, error)) return false;
+        parts.push_back({path, 4});
     }
     if (contacts) {
         const std::string path = stem + "-contacts-" + step + ".vtp";

@@ -9,6 +9,13 @@
 //   name-zones-<n>.vtu          zones of deformable blocks as tetrahedra (when there are any)
 //   name-contacts-<n>.vtp       contacts as points with their data (when contacts are given)
 //   name-subcontacts-<n>.vtp    sub-contacts, likewise (when there are any)
+//   name-cables-<n>.vtp         cables (when there are any): a line cell per segment with
+//                               axial_force (N, tension positive), yield_state (0 elastic,
+//                               1 yielding in tension, 2 in compression, 3 earlier), cable_id and
+//                               segment; point data per node: node, displacement (m), block_id
+//                               (0: no grout), grout_force (N, on the cable along it),
+//                               grout_slip (m) and grout_state (0 elastic, 1 slipping,
+//                               2 earlier, -1 no grout)
 //   name.pvd                    the collection: entries of earlier exports are kept and this
 //                               step's are added (or replaced), so ParaView plays the steps.
 #pragma once
@@ -80,6 +87,9 @@ bool write_contacts_vtp(const ContactRows& rows, const std::vector<std::string>&
 // `own` lists the rows of `subs` that belong to contact i.
 std::vector<Vec3> contact_outline(const ContactRows& rows, const ContactRows& subs, const std::vector<int>& own,
                                   int i);
+
+// The cables as lines (see the file list above).
+bool write_cables_vtp(const Model& m, const std::string& path, std::string& error);
 
 // The whole export. `name` may carry a directory and an extension (.vtu, .vtp, .pvd, .vtk:
 // dropped). `contacts` may be null (no contact files). On success `written` lists the

@@ -511,6 +511,52 @@ void add_blocks(Scene& scene, const Model& m, BlockColour by, const PlotOptions&
     }
 }
 
+int add_cables(Scene& scene, const Model& m, const PlotOptions& opt) {
+    const CableSet& cs = m.cables;
+    if (cs.n_segments() == 0) return 0;
+    auto at = [&](int i) { return Vec3(cs.pos[i] + (opt.magnify - 1.0) * cs.disp[i]); };
+    // The tube's width: a small fraction of what the picture holds (blocks and cables).
+    Eigen::AlignedBox3d box;
+    for (int i = 0; i < cs.n_nodes(); ++i) box.extend(at(i));
+    for (const Vec3& v : m.blocks.world_vertices) box.extend(v);
+    const double width = std::max(0.004 * box.diagonal().norm(), 1e-6);
+    PolygonLayer layer;
+    layer.name = "cables";
+    layer.edges = false;
+    layer.closed = true;
+    for (int c = 0; c < cs.size(); ++c) {
+        for (int k = 0; k < cs.segments_of(c); ++k) {
+            const int i = cs.node_offset[c] + k;
+            const Vec3 a = at(i), b = at(i + 1);
+            const Vec3 axis = detail::unit_or(b - a, Vec3(1, 0, 0));
+            Vec3 u, v;
+            detail::plane_axes(axis, u, v);
+            u *= 0.5 * width;
+            v *= 0.5 * width;
+            const Vec3 corner[4] = {u + v, -u + v, -u - v, u - v};
+            const int base = static_cast<int>(layer.points.size());
+            for (const Vec3& p : corner) layer.points.push_back(a + p);
+            for (const Vec3& p : corner) layer.points.push_back(b + p);
+            // The four sides, counter-clockwise seen from outside.
+            for (int q = 0; q < 4; ++q) {
+                const int q1 = (q + 1) % 4;
+                for (int idx : {base + q, base + 4 + q, base + 4 + q1, base + q1}) layer.indices.push_back(idx);
+                if (layer.offsets.empty()) layer.offsets.push_back(0);
+                layer.offsets.push_back(static_cast<int>(layer.indices.size()));
+                layer.cell_scalars.push_back(cs.axial[cs.first_segment(c) + k]);
+            }
+        }
+    }
+    QuantityInfo info;
+    info.title = "cable axial force, tension +";
+    info.units = "N";
+    info.is_signed = true;
+    layer.scale = detail::continuous_scale(info, layer.cell_scalars, opt);
+    const int n = cs.n_segments();
+    scene.polygons.push_back(std::move(layer));
+    return n;
+}
+
 void add_block_outline(Scene& scene, const Model& m, const PlotOptions& opt) {
     LineLayer lines;
     lines.colour = {0.55, 0.55, 0.55};
@@ -790,6 +836,8 @@ std::string history_axis_title(HistoryKind k) {
     case HistoryKind::Damp: return "damping coefficient (1/s)";
     case HistoryKind::Fish: return "FISH value";
     case HistoryKind::Energy: return "energy (J)";
+    case HistoryKind::CableForce: return "cable axial force, tension + (N)";
+    case HistoryKind::CableGrout: return "cable grout force (N)";
     }
     return "value";
 }

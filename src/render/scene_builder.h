@@ -100,6 +100,11 @@ int add_zones(Scene& scene, const Model& m, ZoneQuantity q, const PlotOptions& o
 // Block edges as thin lines: context for vectors and contacts without hiding them.
 void add_block_outline(Scene& scene, const Model& m, const PlotOptions& opt);
 
+// Cables as thin square tubes, one per segment, coloured by the segment's axial force (N,
+// tension positive), at the nodes' positions (with opt.magnify, their original place plus
+// magnify times their displacement). Returns the number of segments drawn.
+int add_cables(Scene& scene, const Model& m, const PlotOptions& opt);
+
 // Arrows of block displacement or velocity at the centroids. Coloured by magnitude with a
 // legend unless the scene already has a coloured layer (then dark, so the two do not
 // compete); block layers already in the scene are made translucent so the arrows show.

@@ -284,6 +284,25 @@ std::vector<Case> zone_step_cases() {
     };
 }
 
+// A cable of 4 segments from (-1,0,0) to (1,0,0), its first two nodes outside the block
+// (0 < x < 2), its first node driven at 1e-3 m/s along -x for one step of 1e-3 s.
+std::vector<Case> cable_cases() {
+    return {
+        {"cable_num", "cable_num", 1, 0, nullptr},
+        {"cable_id", "cable_id(1)", 1, 0, nullptr},
+        {"cable_nseg", "cable_nseg(1)", 4, 0, nullptr},
+        // Segment 1 joins two free nodes: node 1 pulled out by 1e-6 m, EA/L0 = 2e7 / 0.5.
+        {"cable_force", "cable_force(1,1)", 500 + 4e7 * 1e-6, 1e-6, nullptr},
+        {"cable_yield", "cable_yield(1,1)", 0, 0, nullptr},
+        {"cable_grout", "cable_grout(1,1)", 0, 0, nullptr},
+        {"cable_slip", "cable_slip(1,3)", 0, 0, nullptr},
+        {"cable_gstate", "cable_gstate(1,1) * 10 + cable_gstate(1,3)", -10, 0, nullptr},
+        {"cable_pos", "xcomp(cable_pos(1,2))", -0.5, 1e-5, nullptr},
+        {"cable_disp", "xcomp(cable_disp(1,1))", -1e-6, 1e-18, nullptr},
+        {"cable_block", "cable_block(1,2) * 10 + cable_block(1,3)", 1, 0, nullptr},
+    };
+}
+
 // Intrinsics tested by scripts of their own below (files, arrays, out, error, memory offsets).
 const std::vector<std::string> kScripted = {"open", "write", "read", "close", "array_size", "out",
                                             "lose_array", "error", "imem", "fmem"};
@@ -408,6 +427,16 @@ TEST(FishIntrinsics, ZonesAndGridpointsOfAStressedCube) {
               zone_step_cases());
 }
 
+TEST(FishIntrinsics, Cables) {
+    Session s;
+    ASSERT_TRUE(s.run("poly brick 0 2 -0.5 0.5 -0.5 0.5\nprop mat=1 dens=2700\nfix\n"
+                      "prop mat=3 cb_area=1e-4 cb_e=2e11 cb_kbond=1e8 cb_sbond=1e5 cb_dens=7800\n"
+                      "cable -1,0,0 1,0,0 seg 4 prop 3 pretension 500\ncable id 1 node 1 velocity -1e-3,0,0\n"
+                      "set dt 1e-3\nstep 1"))
+        << s.error();
+    run_cases(s, "", cable_cases());
+}
+
 TEST(FishIntrinsics, MemoryOffsetsOfTheClassicCodesSayWhatToWrite) {
     Session s;
     ASSERT_TRUE(s.run(kRestingBlock)) << s.error();
@@ -460,7 +489,8 @@ TEST(FishIntrinsics, SetGivesFishVariablesValues) {
 
 TEST(FishIntrinsics, EveryIntrinsicHasACase) {
     std::set<std::string> covered(kScripted.begin(), kScripted.end());
-    for (const auto& table : {math_cases(), block_cases(), block_write_cases(), block_turn_cases(), zone_cases(), zone_step_cases()}) {
+    for (const auto& table : {math_cases(), block_cases(), block_write_cases(), block_turn_cases(), zone_cases(),
+                              zone_step_cases(), cable_cases()}) {
         for (const Case& c : table) covered.insert(c.intrinsic);
     }
     // The energy account's, each read against its term by Energy.CommandsAndFish (energy_test.cpp).

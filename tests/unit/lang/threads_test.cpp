@@ -74,6 +74,20 @@ TEST(Threads, SameBitsWithOneTwoAndFourThreads) {
               });
 }
 
+// A cable pulled out of a zoned block: its grout gives its forces to the gridpoints in cable order
+// while the zones add theirs on the threads.
+TEST(Threads, CableInZonesSameBitsWithOneTwoAndFourThreads) {
+    same_bits("poly brick 0 1 0 1 0 1\nprop mat=1 dens=2500 k=6.7e9 g=4e9\ngen edge 0.045\n"
+              "bound zvel 0 range z -0.001 0.001\n"
+              "prop mat=2 cb_area=1e-4 cb_e=2e11 cb_kbond=1e8 cb_sbond=1e4 cb_yield=1e5\n"
+              "cable 0.5,0.5,1.2 0.5,0.5,0.1 seg 11 prop 2\ncable id 1 node 1 velocity 0,0,0.05\n"
+              "hist ncyc 5\nhist cable_force 0.5,0.5,0.9\nhist cable_grout 0.5,0.5,0.5\nhist zdis 0.5,0.5,1",
+              60, {1, 2, 4}, [](const odec::Model& m) {
+                  EXPECT_GT(m.zones.size(), odec::kParallelMinZones);
+                  EXPECT_EQ(m.cables.size(), 1);
+              });
+}
+
 // Rigid blocks: a 22 m cube cut into 10,648 blocks by three joint sets (about 30,000 contacts,
 // above the size the contact loop needs to be split), settling under gravity in static mode
 // (whose block masses the contact update sums too), 30 steps, with the energy account.
