@@ -100,6 +100,7 @@ void run(int n, long steps) {
     heap_most = std::max(heap_most, heap_bytes());
     const double t = std::chrono::duration<double>(Clock::now() - t1).count();
     const double peak_cycle = peak_rss_bytes();
+    const double rss_end = rss_bytes();
     const double total_stage = [&] {
         double s = 0;
         for (double x : m.profile.seconds) s += x;
@@ -119,10 +120,10 @@ void run(int n, long steps) {
                 heap_blocks / m.blocks.size(), (heap_most - heap_blocks) / ns,
                 (heap_most - heap_blocks) / std::max(1, m.contacts.size()));
     const double peak = std::max({peak_cut, peak_detect, peak_cycle});
-    std::printf("  resident: %.1f MB at the start, peaks %.1f MB cutting, %.1f MB detecting, %.1f MB cycling; "
-                "%.1f MB with the blocks cut; peak %.1f MB = %.0f bytes per block; detecting and cycling at their "
+    std::printf("  resident: %.1f MB at the start, peaks %.1f MB cutting, %.1f MB detecting, %.1f MB cycling (%.1f MB at "
+                "the end); %.1f MB with the blocks cut; peak %.1f MB = %.0f bytes per block; detecting and cycling at their "
                 "peak %.0f bytes per sub-contact above the blocks\n",
-                rss_start / 1e6, peak_cut / 1e6, peak_detect / 1e6, peak_cycle / 1e6, rss_blocks / 1e6, peak / 1e6,
+                rss_start / 1e6, peak_cut / 1e6, peak_detect / 1e6, peak_cycle / 1e6, rss_end / 1e6, rss_blocks / 1e6, peak / 1e6,
                 peak / m.blocks.size(), (std::max(peak_detect, peak_cycle) - rss_blocks) / ns);
     std::printf("  unbalanced ratio %.3g, largest unbalanced force %.3g N\n", unbalanced_ratio(m),
                 max_unbalanced_force(m));
