@@ -764,7 +764,7 @@ struct Job {
 };
 
 // Jobs built at a time: the contacts of one window are all that a pass holds besides the set.
-constexpr int kBuildWindow = 16384;
+constexpr int kBuildWindow = 8192;
 
 // Build jobs [j0, j1) into rb, on the threads, reading the old contacts where rw has them.
 // fresh[j - j0] is the fresh index of job j's contact, or -1 when its blocks were farther apart
@@ -1002,6 +1002,9 @@ void detect_contacts(Model& m) {
         }
         cs.detected = true;
         ++cs.n_detections;
+        // The candidate pairs are planned: their buffer, as large as all the pairs near one
+        // another, is not kept (the broad phase runs seldom).
+        std::vector<std::int64_t>().swap(pairs);
     } else {
         const double limit = 0.1 * cs.ctol;
         moved.assign(n, 0);
@@ -1163,7 +1166,13 @@ void detect_contacts(Model& m) {
     }
     if (!same_pairs) cs.colored = false;
     // The parts are buffers for the contacts rebuilt in one window, kept so that passes allocate
-    // nothing.
+    // nothing. So are the jobs and the plan, but after a full pass they are as large as all
+    // the candidate pairs, most of which (blocks near one another without a contact) the
+    // passes between two full ones never see: they are given back then.
+    if (full) {
+        std::vector<Job>().swap(jobs);
+        std::vector<int>().swap(plan);
+    }
     std::size_t held = 0;
     for (const ContactSet& x : rebuilt.parts) held += x.sub_key.capacity() + x.id.capacity();
     if (held > 8192 + (cs.sub_key.size() + cs.id.size()) / 8 + 4 * kBuildWindow) rebuilt = Rebuilt{};

@@ -17,6 +17,7 @@
 
 #include "engine/blocks.h"
 #include "engine/contact.h"
+#include "engine/memory.h"
 #include "engine/cycle.h"
 #include "engine/jset.h"
 #include "engine/range.h"
@@ -132,6 +133,7 @@ void run(int n, long steps) {
 } // namespace
 
 int main(int argc, char** argv) {
+    tune_allocator(); // as odec does
     std::vector<int> sizes;
     long steps = 200;
     for (int i = 1; i < argc; ++i) {

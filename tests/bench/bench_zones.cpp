@@ -19,6 +19,7 @@
 
 #include "engine/blocks.h"
 #include "engine/contact.h"
+#include "engine/memory.h"
 #include "engine/cycle.h"
 #include "engine/model.h"
 #include "engine/zones.h"
@@ -170,6 +171,7 @@ void run(int n, long steps, bool mc, int jointed) {
 } // namespace
 
 int main(int argc, char** argv) {
+    tune_allocator(); // as odec does
     std::vector<int> sizes;
     long steps = 0;
     bool mc = false;
