@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "engine/memory.h"
 #include "io/save.h"
 #include "lang/help.h"
 #include "lang/interpreter.h"
@@ -44,6 +45,7 @@ extern "C" void on_script_sigint(int) {
 
 int main(int argc, char** argv) {
     using namespace odec;
+    tune_allocator();
     struct Item {
         bool is_command;
         std::string text;

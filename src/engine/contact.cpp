@@ -2,6 +2,7 @@
 // hist and pictures read (per-contact means over the sub-contacts).
 #include "engine/contact.h"
 
+#include <algorithm>
 #include <limits>
 
 #include "engine/blocks.h"
@@ -23,7 +24,7 @@ const char* contact_state_name(ContactState s) {
 void ContactSet::clear() {
     id.clear(); block_a.clear(); block_b.clear(); normal.clear(); point.clear(); gap.clear();
     jmat.clear(); jcons.clear(); joined.clear(); sub_offset.assign(1, 0);
-    sub_contact.clear(); sub_side.clear(); sub_key.clear(); sub_vertex.clear(); sub_area.clear();
+    sub_side.clear(); sub_key.clear(); sub_area.clear();
     sub_local.clear(); sub_un.clear(); sub_udil.clear(); sub_sn.clear(); sub_us.clear(); sub_ss.clear();
     sub_flags.clear(); sub_tri.clear();
     detected = false;
@@ -31,6 +32,11 @@ void ContactSet::clear() {
     colored = false;
     ref_centroid.clear(); ref_orientation.clear(); geo_centroid.clear(); geo_orientation.clear();
     radius.clear();
+}
+
+int ContactSet::sub_owner(int k) const {
+    // The last contact whose first sub-contact is at or before k (empty contacts share it).
+    return static_cast<int>(std::upper_bound(sub_offset.begin(), sub_offset.end() - 1, k) - sub_offset.begin()) - 1;
 }
 
 ContactInfo contact_info(const Model& m, int c) {
@@ -94,7 +100,7 @@ Vec3 contact_centroid(const Model& m, int c) {
 Vec3 sub_point(const Model& m, int c, int k) {
     const ContactSet& cs = m.contacts;
     const int side = cs.sub_side[k];
-    if (side >= 3) return m.gridpoints.pos[cs.sub_vertex[k]];
+    if (side >= 3) return m.gridpoints.pos[cs.sub_vertex(k)];
     const int owner = side == 1 ? cs.block_b[c] : cs.block_a[c];
     return m.blocks.centroid[owner] + m.blocks.orientation[owner] * cs.sub_local[k];
 }

@@ -67,24 +67,26 @@ struct ContactSet {
     std::vector<int> sub_offset;          // (n_contacts + 1) first sub-contact of each contact
 
     // ---- per sub-contact (n_subs) ----
-    std::vector<int> sub_contact;         // (n_subs) owning contact
+    // Its contact is the one whose sub_offset range holds it (sub_owner), and the vertex or
+    // gridpoint it stands for is in its key (sub_vertex): neither is stored.
     std::vector<std::uint8_t> sub_side;   // (n_subs) 0: vertex of block a, 1: vertex of block b,
                                           //          2: where an edge of one crosses an edge of the other,
                                           //          3: gridpoint of deformable block a pressing on b,
                                           //          4: gridpoint of deformable block b pressing on a
     std::vector<std::int64_t> sub_key;    // (n_subs) what the point is (vertex, or pair of edges): the
-                                          //          identity that carries its history across refreshes
-    std::vector<int> sub_vertex;          // (n_subs) the block's vertex index (sides 0, 1), the
-                                          //          gridpoint (sides 3, 4), else -1
+                                          //          identity that carries its history across refreshes.
+                                          //          Sides 0, 1: (side << 61) | vertex; sides 3, 4:
+                                          //          ((side - 3) << 61) | gridpoint; side 2: bit 62 set
     std::vector<double> sub_area;         // (n_subs) m^2, share of the contact area (they sum to it)
     std::vector<Eigen::Vector3d> sub_local; // (n_subs) m, point in the owner's body frame (block b for
                                           //          side 1, else block a); sides 3 and 4: where the
                                           //          gridpoint meets the other block, in that block's
                                           //          body frame when it is rigid, else the weights of
-                                          //          the corners of sub_tri
-    std::vector<std::array<int, 3>> sub_tri; // (n_subs) sides 3 and 4 against a deformable block: the
-                                          //          gridpoints of the surface triangle the gridpoint
-                                          //          meets; else -1
+                                          //          the corners of sub_triangle
+    std::vector<std::array<int, 3>> sub_tri; // (n_subs, or empty when no sub-contact has one) sides 3
+                                          //          and 4 against a deformable block: the gridpoints
+                                          //          of the surface triangle the gridpoint meets; else
+                                          //          -1 (read through sub_triangle)
     std::vector<double> sub_un;           // (n_subs) m, normal closure (> 0 compressed), from motion
     std::vector<double> sub_udil;         // (n_subs) m, dilation accumulated while slipping
     std::vector<double> sub_sn;           // (n_subs) Pa, normal stress, compression positive
@@ -124,7 +126,18 @@ struct ContactSet {
     bool colored = false;
 
     int size() const { return static_cast<int>(block_a.size()); }
-    int n_subs() const { return static_cast<int>(sub_contact.size()); }
+    int n_subs() const { return static_cast<int>(sub_key.size()); }
+    // The block vertex (sides 0, 1) or gridpoint (sides 3, 4) sub-contact k stands for; -1 for
+    // a crossing of edges (side 2).
+    int sub_vertex(int k) const {
+        return sub_side[k] == 2 ? -1 : static_cast<int>(sub_key[k] & ((std::int64_t{1} << 61) - 1));
+    }
+    // The surface triangle sub-contact k meets (sides 3 and 4 against a deformable block), else -1s.
+    std::array<int, 3> sub_triangle(int k) const {
+        return sub_tri.empty() ? std::array<int, 3>{-1, -1, -1} : sub_tri[k];
+    }
+    // The contact sub-contact k belongs to (a search of sub_offset).
+    int sub_owner(int k) const;
     void clear();
 };
 

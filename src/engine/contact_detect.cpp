@@ -30,11 +30,12 @@
 // full pass starts from scratch (every pair built, every reference reset) only when the
 // model changed, nothing was detected yet, ctol changed, or the caches do not fit.
 // The result of a pass is a plan: per contact of the new list, an old contact kept or a
-// rebuilt one. It is carried out in place, front to back, so kept contacts ahead of the
-// first change in size are not touched at all and the rest only move down; only when a
-// rebuilt contact gains so many sub-contacts that it would overwrite old data not yet
-// read are the arrays assembled anew (unchanged runs copied in bulk). Both give the same
-// arrays.
+// rebuilt one. The rebuilt ones are built a window of some thousands at a time, and after
+// each window the plan is carried out in place as far as it reaches, front to back (Rewrite):
+// kept contacts ahead of the first change in size are not touched at all and the rest only
+// move down; where a rebuilt contact would overwrite old state not yet read, that state is
+// moved up to open a gap. So even a pass that rebuilds every contact holds one contact set
+// and a window, never two sets, and the arrays come out the same whatever the windows.
 // Nothing here depends on more than block and contact order, so results stay
 // deterministic, and a restored model (which has the same references) continues with the
 // same passes and the same bits.
@@ -397,244 +398,169 @@ double movement(const ContactSet& cs, const BlockSet& s, int b, const std::vecto
     return dx + 2.0 * std::asin(sin_half) * cs.radius[b];
 }
 
-void swap_arrays(ContactSet& x, ContactSet& y) {
-    x.id.swap(y.id); x.block_a.swap(y.block_a); x.block_b.swap(y.block_b); x.normal.swap(y.normal);
-    x.point.swap(y.point); x.gap.swap(y.gap); x.jmat.swap(y.jmat); x.jcons.swap(y.jcons);
-    x.joined.swap(y.joined); x.sub_offset.swap(y.sub_offset);
-    x.sub_contact.swap(y.sub_contact); x.sub_side.swap(y.sub_side); x.sub_key.swap(y.sub_key);
-    x.sub_vertex.swap(y.sub_vertex); x.sub_area.swap(y.sub_area); x.sub_local.swap(y.sub_local);
-    x.sub_un.swap(y.sub_un); x.sub_udil.swap(y.sub_udil); x.sub_sn.swap(y.sub_sn); x.sub_us.swap(y.sub_us);
-    x.sub_ss.swap(y.sub_ss); x.sub_flags.swap(y.sub_flags); x.sub_tri.swap(y.sub_tri);
-}
-
 void clear_arrays(ContactSet& x) {
     x.id.clear(); x.block_a.clear(); x.block_b.clear(); x.normal.clear(); x.point.clear(); x.gap.clear();
     x.jmat.clear(); x.jcons.clear(); x.joined.clear(); x.sub_offset.assign(1, 0);
-    x.sub_contact.clear(); x.sub_side.clear(); x.sub_key.clear(); x.sub_vertex.clear();
+    x.sub_side.clear(); x.sub_key.clear();
     x.sub_area.clear(); x.sub_local.clear(); x.sub_un.clear(); x.sub_udil.clear(); x.sub_sn.clear();
     x.sub_us.clear(); x.sub_ss.clear(); x.sub_flags.clear(); x.sub_tri.clear();
 }
 
+// f applied to each per-contact array of x but the offsets.
+template <class F>
+void each_contact_array(ContactSet& x, F&& f) {
+    f(x.id); f(x.block_a); f(x.block_b); f(x.normal); f(x.point); f(x.gap); f(x.jmat); f(x.jcons); f(x.joined);
+}
+// f applied to each per-sub-contact array of x, the triangles too when `tri`.
+template <class F>
+void each_sub_array(ContactSet& x, bool tri, F&& f) {
+    f(x.sub_side); f(x.sub_key); f(x.sub_area); f(x.sub_local); f(x.sub_un); f(x.sub_udil); f(x.sub_sn);
+    f(x.sub_us); f(x.sub_ss); f(x.sub_flags);
+    if (tri) f(x.sub_tri);
+}
+
 constexpr std::array<int, 3> kNoTri = {-1, -1, -1};
 
-void push_sub(ContactSet& to, int c, int side, std::int64_t key, int vertex, double area, const Vec3& local,
+// sub_tri is kept only once some sub-contact has a triangle: then it has an entry for each
+// sub-contact (-1s for those without).
+void push_sub(ContactSet& to, int side, std::int64_t key, double area, const Vec3& local,
               const std::array<int, 3>& tri = kNoTri) {
-    to.sub_contact.push_back(c);
-    to.sub_tri.push_back(tri);
+    if (tri[0] >= 0 || !to.sub_tri.empty()) {
+        to.sub_tri.resize(to.sub_key.size(), kNoTri);
+        to.sub_tri.push_back(tri);
+    }
     to.sub_side.push_back(static_cast<std::uint8_t>(side));
     to.sub_key.push_back(key);
-    to.sub_vertex.push_back(vertex);
     to.sub_area.push_back(area);
     to.sub_local.push_back(local);
 }
 
-// Copy contact c of `from` unchanged to the end of `to`.
-void copy_contact(const ContactSet& from, int c, ContactSet& to) {
-    const int nc = to.size();
-    to.id.push_back(from.id[c]); to.block_a.push_back(from.block_a[c]); to.block_b.push_back(from.block_b[c]);
-    to.normal.push_back(from.normal[c]); to.point.push_back(from.point[c]); to.gap.push_back(from.gap[c]);
-    to.jmat.push_back(from.jmat[c]); to.jcons.push_back(from.jcons[c]); to.joined.push_back(from.joined[c]);
-    for (int k = from.sub_offset[c]; k < from.sub_offset[c + 1]; ++k) {
-        push_sub(to, nc, from.sub_side[k], from.sub_key[k], from.sub_vertex[k], from.sub_area[k], from.sub_local[k],
-                 from.sub_tri[k]);
-        to.sub_un.push_back(from.sub_un[k]); to.sub_udil.push_back(from.sub_udil[k]);
-        to.sub_sn.push_back(from.sub_sn[k]); to.sub_us.push_back(from.sub_us[k]);
-        to.sub_ss.push_back(from.sub_ss[k]); to.sub_flags.push_back(from.sub_flags[k]);
-    }
-    to.sub_offset.push_back(to.n_subs());
-}
+// Where an old contact's state is while a pass rewrites the set (Rewrite): its entries at c,
+// its sub-contacts at [k0, k1). c = -1: no old contact.
+struct OldRef {
+    int c = -1, k0 = 0, k1 = 0;
+};
 
-// Copy old contacts [c0, c1) of `from` unchanged to the end of `to`, a run at a time.
-void copy_run(const ContactSet& from, int c0, int c1, ContactSet& to) {
-    if (c1 <= c0) return;
-    auto app = [](auto& dst, const auto& src, int i0, int i1) {
-        dst.insert(dst.end(), src.begin() + i0, src.begin() + i1);
-    };
-    const int nc = to.size(), ns = to.n_subs();
-    const int k0 = from.sub_offset[c0], k1 = from.sub_offset[c1];
-    app(to.id, from.id, c0, c1); app(to.block_a, from.block_a, c0, c1); app(to.block_b, from.block_b, c0, c1);
-    app(to.normal, from.normal, c0, c1); app(to.point, from.point, c0, c1); app(to.gap, from.gap, c0, c1);
-    app(to.jmat, from.jmat, c0, c1); app(to.jcons, from.jcons, c0, c1); app(to.joined, from.joined, c0, c1);
-    to.sub_offset.resize(nc + 1 + (c1 - c0));
-    int* off = to.sub_offset.data() + nc + 1;
-    for (int c = c0 + 1; c <= c1; ++c) *off++ = from.sub_offset[c] - k0 + ns;
-    to.sub_contact.resize(ns + (k1 - k0));
-    int* owner = to.sub_contact.data() + ns;
-    for (int k = k0; k < k1; ++k) *owner++ = from.sub_contact[k] - c0 + nc;
-    app(to.sub_side, from.sub_side, k0, k1); app(to.sub_key, from.sub_key, k0, k1);
-    app(to.sub_vertex, from.sub_vertex, k0, k1); app(to.sub_area, from.sub_area, k0, k1);
-    app(to.sub_local, from.sub_local, k0, k1); app(to.sub_un, from.sub_un, k0, k1);
-    app(to.sub_udil, from.sub_udil, k0, k1); app(to.sub_sn, from.sub_sn, k0, k1);
-    app(to.sub_us, from.sub_us, k0, k1); app(to.sub_ss, from.sub_ss, k0, k1);
-    app(to.sub_flags, from.sub_flags, k0, k1); app(to.sub_tri, from.sub_tri, k0, k1);
-}
-
-// The contacts one pass rebuilt, built on the threads: the jobs (contacts to build) go in
-// chunks, chunk p into parts[p], so fresh contact f (numbered in job order) is contact
+// The contacts one window of a pass rebuilt, built on the threads: the jobs (contacts to build)
+// go in chunks, chunk p into parts[p], so fresh contact f (numbered in job order) is contact
 // local[f] of parts[part[f]]. A contact new to the model has id 0 here: it takes its id when
 // it joins the contact set, in job order (take_id), so the ids never depend on the threads.
 struct Rebuilt {
     std::vector<ContactSet> parts;
     std::vector<int> part, local;
     const ContactSet& set(int f) const { return parts[part[f]]; }
-    int n_subs(int f) const { const ContactSet& x = set(f); return x.sub_offset[local[f] + 1] - x.sub_offset[local[f]]; }
 };
 
 int take_id(ContactSet& cs, int id) { return id > 0 ? id : cs.next_id++; }
 
-// Make cs the contacts `plan` lists, in its order: entry c >= 0 keeps old contact c as it
-// is, entry ~f takes fresh contact f. Usually this is done in place, front to back:
-// kept contacts that have not shifted are not touched at all, and the rest move down
-// (rebuilt contacts tend to keep or lose sub-contacts, seldom gain). That works as long
-// as nothing is written over old data not yet read, which the first loop checks; when it
-// fails the arrays are assembled anew, unchanged runs of contacts copied in bulk. Either
-// way the result is the same arrays.
-bool apply_plan_in_place(ContactSet& cs, const Rebuilt& rb, const std::vector<int>& plan) {
-    int wc = 0, wk = 0;
-    for (const int e : plan) {
-        if (e >= 0) {
-            if (wc > e || wk > cs.sub_offset[e]) return false;
-            wk += cs.sub_offset[e + 1] - cs.sub_offset[e];
-        } else {
-            wk += rb.n_subs(~e);
-        }
-        ++wc;
+// Rewrites the contact set in place, front to back, into the contacts a pass lists, while the
+// contacts still to be rebuilt read their old state from it. The old state not yet read lies
+// beyond what is written: old contact e at e + gc, its sub-contacts from old_off[e] + gk. Kept
+// contacts only move down (or stay where they are, untouched); when a rebuilt one would reach
+// old state still to be read (it gained sub-contacts, or is a new contact), the unread rest is
+// moved up by a gap, one array at a time. So a pass never holds two whole contact sets, and
+// the result is the same arrays whatever the gaps were.
+class Rewrite {
+public:
+    Rewrite(ContactSet& cs, std::vector<int>& old_off) : cs_(cs), old_off_(old_off), tri_(!cs.sub_tri.empty()) {
+        old_off_.swap(cs_.sub_offset); // the old offsets; cs.sub_offset is written anew
+        if (old_off_.empty()) old_off_.assign(1, 0);
+        cs_.sub_offset.clear();
+        cs_.sub_offset.reserve(old_off_.size());
+        cs_.sub_offset.push_back(0);
     }
-    const int nc = wc, ns = wk;
-    const int nc_max = std::max(nc, cs.size()), ns_max = std::max(ns, cs.n_subs());
-    thread_local std::vector<int> old_off;
-    old_off = cs.sub_offset;
-    auto size_all = [&cs](int c, int k) {
-        cs.id.resize(c); cs.block_a.resize(c); cs.block_b.resize(c); cs.normal.resize(c); cs.point.resize(c);
-        cs.gap.resize(c); cs.jmat.resize(c); cs.jcons.resize(c); cs.joined.resize(c); cs.sub_offset.resize(c + 1);
-        cs.sub_contact.resize(k); cs.sub_side.resize(k); cs.sub_key.resize(k); cs.sub_vertex.resize(k);
-        cs.sub_area.resize(k); cs.sub_local.resize(k); cs.sub_un.resize(k); cs.sub_udil.resize(k);
-        cs.sub_sn.resize(k); cs.sub_us.resize(k); cs.sub_ss.resize(k); cs.sub_flags.resize(k); cs.sub_tri.resize(k);
-    };
-    size_all(nc_max, ns_max);
-    wc = 0;
-    wk = 0;
-    for (const int e : plan) {
-        if (e >= 0) {
-            const int k0 = old_off[e], k1 = old_off[e + 1];
-            if (wc != e) {
-                cs.id[wc] = cs.id[e]; cs.block_a[wc] = cs.block_a[e]; cs.block_b[wc] = cs.block_b[e];
-                cs.normal[wc] = cs.normal[e]; cs.point[wc] = cs.point[e]; cs.gap[wc] = cs.gap[e];
-                cs.jmat[wc] = cs.jmat[e]; cs.jcons[wc] = cs.jcons[e]; cs.joined[wc] = cs.joined[e];
-                for (int k = k0; k < k1; ++k) cs.sub_contact[k] = wc;
-            }
-            if (wk != k0) {
-                auto mv = [&](auto& v) { std::copy(v.begin() + k0, v.begin() + k1, v.begin() + wk); };
-                mv(cs.sub_contact); mv(cs.sub_side); mv(cs.sub_key); mv(cs.sub_vertex); mv(cs.sub_area);
-                mv(cs.sub_local); mv(cs.sub_un); mv(cs.sub_udil); mv(cs.sub_sn); mv(cs.sub_us); mv(cs.sub_ss);
-                mv(cs.sub_flags); mv(cs.sub_tri);
-            }
-            wk += k1 - k0;
-        } else {
-            const ContactSet& fresh = rb.set(~e);
-            const int f = rb.local[~e];
-            cs.id[wc] = take_id(cs, fresh.id[f]); cs.block_a[wc] = fresh.block_a[f]; cs.block_b[wc] = fresh.block_b[f];
-            cs.normal[wc] = fresh.normal[f]; cs.point[wc] = fresh.point[f]; cs.gap[wc] = fresh.gap[f];
-            cs.jmat[wc] = fresh.jmat[f]; cs.jcons[wc] = fresh.jcons[f]; cs.joined[wc] = fresh.joined[f];
-            for (int j = fresh.sub_offset[f]; j < fresh.sub_offset[f + 1]; ++j, ++wk) {
-                cs.sub_contact[wk] = wc;
-                cs.sub_side[wk] = fresh.sub_side[j]; cs.sub_key[wk] = fresh.sub_key[j];
-                cs.sub_vertex[wk] = fresh.sub_vertex[j]; cs.sub_area[wk] = fresh.sub_area[j];
-                cs.sub_local[wk] = fresh.sub_local[j]; cs.sub_un[wk] = fresh.sub_un[j];
-                cs.sub_udil[wk] = fresh.sub_udil[j]; cs.sub_sn[wk] = fresh.sub_sn[j];
-                cs.sub_us[wk] = fresh.sub_us[j]; cs.sub_ss[wk] = fresh.sub_ss[j];
-                cs.sub_flags[wk] = fresh.sub_flags[j]; cs.sub_tri[wk] = fresh.sub_tri[j];
-            }
-        }
-        ++wc;
-        cs.sub_offset[wc] = wk;
+    int written() const { return wc_; }
+    // Where old contact e is now (e < 0: none).
+    OldRef old(int e) const {
+        if (e < 0) return OldRef{};
+        return OldRef{static_cast<int>(e + gc_), static_cast<int>(old_off_[e] + gk_), static_cast<int>(old_off_[e + 1] + gk_)};
     }
-    size_all(nc, ns);
-    return true;
-}
+    // Old contact e next, as it is. Everything before it was written or read already, so it
+    // only moves down.
+    void put_kept(int e) {
+        const OldRef o = old(e);
+        const int n = o.k1 - o.k0;
+        if (o.c != wc_) {
+            each_contact_array(cs_, [&](auto& v) { v[wc_] = v[o.c]; });
+        }
+        if (o.k0 != wk_) {
+            each_sub_array(cs_, tri_, [&](auto& v) { std::copy(v.begin() + o.k0, v.begin() + o.k1, v.begin() + wk_); });
+        }
+        advance(n);
+    }
+    // Contact f of x next, with its id taken now when it is new; `next` is the first old
+    // contact still to be read (-1: none), which it must not overwrite.
+    void put_fresh(const ContactSet& x, int f, int next) {
+        const int j0 = x.sub_offset[f], n = x.sub_offset[f + 1] - j0;
+        if (!x.sub_tri.empty() && !tri_) {
+            tri_ = true;
+            cs_.sub_tri.assign(cs_.sub_key.size(), kNoTri);
+        }
+        room(n, next);
+        const int c = wc_;
+        cs_.id[c] = take_id(cs_, x.id[f]); cs_.block_a[c] = x.block_a[f]; cs_.block_b[c] = x.block_b[f];
+        cs_.normal[c] = x.normal[f]; cs_.point[c] = x.point[f]; cs_.gap[c] = x.gap[f];
+        cs_.jmat[c] = x.jmat[f]; cs_.jcons[c] = x.jcons[f]; cs_.joined[c] = x.joined[f];
+        for (int i = 0; i < n; ++i) {
+            const int j = j0 + i, k = wk_ + i;
+            cs_.sub_side[k] = x.sub_side[j]; cs_.sub_key[k] = x.sub_key[j]; cs_.sub_area[k] = x.sub_area[j];
+            cs_.sub_local[k] = x.sub_local[j]; cs_.sub_un[k] = x.sub_un[j]; cs_.sub_udil[k] = x.sub_udil[j];
+            cs_.sub_sn[k] = x.sub_sn[j]; cs_.sub_us[k] = x.sub_us[j]; cs_.sub_ss[k] = x.sub_ss[j];
+            cs_.sub_flags[k] = x.sub_flags[j];
+            if (tri_) cs_.sub_tri[k] = x.sub_triangle(j);
+        }
+        advance(n);
+    }
+    // The arrays cut to what was written. Their spare capacity is given back only when it is
+    // large (a pass that dropped many contacts), so that passes do not reallocate step by step.
+    void finish() {
+        each_contact_array(cs_, [&](auto& v) { v.resize(wc_); trim(v); });
+        each_sub_array(cs_, tri_, [&](auto& v) { v.resize(wk_); trim(v); });
+        trim(cs_.sub_offset);
+    }
 
-// The fallback: assemble the arrays anew, unchanged runs of contacts copied in bulk.
-void apply_plan_copy(ContactSet& cs, const Rebuilt& rb, const std::vector<int>& plan) {
-    const int np = static_cast<int>(plan.size());
-    ContactSet out; // freed on return: it ends holding the old arrays
-    clear_arrays(out);
-    std::size_t ns = 0;
-    for (const int e : plan) ns += e >= 0 ? cs.sub_offset[e + 1] - cs.sub_offset[e] : rb.n_subs(~e);
-    const std::size_t nc = plan.size();
-    out.id.reserve(nc); out.block_a.reserve(nc); out.block_b.reserve(nc); out.normal.reserve(nc);
-    out.point.reserve(nc); out.gap.reserve(nc); out.jmat.reserve(nc); out.jcons.reserve(nc);
-    out.joined.reserve(nc); out.sub_offset.reserve(nc + 1);
-    out.sub_contact.reserve(ns); out.sub_side.reserve(ns); out.sub_key.reserve(ns); out.sub_vertex.reserve(ns);
-    out.sub_area.reserve(ns); out.sub_local.reserve(ns); out.sub_un.reserve(ns); out.sub_udil.reserve(ns);
-    out.sub_sn.reserve(ns); out.sub_us.reserve(ns); out.sub_ss.reserve(ns); out.sub_flags.reserve(ns);
-    out.sub_tri.reserve(ns);
-    for (int i = 0; i < np;) {
-        if (plan[i] < 0) {
-            copy_contact(rb.set(~plan[i]), rb.local[~plan[i]], out);
-            out.id.back() = take_id(cs, out.id.back());
-            ++i;
-            continue;
-        }
-        int j = i + 1;
-        while (j < np && plan[j] == plan[j - 1] + 1) ++j;
-        copy_run(cs, plan[i], plan[j - 1] + 1, out);
-        i = j;
+private:
+    void advance(int n) {
+        ++wc_;
+        wk_ += n;
+        cs_.sub_offset.push_back(wk_);
     }
-    swap_arrays(cs, out);
-}
+    template <class V>
+    static void trim(V& v) {
+        if (v.capacity() > v.size() + v.size() / 8 + 1024) v.shrink_to_fit();
+    }
+    // v one longer by g elements inserted at `at`, what was there moved up.
+    template <class V>
+    static void open(V& v, std::size_t at, std::size_t g, bool appending) {
+        const std::size_t p = v.size(), n = p + g;
+        if (n > v.capacity()) v.reserve(std::max(n, v.capacity() + v.capacity() / (appending ? 2 : 8)));
+        v.resize(n);
+        if (at < p) std::move_backward(v.begin() + at, v.begin() + p, v.begin() + n);
+    }
+    // Room for one more contact with nk sub-contacts before old contact `next`.
+    void room(int nk, int next) {
+        const long pc = static_cast<long>(cs_.id.size()), pk = static_cast<long>(cs_.sub_key.size());
+        const long lc = next >= 0 ? next + gc_ : pc;
+        const long lk = next >= 0 ? old_off_[next] + gk_ : pk;
+        if (wc_ + 1 > lc) {
+            // Past the end: grow by half again; before old state: a gap a 32nd of what follows.
+            const long g = wc_ + 1 - lc + (next >= 0 ? (pc - lc) / 32 : pc / 2) + 64;
+            each_contact_array(cs_, [&](auto& v) { open(v, lc, g, next < 0); });
+            if (next >= 0) gc_ += g;
+        }
+        if (wk_ + nk > lk) {
+            const long g = wk_ + nk - lk + (next >= 0 ? (pk - lk) / 32 : pk / 2) + 256;
+            each_sub_array(cs_, tri_, [&](auto& v) { open(v, lk, g, next < 0); });
+            if (next >= 0) gk_ += g;
+        }
+    }
 
-void apply_plan(ContactSet& cs, const Rebuilt& rb, const std::vector<int>& plan) {
-    if (!apply_plan_in_place(cs, rb, plan)) apply_plan_copy(cs, rb, plan);
-}
-
-// Make cs the fresh contacts alone, in order (a pass that rebuilt every contact). One array at
-// a time, each part's share freed as soon as it is copied: at no time are two whole contact
-// sets held.
-void take_all(ContactSet& cs, Rebuilt& rb) {
-    auto gather = [&](auto member) {
-        auto& to = cs.*member;
-        decltype(cs.id.size()) n = 0;
-        for (ContactSet& x : rb.parts) n += (x.*member).size();
-        std::remove_reference_t<decltype(to)>().swap(to);
-        to.reserve(n);
-        for (ContactSet& x : rb.parts) {
-            to.insert(to.end(), (x.*member).begin(), (x.*member).end());
-            std::remove_reference_t<decltype(to)>().swap(x.*member);
-        }
-    };
-    // Owners and offsets first: they need every part's sizes.
-    std::vector<int> owner, offset(1, 0);
-    {
-        std::size_t nc = 0, ns = 0;
-        for (const ContactSet& x : rb.parts) {
-            nc += x.size();
-            ns += x.n_subs();
-        }
-        owner.reserve(ns);
-        offset.reserve(nc + 1);
-        int c0 = 0;
-        for (const ContactSet& x : rb.parts) {
-            for (int c = 0; c < x.size(); ++c) offset.push_back(offset.back() + x.sub_offset[c + 1] - x.sub_offset[c]);
-            for (const int c : x.sub_contact) owner.push_back(c0 + c);
-            c0 += x.size();
-        }
-    }
-    cs.sub_offset.swap(offset);
-    cs.sub_contact.swap(owner);
-    for (ContactSet& x : rb.parts) {
-        std::vector<int>().swap(x.sub_offset);
-        std::vector<int>().swap(x.sub_contact);
-    }
-    gather(&ContactSet::id); gather(&ContactSet::block_a); gather(&ContactSet::block_b);
-    gather(&ContactSet::normal); gather(&ContactSet::point); gather(&ContactSet::gap); gather(&ContactSet::jmat);
-    gather(&ContactSet::jcons); gather(&ContactSet::joined); gather(&ContactSet::sub_side);
-    gather(&ContactSet::sub_key); gather(&ContactSet::sub_vertex); gather(&ContactSet::sub_area);
-    gather(&ContactSet::sub_local); gather(&ContactSet::sub_un); gather(&ContactSet::sub_udil);
-    gather(&ContactSet::sub_sn); gather(&ContactSet::sub_us); gather(&ContactSet::sub_ss);
-    gather(&ContactSet::sub_flags); gather(&ContactSet::sub_tri);
-    for (int& id : cs.id) id = take_id(cs, id);
-    rb = Rebuilt{};
-}
+    ContactSet& cs_;
+    std::vector<int>& old_off_;
+    long gc_ = 0, gk_ = 0; // how far the unread old state has been moved up
+    int wc_ = 0, wk_ = 0;  // contacts and sub-contacts written
+    bool tri_;             // the set has triangles (sub_tri)
+};
 
 // Carry a tangential vector onto the tangent plane of the new normal, keeping its length.
 Vec3 retangent(const Vec3& t, const Vec3& n) {
@@ -739,22 +665,22 @@ struct Detector {
         next.sub_flags.push_back(static_cast<std::uint8_t>((cs.sub_flags[k] & kSubFailed) | kSubFresh));
     }
 
-    // The old sub-contact of contact oc nearest the world point x, or -1 when it had none.
-    int nearest_old(int oc, const Vec3& x) const {
+    // The old sub-contact of old contact `old` (blocks a, b) nearest the world point x, or -1.
+    int nearest_old(const OldRef& old, int a, int b, const Vec3& x) const {
         int best = -1;
         double best_d = std::numeric_limits<double>::infinity();
         // Where the old polygon was degenerate (a sub-contact with next to no area beside the
         // others: two corners all but coinciding), the points' histories do not describe one
         // continuous joint state: take nothing from them.
         double lo = std::numeric_limits<double>::infinity(), hi = 0;
-        for (int j = cs.sub_offset[oc]; j < cs.sub_offset[oc + 1]; ++j) {
+        for (int j = old.k0; j < old.k1; ++j) {
             lo = std::min(lo, cs.sub_area[j]);
             hi = std::max(hi, cs.sub_area[j]);
         }
         if (!(lo >= 1e-3 * hi)) return -1;
-        for (int j = cs.sub_offset[oc]; j < cs.sub_offset[oc + 1]; ++j) {
+        for (int j = old.k0; j < old.k1; ++j) {
             if (cs.sub_side[j] > 2) continue;
-            const int owner = cs.sub_side[j] == 1 ? cs.block_b[oc] : cs.block_a[oc];
+            const int owner = cs.sub_side[j] == 1 ? b : a;
             const double d = (m.blocks.centroid[owner] + m.blocks.orientation[owner] * cs.sub_local[j] - x).squaredNorm();
             if (d < best_d) {
                 best_d = d;
@@ -812,7 +738,8 @@ struct Detector {
     }
 
     // Build contact (a, b), one of them deformable, from its gridpoints (contact_gridpoint.h).
-    bool build_gridpoint(int a, int b, int oc, bool require_close) {
+    bool build_gridpoint(int a, int b, const OldRef& old, bool require_close) {
+        const int oc = old.c;
         const BlockView va = view(a), vb = view(b);
         const Vec3* warm = oc >= 0 ? &cs.normal[oc] : nullptr;
         const CommonPlane cp = common_plane(va, vb, warm, oc >= 0 ? tol : 0.0, 0.1 * tol);
@@ -820,13 +747,12 @@ struct Detector {
         face_area_a.assign(m.blocks.shape[a].n_faces(), 0.0);
         face_area_b.assign(m.blocks.shape[b].n_faces(), 0.0);
         gridpoint_subcontacts(m, a, b, cp, tol, gsubs, face_area_a, face_area_b);
-        const int nc = next.size();
         push_header(a, b, oc, va, vb, cp);
-        int k = oc >= 0 ? cs.sub_offset[oc] : 0;
-        const int k_end = oc >= 0 ? cs.sub_offset[oc + 1] : 0;
+        int k = old.k0;
+        const int k_end = old.k1;
         for (const GridpointSub& gs : gsubs) {
             while (k < k_end && cs.sub_key[k] < gs.key) ++k;
-            push_sub(next, nc, gs.side, gs.key, gs.gp, gs.area, gs.local, gs.tri);
+            push_sub(next, gs.side, gs.key, gs.area, gs.local, gs.tri);
             push_history(k < k_end && cs.sub_key[k] == gs.key ? k : -1, gs.closure, false, cp.normal);
         }
         next.sub_offset.push_back(next.n_subs());
@@ -835,8 +761,9 @@ struct Detector {
 
     // Build contact (a, b) into `next`, carrying history from old contact oc (-1: new).
     // Returns false when the blocks are farther apart than ctol.
-    bool build(int a, int b, int oc, bool require_close) {
-        if ((m.blocks.flags[a] | m.blocks.flags[b]) & kDeformable) return build_gridpoint(a, b, oc, require_close);
+    bool build(int a, int b, const OldRef& old, bool require_close) {
+        if ((m.blocks.flags[a] | m.blocks.flags[b]) & kDeformable) return build_gridpoint(a, b, old, require_close);
+        const int oc = old.c;
         const BlockView va = view(a), vb = view(b);
         const Vec3* warm = oc >= 0 ? &cs.normal[oc] : nullptr;
         const CommonPlane cp = common_plane(va, vb, warm, oc >= 0 ? tol : 0.0, 0.1 * tol);
@@ -850,26 +777,24 @@ struct Detector {
         polygon_subcontacts(fr, pieces_a, pieces_b, 1e-9 * tol, min_area, subs, face_area_a, face_area_b, nodal_a,
                             nodal_b);
 
-        const int nc = next.size();
         const BlockSet& s = m.blocks;
         const Mat3 rot[2] = {s.orientation[a].toRotationMatrix(), s.orientation[b].toRotationMatrix()};
         push_header(a, b, oc, va, vb, cp);
 
         // Merge with the old sub-contacts: both lists are in key order.
-        int k = oc >= 0 ? cs.sub_offset[oc] : 0;
-        const int k_end = oc >= 0 ? cs.sub_offset[oc + 1] : 0;
+        int k = old.k0;
+        const int k_end = old.k1;
         for (const NewSub& ns : subs) {
             while (k < k_end && cs.sub_key[k] < ns.key) ++k;
             const int side = key_side(ns.key);
             const int owner = side == 1 ? b : a;
             const Vec3 local = rot[side == 1 ? 1 : 0].transpose() * (ns.x - s.centroid[owner]);
-            const int vertex = side < 2 ? corner_vertex(ns.key) : -1;
-            push_sub(next, nc, side, ns.key, vertex, ns.area, local);
+            push_sub(next, side, ns.key, ns.area, local);
             const bool moving = on_touch_line(ns.key);
             if (k < k_end && cs.sub_key[k] == ns.key) {
                 push_history(k, ns.closure, moving, cp.normal);
             } else {
-                const int j = oc >= 0 && !moving ? nearest_old(oc, ns.x) : -1;
+                const int j = oc >= 0 && !moving ? nearest_old(old, a, b, ns.x) : -1;
                 if (j >= 0) push_inherited(j, ns.closure, cp.normal);
                 else push_history(-1, ns.closure, moving, cp.normal);
             }
@@ -884,11 +809,16 @@ struct Job {
     int a, b, oc;
 };
 
-// Build the jobs into rb, on the threads. fresh[j] is the fresh index of job j's contact, or -1
-// when its blocks were farther apart than ctol. Each contact is built alone from the old set
-// and the blocks, so the result is the same whatever the threads.
-void build_jobs(Model& m, ContactSet& cs, const std::vector<Job>& jobs, Rebuilt& rb, std::vector<int>& fresh) {
-    const int nj = static_cast<int>(jobs.size());
+// Jobs built at a time: the contacts of one window are all that a pass holds besides the set.
+constexpr int kBuildWindow = 8192;
+
+// Build jobs [j0, j1) into rb, on the threads, reading the old contacts where rw has them.
+// fresh[j - j0] is the fresh index of job j's contact, or -1 when its blocks were farther apart
+// than ctol. Each contact is built alone from the old set and the blocks, so the result is the
+// same whatever the threads and the windows.
+void build_jobs(Model& m, ContactSet& cs, const std::vector<Job>& jobs, int j0, int j1, const Rewrite& rw, Rebuilt& rb,
+                std::vector<int>& fresh) {
+    const int nj = j1 - j0;
     const int threads = thread_count();
     const bool on_threads = threads > 1 && nj >= kParallelMinBuilds;
     const int n_parts = on_threads ? std::min(nj, 8 * threads) : 1;
@@ -897,25 +827,26 @@ void build_jobs(Model& m, ContactSet& cs, const std::vector<Job>& jobs, Rebuilt&
     fresh.assign(nj, -1);
     ContactSet* parts = rb.parts.data();
     int* where = fresh.data();
+    const Job* job = jobs.data() + j0;
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1) if (on_threads)
     for (int p = 0; p < n_parts; ++p) {
-        const int j0 = static_cast<int>(static_cast<long>(nj) * p / n_parts);
-        const int j1 = static_cast<int>(static_cast<long>(nj) * (p + 1) / n_parts);
+        const int i0 = static_cast<int>(static_cast<long>(nj) * p / n_parts);
+        const int i1 = static_cast<int>(static_cast<long>(nj) * (p + 1) / n_parts);
         Detector d{m, cs, parts[p], cs.ctol, {}, {}, {}, {}, {}, {}, {}, {}};
-        for (int j = j0; j < j1; ++j) {
-            if (d.build(jobs[j].a, jobs[j].b, jobs[j].oc, true)) where[j] = parts[p].size() - 1;
+        for (int i = i0; i < i1; ++i) {
+            if (d.build(job[i].a, job[i].b, rw.old(job[i].oc), true)) where[i] = parts[p].size() - 1;
         }
     }
     rb.part.clear();
     rb.local.clear();
     for (int p = 0; p < n_parts; ++p) {
-        const int j0 = static_cast<int>(static_cast<long>(nj) * p / n_parts);
-        const int j1 = static_cast<int>(static_cast<long>(nj) * (p + 1) / n_parts);
-        for (int j = j0; j < j1; ++j) {
-            if (fresh[j] < 0) continue;
+        const int i0 = static_cast<int>(static_cast<long>(nj) * p / n_parts);
+        const int i1 = static_cast<int>(static_cast<long>(nj) * (p + 1) / n_parts);
+        for (int i = i0; i < i1; ++i) {
+            if (fresh[i] < 0) continue;
             rb.part.push_back(p);
-            rb.local.push_back(fresh[j]);
-            fresh[j] = static_cast<int>(rb.part.size()) - 1;
+            rb.local.push_back(fresh[i]);
+            fresh[i] = static_cast<int>(rb.part.size()) - 1;
         }
     }
 }
@@ -1042,7 +973,7 @@ void detect_contacts(Model& m) {
 
     thread_local Rebuilt rebuilt;
     thread_local std::vector<Job> jobs;
-    thread_local std::vector<int> fresh; // per job: its fresh contact, or -1
+    thread_local std::vector<int> fresh; // per job of a window: its fresh contact, or -1
     thread_local std::vector<std::int64_t> pairs;
     thread_local std::vector<char> moved;
     thread_local std::vector<char> closing; // per contact: touching nowhere and now overlapping
@@ -1077,7 +1008,6 @@ void detect_contacts(Model& m) {
     }
     plan.clear();
     jobs.clear();
-    bool rebuilt_all = false; // every contact built anew, in order
     // Plan an old contact kept as it is, or a contact (re)built.
     auto rebuild = [&](int a, int b, int oc) {
         plan.push_back(~static_cast<int>(jobs.size()));
@@ -1106,7 +1036,6 @@ void detect_contacts(Model& m) {
             if (have && !moved[a] && !moved[b]) plan.push_back(oc);
             else rebuild(a, b, have ? oc : -1);
         }
-        rebuilt_all = scratch;
         cs.ref_centroid = s.centroid;
         cs.ref_orientation = s.orientation;
         if (scratch) {
@@ -1119,6 +1048,9 @@ void detect_contacts(Model& m) {
         }
         cs.detected = true;
         ++cs.n_detections;
+        // The candidate pairs are planned: their buffer, as large as all the pairs near one
+        // another, is not kept (the broad phase runs seldom).
+        std::vector<std::int64_t>().swap(pairs);
     } else {
         const double limit = 0.1 * cs.ctol;
         moved.assign(n, 0);
@@ -1205,7 +1137,7 @@ void detect_contacts(Model& m) {
             // counts as well.
             auto tracked = [&](int side, int vertex) {
                 for (int k = k0; k < k1; ++k) {
-                    if (cs.sub_side[k] == side && cs.sub_vertex[k] == vertex) return true;
+                    if (cs.sub_side[k] == side && cs.sub_vertex(k) == vertex) return true;
                 }
                 return false;
             };
@@ -1239,31 +1171,57 @@ void detect_contacts(Model& m) {
             if (moved[b]) { geo_c[b] = s.centroid[b]; geo_q[b] = s.orientation[b]; }
         }
     }
-    build_jobs(m, cs, jobs, rebuilt, fresh);
-    // The plan in terms of fresh contacts; a job whose blocks were too far apart drops out.
-    // The pairs in contact stay as they were when every old contact keeps its place.
+    // Build the jobs a window at a time, and after each window write the plan as far as it
+    // reaches (Rewrite): a job whose blocks were too far apart drops out. The pairs in contact
+    // stay as they were when every old contact keeps its place.
+    thread_local std::vector<int> old_off;
     bool same_pairs = static_cast<int>(plan.size()) == cs.size();
-    int w = 0;
-    for (const int e : plan) {
-        if (e >= 0) {
-            same_pairs = same_pairs && e == w;
-            plan[w++] = e;
-        } else if (fresh[~e] >= 0) {
-            same_pairs = same_pairs && jobs[~e].oc == w;
-            plan[w++] = ~fresh[~e];
-        } else {
-            same_pairs = false;
+    {
+        Rewrite rw(cs, old_off);
+        const int np = static_cast<int>(plan.size()), nj = static_cast<int>(jobs.size());
+        int pi = 0;   // the next entry of the plan to write
+        int pend = 0; // the first entry after it whose old contact is still to be read
+        for (int j0 = 0;;) {
+            const int j1 = std::min(nj, j0 + kBuildWindow);
+            if (j1 > j0) build_jobs(m, cs, jobs, j0, j1, rw, rebuilt, fresh);
+            // Kept contacts are read as they are written, the old contacts of jobs when their
+            // window is built.
+            auto pending = [&](int q) { return plan[q] >= 0 || (~plan[q] >= j1 && jobs[~plan[q]].oc >= 0); };
+            for (; pi < np && (plan[pi] >= 0 || ~plan[pi] < j1); ++pi) {
+                const int e = plan[pi];
+                if (e >= 0) {
+                    same_pairs = same_pairs && e == rw.written();
+                    rw.put_kept(e);
+                    continue;
+                }
+                const int f = fresh[~e - j0];
+                if (f < 0) {
+                    same_pairs = false;
+                    continue;
+                }
+                same_pairs = same_pairs && jobs[~e].oc == rw.written();
+                pend = std::max(pend, pi + 1);
+                while (pend < np && !pending(pend)) ++pend;
+                const int next = pend < np ? (plan[pend] >= 0 ? plan[pend] : jobs[~plan[pend]].oc) : -1;
+                rw.put_fresh(rebuilt.set(f), rebuilt.local[f], next);
+            }
+            if (j1 >= nj) break;
+            j0 = j1;
         }
+        rw.finish();
     }
-    plan.resize(w);
     if (!same_pairs) cs.colored = false;
-    if (rebuilt_all) take_all(cs, rebuilt); // the plan is every fresh contact, in order
-    else apply_plan(cs, rebuilt, plan);
-    // The parts are buffers for the contacts rebuilt in one pass, kept so that passes allocate
-    // nothing; after a pass that rebuilt most of the model they would hold a second contact set.
+    // The parts are buffers for the contacts rebuilt in one window, kept so that passes allocate
+    // nothing. So are the jobs and the plan, but after a full pass they are as large as all
+    // the candidate pairs, most of which (blocks near one another without a contact) the
+    // passes between two full ones never see: they are given back then.
+    if (full) {
+        std::vector<Job>().swap(jobs);
+        std::vector<int>().swap(plan);
+    }
     std::size_t held = 0;
-    for (const ContactSet& x : rebuilt.parts) held += x.sub_contact.capacity() + x.id.capacity();
-    if (held > 8192 + (cs.sub_contact.size() + cs.id.size()) / 8) rebuilt = Rebuilt{};
+    for (const ContactSet& x : rebuilt.parts) held += x.sub_key.capacity() + x.id.capacity();
+    if (held > 8192 + (cs.sub_key.size() + cs.id.size()) / 8 + 4 * kBuildWindow) rebuilt = Rebuilt{};
 }
 
 double contact_touch_area(const Model& m, int c) {

@@ -350,7 +350,7 @@ void load_contacts(Model& m, const Range& r, const StressField& f, const std::ve
             const int own = of_a ? a : b, other = of_a ? b : a;
             const Vec3 out = of_a ? n : Vec3(-n);
             const FlatFaces& partner = of_a ? fb : fa;
-            const int gp = cs.sub_vertex[k];
+            const int gp = cs.sub_vertex(k);
             double covered = 0;
             Vec3 centre = Vec3::Zero();
             for (int i = around.offset[gp]; i < around.offset[gp + 1]; ++i) {

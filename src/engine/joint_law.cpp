@@ -299,9 +299,9 @@ void update_contacts(Model& m, double dt) {
             // Gridpoints against the other block's surface (contact_gridpoint.h).
             for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
                 const bool of_a = cs.sub_side[k] == 3;
-                const int gp = cs.sub_vertex[k];
+                const int gp = cs.sub_vertex(k);
                 const int o = of_a ? b : a;
-                const auto& tri = cs.sub_tri[k];
+                const std::array<int, 3> tri = cs.sub_triangle(k);
                 const Vec3& w = cs.sub_local[k];
                 Vec3 vo, lever = Vec3::Zero();
                 if (tri[0] >= 0) {

@@ -233,11 +233,11 @@ void s_c_extra(Runtime& rt, A a, int, const Value& v, L loc) { CONTACT("c_extra"
 Value f_cx_next(Runtime& rt, A a, int, L loc) {
     const int s = ptr(rt, a, 0, PtrKind::Sub, "cx_next", loc);
     const ContactSet& C = model(rt).contacts;
-    const int c = C.sub_contact[s];
+    const int c = C.sub_owner(s);
     return s + 1 < C.sub_offset[c + 1] ? Value::pointer(PtrKind::Sub, s + 1, c) : Value::null();
 }
 #define SUB(fn) const int s = ptr(rt, a, 0, PtrKind::Sub, fn, loc); const ContactSet& C = model(rt).contacts; (void)C
-Value f_cx_pos(Runtime& rt, A a, int, L loc) { SUB("cx_pos"); return vec(sub_point(model(rt), C.sub_contact[s], s)); }
+Value f_cx_pos(Runtime& rt, A a, int, L loc) { SUB("cx_pos"); return vec(sub_point(model(rt), C.sub_owner(s), s)); }
 Value f_cx_area(Runtime& rt, A a, int, L loc) { SUB("cx_area"); return num(C.sub_area[s]); }
 Value f_cx_nforce(Runtime& rt, A a, int, L loc) { SUB("cx_nforce"); return num(C.sub_sn[s] * C.sub_area[s]); }
 Value f_cx_sforce(Runtime& rt, A a, int, L loc) { SUB("cx_sforce"); return vec(C.sub_ss[s] * C.sub_area[s]); }

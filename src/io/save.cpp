@@ -354,14 +354,68 @@ auto fields(IO& io, M& x) -> If<M, StressBoundary> {
     io(x.faces);
 }
 
+// Whether the sub-contact offsets of x are whole: one more than its contacts, from 0 to its
+// sub-contacts, never decreasing (check_consistent says so when they are not).
+bool sub_offsets_whole(const ContactSet& x) {
+    const size_t nc = x.block_a.size(), ns = x.sub_key.size();
+    if (x.sub_offset.empty()) return nc == 0 && ns == 0;
+    if (x.sub_offset.size() != nc + 1 || x.sub_offset[0] != 0 || static_cast<size_t>(x.sub_offset[nc]) != ns) return false;
+    for (size_t c = 0; c < nc; ++c) {
+        if (x.sub_offset[c + 1] < x.sub_offset[c]) return false;
+    }
+    return true;
+}
+
+// Each sub-contact's contact, from the offsets (as far as they go, when they are not whole).
+std::vector<int> sub_owners(const ContactSet& x) {
+    std::vector<int> owner(x.sub_key.size(), -1);
+    const int ns = static_cast<int>(owner.size());
+    for (int c = 0; c + 1 < static_cast<int>(x.sub_offset.size()); ++c) {
+        for (int k = std::max(x.sub_offset[c], 0); k < std::min(x.sub_offset[c + 1], ns); ++k) owner[k] = c;
+    }
+    return owner;
+}
+
+// Each sub-contact's vertex or gridpoint (ContactSet::sub_vertex), -1 where its side is missing.
+std::vector<int> sub_vertices(const ContactSet& x) {
+    std::vector<int> vertex(x.sub_key.size(), -1);
+    for (size_t k = 0; k < vertex.size() && k < x.sub_side.size(); ++k) vertex[k] = x.sub_vertex(static_cast<int>(k));
+    return vertex;
+}
+
+// A sub-contact's contact and its vertex are not kept in memory (they follow from the offsets and
+// the key), but the file has them: they are written as they derive, and on reading they must be
+// what they derive to. The triangles are kept only once some sub-contact has one; the file has
+// them for every sub-contact.
 template <class IO, class M>
 auto fields(IO& io, M& x) -> If<M, ContactSet> {
     io(x.id); io(x.block_a); io(x.block_b); io(x.normal); io(x.point); io(x.gap);
     io(x.jmat); io(x.jcons); io(x.joined); io(x.sub_offset);
-    io(x.sub_contact); io(x.sub_side); io(x.sub_key); io(x.sub_vertex); io(x.sub_area); io(x.sub_local);
+    if constexpr (std::is_const_v<M>) {
+        io(sub_owners(x)); io(x.sub_side); io(x.sub_key); io(sub_vertices(x));
+    } else {
+        std::vector<int> owner, vertex;
+        io(owner); io(x.sub_side); io(x.sub_key); io(vertex);
+        const size_t ns = x.sub_key.size();
+        io.check(owner.size() == ns && vertex.size() == ns && x.sub_side.size() == ns,
+                 "the sub-contact arrays differ in length");
+        io.check(!sub_offsets_whole(x) || owner == sub_owners(x), "a sub-contact belongs to another contact");
+        io.check(vertex == sub_vertices(x), "a sub-contact vertex or gridpoint does not match its key");
+    }
+    io(x.sub_area); io(x.sub_local);
     io(x.sub_un); io(x.sub_udil); io(x.sub_sn); io(x.sub_us); io(x.sub_ss); io(x.sub_flags);
     // Format 4: contacts of deformable blocks (older files have rigid sub-contacts only).
-    if (io.format >= 4) io(x.sub_tri);
+    if (io.format >= 4) {
+        if constexpr (std::is_const_v<M>) {
+            if (x.sub_tri.empty()) io(std::vector<std::array<int, 3>>(x.sub_key.size(), {-1, -1, -1}));
+            else io(x.sub_tri);
+        } else {
+            io(x.sub_tri);
+            const bool none = std::all_of(x.sub_tri.begin(), x.sub_tri.end(),
+                                          [](const std::array<int, 3>& t) { return t[0] == -1 && t[1] == -1 && t[2] == -1; });
+            if (none) std::vector<std::array<int, 3>>().swap(x.sub_tri);
+        }
+    }
     io(x.ctol); io(x.next_id); io(x.detected);
     io(x.ref_centroid); io(x.ref_orientation); io(x.geo_centroid); io(x.geo_orientation); io(x.radius);
     io(x.n_detections);
@@ -1001,11 +1055,11 @@ std::string check_consistent(const Model& m) {
         c.gap.size() != nc || c.jmat.size() != nc || c.jcons.size() != nc || c.joined.size() != nc) {
         return "the contact arrays differ in length";
     }
-    const size_t ns = c.sub_contact.size();
-    if (c.sub_side.size() != ns || c.sub_key.size() != ns || c.sub_vertex.size() != ns ||
+    const size_t ns = c.sub_key.size();
+    if (c.sub_side.size() != ns ||
         c.sub_area.size() != ns || c.sub_local.size() != ns || c.sub_un.size() != ns || c.sub_udil.size() != ns ||
         c.sub_sn.size() != ns || c.sub_us.size() != ns || c.sub_ss.size() != ns || c.sub_flags.size() != ns ||
-        c.sub_tri.size() != ns) {
+        (!c.sub_tri.empty() && c.sub_tri.size() != ns)) {
         return "the sub-contact arrays differ in length";
     }
     if (c.sub_offset.empty() ? (nc != 0 || ns != 0)
@@ -1018,11 +1072,6 @@ std::string check_consistent(const Model& m) {
         if (c.block_a[k] < 0 || c.block_b[k] < 0 || static_cast<size_t>(c.block_a[k]) >= n ||
             static_cast<size_t>(c.block_b[k]) >= n) {
             return "contact " + std::to_string(c.id[k]) + " refers to a block that does not exist";
-        }
-    }
-    for (size_t k = 0; k < ns; ++k) {
-        if (c.sub_contact[k] < 0 || static_cast<size_t>(c.sub_contact[k]) >= nc) {
-            return "a sub-contact refers to a contact that does not exist";
         }
     }
     if (c.ref_orientation.size() != c.ref_centroid.size()) return "the detection caches differ in length";
@@ -1316,7 +1365,6 @@ std::string check_values(const Model& m) {
         if (cs.jcons[k] < 1 || cs.jcons[k] > 2) c.fail(w, "the joint model is out of range");
         if (cs.joined[k] > 1) c.fail(w, "a flag is out of range");
         for (int i = cs.sub_offset[k]; i < cs.sub_offset[k + 1] && c.ok(); ++i) {
-            if (cs.sub_contact[i] != k) c.fail(w, "a sub-contact belongs to another contact");
             const int side = cs.sub_side[i];
             const int a = cs.block_a[k], b = cs.block_b[k];
             const bool deformable_pair = ((s.flags[a] | s.flags[b]) & kDeformable) != 0;
@@ -1328,20 +1376,20 @@ std::string check_values(const Model& m) {
                 // A gridpoint of its own block against the other's surface.
                 const int own = side == 3 ? a : b, other = side == 3 ? b : a;
                 const int ng = static_cast<int>(m.gridpoints.pos.size());
-                if (!(s.flags[own] & kDeformable) || cs.sub_vertex[i] < 0 || cs.sub_vertex[i] >= ng) {
+                if (!(s.flags[own] & kDeformable) || cs.sub_vertex(i) < 0 || cs.sub_vertex(i) >= ng) {
                     c.fail(w, "a sub-contact gridpoint is out of range");
                 }
-                const auto& t = cs.sub_tri[i];
+                const std::array<int, 3> t = cs.sub_triangle(i);
                 const bool on_triangle = (s.flags[other] & kDeformable) != 0;
                 for (int q : t) {
                     if (on_triangle ? (q < 0 || q >= ng) : q != -1) c.fail(w, "a sub-contact triangle is out of range");
                 }
             } else if (c.ok()) {
                 const int owner = side == 1 ? b : a;
-                if (cs.sub_vertex[i] < -1 || cs.sub_vertex[i] >= s.shape[owner].n_vertices()) {
+                if (cs.sub_vertex(i) < -1 || cs.sub_vertex(i) >= s.shape[owner].n_vertices()) {
                     c.fail(w, "a sub-contact vertex is out of range");
                 }
-                for (int q : cs.sub_tri[i]) {
+                for (int q : cs.sub_triangle(i)) {
                     if (q != -1) c.fail(w, "a sub-contact triangle is out of range");
                 }
             }
@@ -1777,7 +1825,7 @@ bool restore_model(const std::string& path, Model& out, std::string& error) {
             fresh.blocks.zone_edge.assign(n, 0.0);
             fresh.blocks.body.assign(n, 0);
         }
-        if (file_format < 4) fresh.contacts.sub_tri.assign(fresh.contacts.sub_contact.size(), {-1, -1, -1});
+        if (file_format < 4) fresh.contacts.sub_tri.clear(); // no triangles: kept as none
         if (file_format < 7) fresh.gridpoints.applied_table.assign(fresh.gridpoints.pos.size(), 0);
         if (file_format < 9) {
             // A history made during a run had a NaN for each sample before it; a history with

@@ -4,7 +4,10 @@
 // sub-contacts, steps per second, sub-contact updates per second and the share of time in
 // each cycle stage, and memory: heap in use after the blocks are made (bytes per block), the
 // heap the contacts add at its largest (bytes per sub-contact, their per-contact records
-// included) and the peak resident memory of the process. Usage: bench_contacts [n ...] [--steps s]   (default n = 10 20 30)
+// included) and the peak resident memory of the process, phase by phase (cutting, first
+// detection, cycling: each phase's own peak), and the peak while detecting and cycling less the
+// resident memory before it, per sub-contact.
+// Usage: bench_contacts [n ...] [--steps s]   (default n = 10 20 30)
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -12,33 +15,27 @@
 #include <cstring>
 #include <vector>
 
-#include <malloc.h>
-#include <sys/resource.h>
-
 #include "engine/blocks.h"
 #include "engine/contact.h"
+#include "engine/memory.h"
 #include "engine/cycle.h"
 #include "engine/jset.h"
 #include "engine/range.h"
 #include "engine/model.h"
+#include "memory.h"
 
 using namespace odec;
 
 namespace {
 
-// Bytes of heap in use now.
-double heap_bytes() {
-    const struct mallinfo2 mi = mallinfo2();
-    return static_cast<double>(mi.uordblks + mi.hblkhd);
-}
-// Peak resident memory of the process so far, bytes.
-double peak_rss_bytes() {
-    rusage u{};
-    getrusage(RUSAGE_SELF, &u);
-    return 1024.0 * static_cast<double>(u.ru_maxrss);
-}
+using bench::heap_bytes;
+using bench::peak_rss_bytes;
+using bench::reset_peak_rss;
+using bench::rss_bytes;
 
 void run(int n, long steps) {
+    reset_peak_rss();
+    const double rss_start = rss_bytes();
     Model m;
     m.materials.resize(2);
     m.materials[1].defined = true;
@@ -75,8 +72,11 @@ void run(int n, long steps) {
     const double t_cut = std::chrono::duration<double>(std::chrono::steady_clock::now() - c0).count();
     std::printf("jset: %d blocks cut in %.3f s\n", m.blocks.size() - 1, t_cut);
 
+    const double peak_cut = peak_rss_bytes();
     malloc_trim(0);
     const double heap_blocks = heap_bytes(); // the model without contacts
+    const double rss_blocks = rss_bytes();
+    reset_peak_rss();
     using Clock = std::chrono::steady_clock;
     const auto t0 = Clock::now();
     const std::string err = prepare_cycle(m);
@@ -86,7 +86,9 @@ void run(int n, long steps) {
     }
     const double t_detect = std::chrono::duration<double>(Clock::now() - t0).count();
     double heap_most = heap_bytes();
-    std::printf("  after first detection: heap %.1f MB, peak resident %.1f MB\n", heap_most / 1e6, peak_rss_bytes() / 1e6);
+    const double peak_detect = peak_rss_bytes();
+    std::printf("  after first detection: heap %.1f MB, peak resident %.1f MB\n", heap_most / 1e6, peak_detect / 1e6);
+    reset_peak_rss();
     m.profile = Profile{};
     CycleLimits lim;
     lim.max_steps = steps;
@@ -98,6 +100,8 @@ void run(int n, long steps) {
     cycle(m, lim);
     heap_most = std::max(heap_most, heap_bytes());
     const double t = std::chrono::duration<double>(Clock::now() - t1).count();
+    const double peak_cycle = peak_rss_bytes();
+    const double rss_end = rss_bytes();
     const double total_stage = [&] {
         double s = 0;
         for (double x : m.profile.seconds) s += x;
@@ -111,11 +115,17 @@ void run(int n, long steps) {
     for (int s = 0; s < static_cast<int>(Stage::Count); ++s) {
         std::printf(" %s %.1f%%", stage_name(static_cast<Stage>(s)), 100.0 * m.profile.seconds[s] / total_stage);
     }
+    const double ns = std::max(1, m.contacts.n_subs());
     std::printf("\n  memory: %.0f bytes per block (model without contacts), %.0f bytes per sub-contact (contacts at "
-                "their largest, %.0f per contact record), peak resident %.1f MB = %.0f bytes per block\n",
-                heap_blocks / m.blocks.size(), (heap_most - heap_blocks) / std::max(1, m.contacts.n_subs()),
-                (heap_most - heap_blocks) / std::max(1, m.contacts.size()), peak_rss_bytes() / 1e6,
-                peak_rss_bytes() / m.blocks.size());
+                "their largest, %.0f per contact record)\n",
+                heap_blocks / m.blocks.size(), (heap_most - heap_blocks) / ns,
+                (heap_most - heap_blocks) / std::max(1, m.contacts.size()));
+    const double peak = std::max({peak_cut, peak_detect, peak_cycle});
+    std::printf("  resident: %.1f MB at the start, peaks %.1f MB cutting, %.1f MB detecting, %.1f MB cycling (%.1f MB at "
+                "the end); %.1f MB with the blocks cut; peak %.1f MB = %.0f bytes per block; detecting and cycling at their "
+                "peak %.0f bytes per sub-contact above the blocks\n",
+                rss_start / 1e6, peak_cut / 1e6, peak_detect / 1e6, peak_cycle / 1e6, rss_end / 1e6, rss_blocks / 1e6, peak / 1e6,
+                peak / m.blocks.size(), (std::max(peak_detect, peak_cycle) - rss_blocks) / ns);
     std::printf("  unbalanced ratio %.3g, largest unbalanced force %.3g N\n", unbalanced_ratio(m),
                 max_unbalanced_force(m));
 }
@@ -123,6 +133,7 @@ void run(int n, long steps) {
 } // namespace
 
 int main(int argc, char** argv) {
+    tune_allocator(); // as odec does
     std::vector<int> sizes;
     long steps = 200;
     for (int i = 1; i < argc; ++i) {

@@ -2,7 +2,8 @@
 // metre divided into six tetrahedra (a structured mesh, so that the mesher's time is not
 // counted), settling under gravity on a fixed base. Prints zones, gridpoints, bytes per zone
 // (its arrays and its share of the gridpoints'), steps per second, zone updates per second and
-// the share of each cycle stage.
+// the share of each cycle stage, and the peak resident memory of the run (zoning and cycling, the
+// mesh given to the zoning included) per zone, with what the process held before it subtracted.
 // With --jointed b, the cube is cut into separate blocks of b x b x b m, each zoned on its own
 // (gridpoints of their own), which touch through the contacts of their surface gridpoints
 // (joints kn = ks = 1e10 Pa/m, friction 30): the figures then include the contacts.
@@ -18,9 +19,11 @@
 
 #include "engine/blocks.h"
 #include "engine/contact.h"
+#include "engine/memory.h"
 #include "engine/cycle.h"
 #include "engine/model.h"
 #include "engine/zones.h"
+#include "memory.h"
 
 using namespace odec;
 
@@ -38,6 +41,8 @@ double bytes_of(const V& v) {
 }
 
 void run(int n, long steps, bool mc, int jointed) {
+    bench::reset_peak_rss();
+    const double rss_start = bench::rss_bytes();
     Model m;
     m.materials.resize(2);
     Material& mat = m.materials[1];
@@ -142,7 +147,10 @@ void run(int n, long steps, bool mc, int jointed) {
         std::printf(" in %d blocks of %d^3 m, %d contacts, %d sub-contacts", n_blocks, bs, m.contacts.size(),
                     m.contacts.n_subs());
     }
+    const double peak = bench::peak_rss_bytes();
     std::printf(": %d zones, %d gridpoints, %.0f bytes per zone\n", z.size(), g.size(), bytes / zones);
+    std::printf("  resident: %.1f MB at the start, peak %.1f MB: %.0f bytes per zone above the start (%.0f with it)\n",
+                rss_start / 1e6, peak / 1e6, (peak - rss_start) / zones, peak / zones);
     std::printf("  %ld steps in %.3f s of processor time (%.3f s wall): %.1f steps/s, %.3g zone updates/s "
                 "(%.1f ns per zone-step)\n",
                 steps, seconds, wall, steps / seconds, zones * steps / seconds, 1e9 * seconds / (zones * steps));
@@ -163,6 +171,7 @@ void run(int n, long steps, bool mc, int jointed) {
 } // namespace
 
 int main(int argc, char** argv) {
+    tune_allocator(); // as odec does
     std::vector<int> sizes;
     long steps = 0;
     bool mc = false;

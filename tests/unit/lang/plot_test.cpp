@@ -579,7 +579,7 @@ TEST(Export, VtkFilesReadBackWithTheModelsValues) {
     for (int k = 0; k < m.contacts.n_subs(); ++k) {
         EXPECT_DOUBLE_EQ(ssn->GetTuple1(k), m.contacts.sub_sn[k]);
         for (int j = 0; j < 3; ++j) EXPECT_DOUBLE_EQ(sss->GetComponent(k, j), m.contacts.sub_ss[k][j]);
-        EXPECT_EQ(parent->GetTuple1(k), m.contacts.sub_contact[k]);
+        EXPECT_EQ(parent->GetTuple1(k), m.contacts.sub_owner(k));
     }
 }
 

@@ -125,7 +125,7 @@ std::string model_problem(const odec::Model& m) {
         if (c.block_a[k] < 0 || c.block_b[k] >= static_cast<int>(n) || c.block_a[k] >= c.block_b[k]) return "contact blocks";
         if (!c.normal[k].allFinite() || !c.point[k].allFinite() || !fin(c.gap[k])) return "contact numbers";
     }
-    for (size_t k = 0; k < c.sub_contact.size(); ++k) {
+    for (size_t k = 0; k < c.sub_key.size(); ++k) {
         if (!fin(c.sub_area[k]) || !fin(c.sub_un[k]) || !fin(c.sub_sn[k]) || !c.sub_ss[k].allFinite() ||
             !c.sub_us[k].allFinite() || !c.sub_local[k].allFinite())
             return "sub-contact numbers";
@@ -290,7 +290,6 @@ TEST_F(SaveValues, EditedFieldsAreEachRefusedAndTheModelKept) {
         {"the normal is not a unit vector", [](odec::Model& m) { m.contacts.normal[1] *= 3; }},
         {"a sub-contact area is not a finite number", [&](odec::Model& m) { m.contacts.sub_area[0] = nan; }},
         {"a normal stress is not a finite number", [&](odec::Model& m) { m.contacts.sub_sn[2] = inf; }},
-        {"a sub-contact belongs to another contact", [](odec::Model& m) { m.contacts.sub_contact[0] = 1; }},
         {"two contacts have the same id", [](odec::Model& m) { m.contacts.id[1] = m.contacts.id[0]; }},
         {"a history's samples do not match the model's", [](odec::Model& m) { m.histories.items[0].values.push_back(1); }},
         {"a history's samples do not match the model's", [](odec::Model& m) { m.histories.items[1].values.pop_back(); }},
@@ -342,6 +341,60 @@ TEST_F(SaveValues, ADoubleEditedInThePayloadWithItsChecksumIsRefused) {
     recompute_checksum(file);
     write_bytes(at("edit.sav"), file);
     refused(at("edit.sav"), "material 1: the density is not a finite number");
+}
+
+// Bytes as the save file writes them: a length, then each element (ints in four bytes).
+template <class T>
+std::string file_bytes(const std::vector<T>& v) {
+    std::string out(8, '\0');
+    const std::uint64_t n = v.size();
+    std::memcpy(&out[0], &n, 8);
+    for (const T& x : v) {
+        const auto y = static_cast<std::conditional_t<sizeof(T) == 8, std::int64_t, std::int32_t>>(x);
+        out.append(reinterpret_cast<const char*>(&y), sizeof y);
+    }
+    return out;
+}
+
+TEST_F(SaveValues, ASubContactsContactOrVertexEditedInThePayloadIsRefused) {
+    // Neither is kept in memory (they follow from the offsets and the key), but the file has
+    // them: one that disagrees is damage.
+    Session a;
+    column(a);
+    const odec::ContactSet& c = a.model.contacts;
+    ASSERT_GE(c.size(), 2);
+    ASSERT_GT(c.sub_offset[1], 0); // the first sub-contact is contact 0's
+    ASSERT_TRUE(a.run("save '" + at("good.sav") + "'")) << a.error();
+    const std::string good = read_bytes(at("good.sav"));
+    std::vector<int> owner, vertex;
+    for (int k = 0; k < c.n_subs(); ++k) {
+        owner.push_back(c.sub_owner(k));
+        vertex.push_back(c.sub_vertex(k));
+    }
+    {
+        // The offsets, then the contact of each sub-contact.
+        const std::string pattern = file_bytes(c.sub_offset) + file_bytes(owner);
+        const size_t at_owner = good.find(pattern, payload_start(good));
+        ASSERT_NE(at_owner, std::string::npos);
+        std::string file = good;
+        const std::int32_t other = 1;
+        std::memcpy(&file[at_owner + file_bytes(c.sub_offset).size() + 8], &other, 4);
+        recompute_checksum(file);
+        write_bytes(at("edit.sav"), file);
+        refused(at("edit.sav"), "a sub-contact belongs to another contact");
+    }
+    {
+        // The keys, then the vertex of each sub-contact.
+        const std::string pattern = file_bytes(c.sub_key) + file_bytes(vertex);
+        const size_t at_vertex = good.find(pattern, payload_start(good));
+        ASSERT_NE(at_vertex, std::string::npos);
+        std::string file = good;
+        const std::int32_t other = vertex[0] + 1;
+        std::memcpy(&file[at_vertex + file_bytes(c.sub_key).size() + 8], &other, 4);
+        recompute_checksum(file);
+        write_bytes(at("edit.sav"), file);
+        refused(at("edit.sav"), "a sub-contact vertex or gridpoint does not match its key");
+    }
 }
 
 TEST_F(SaveValues, RandomEditsAreRefusedOrGiveAFiniteConsistentModel) {

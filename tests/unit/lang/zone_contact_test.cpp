@@ -59,7 +59,7 @@ TEST(ZoneContacts, RigidBaseCarriesADeformableBlock) {
     // Every sub-contact is a gridpoint of the deformable block pressing on the rigid face.
     for (int k = 0; k < m.contacts.n_subs(); ++k) {
         EXPECT_EQ(m.contacts.sub_side[k], 4);
-        EXPECT_EQ(m.contacts.sub_tri[k][0], -1);
+        EXPECT_EQ(m.contacts.sub_triangle(k)[0], -1);
     }
     const int top = find_gridpoint_near(m, Vec3(0.5, 0.5, 1.0));
     ASSERT_GE(top, 0);
@@ -93,7 +93,7 @@ TEST(ZoneContacts, DeformableBlocksCarryEachOther) {
     for (int k = m.contacts.sub_offset[upper]; k < m.contacts.sub_offset[upper + 1]; ++k) {
         side3 |= m.contacts.sub_side[k] == 3;
         side4 |= m.contacts.sub_side[k] == 4;
-        EXPECT_GE(m.contacts.sub_tri[k][0], 0);
+        EXPECT_GE(m.contacts.sub_triangle(k)[0], 0);
         EXPECT_NEAR(m.contacts.sub_local[k].sum(), 1.0, 1e-9); // weights of a point in its triangle
     }
     EXPECT_TRUE(side3 && side4);
