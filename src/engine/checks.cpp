@@ -44,7 +44,35 @@ std::string runaway_cause(const Model& m, int b) {
     return cause;
 }
 
+// A contact that carries load but has a joint material without properties (one made while
+// cycling takes 'set jmat', 1 by default, unless its faces lie on a joint plane with one): it
+// would hold nothing, and its blocks would pass through each other.
+static std::string unheld_contact(const Model& m) {
+    const ContactSet& cs = m.contacts;
+    const int n_jmat = static_cast<int>(m.joint_materials.size());
+    bool any_defined = false;
+    for (const JointMaterial& j : m.joint_materials) any_defined = any_defined || j.defined;
+    if (!any_defined) return "";
+    for (int c = 0; c < cs.size(); ++c) {
+        const int jm = cs.jmat[c];
+        if (jm > 0 && jm < n_jmat && m.joint_materials[jm].defined) continue;
+        if (!(cs.gap[c] < 0)) continue;
+        const BlockSet& s = m.blocks;
+        return "contact " + std::to_string(cs.id[c]) + " between blocks " + std::to_string(s.id[cs.block_a[c]]) +
+               " and " + std::to_string(s.id[cs.block_b[c]]) + " (step " + std::to_string(m.step) +
+               ") has joint material " + std::to_string(jm) +
+               ", which has no properties: it would hold nothing, and the blocks would pass through each "
+               "other. Give them with 'prop jmat=" + std::to_string(jm) +
+               " jkn ... jks ...', or choose the joint material of contacts made while cycling with 'set jmat n'";
+    }
+    return "";
+}
+
 std::string runaway_after_step(EnergyWatch& watch, const Model& m) {
+    {
+        const std::string unheld = unheld_contact(m);
+        if (!unheld.empty()) return unheld;
+    }
     double energy = 0, available = 0;
     int jumper = -1;
     const int runaway = watch.check(m, energy, available, jumper);

@@ -257,3 +257,26 @@ TEST(ContactTrust, ACubeRockingOnItsEdgeMakesNoEnergy) {
     EXPECT_GT(first, 0.0);
     EXPECT_LE(last, 1.02 * first);
 }
+
+TEST(ContactTrust, AContactMadeWithoutJointPropertiesStopsTheRun) {
+    // A block dropped 0.2 m onto another: the joint material given is 2, but contacts made while
+    // cycling take 'set jmat' (1, never given). Where they meet, the run stops and says so,
+    // instead of letting the block fall through unheld.
+    const std::string model = "config dyn\npoly brick 0 1 0 1 0 1\npoly brick 0 1 0 1 1.2 2.2\nprop mat=1 dens=2000\n"
+                              "prop jmat=2 jkn=1e9 jks=1e9 jfric=30\ngrav 0 0 -10\nfix range z 0 1\n";
+    {
+        Session s;
+        s.check_save_at_end = false;
+        EXPECT_FALSE(s.run(model + "solve time 0.5"));
+        EXPECT_NE(s.error().find("has joint material 1, which has no properties"), std::string::npos) << s.error();
+        EXPECT_NE(s.error().find("set jmat n"), std::string::npos) << s.error();
+        // It stopped as the block reached the base, not after it had sunk in.
+        EXPECT_GT(s.model.blocks.centroid[1].z(), 1.5 - 0.01);
+    }
+    {
+        Session s;
+        ASSERT_TRUE(s.run(model + "set jmat 2\nsolve time 0.5")) << s.error();
+        // Landed and held: it bounces on the joint, by at most v sqrt(m / k) = 2.8 mm.
+        EXPECT_NEAR(s.model.blocks.centroid[1].z(), 1.5, 5e-3);
+    }
+}
