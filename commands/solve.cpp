@@ -47,6 +47,7 @@ const CommandSpec& solve_command() {
             .one_of("what", {"joints", "zones", "friction", "cohesion", "tension"})
             .repeat()
             .many();
+        c.range();
         c.describe("The mean unbalanced-force ratio is the sum over free blocks of the unbalanced force "
                    "divided by the sum of the magnitudes of all the forces acting on them. A long run prints "
                    "its progress every few seconds (step, time, ratio, and the time left when it runs to a "
@@ -70,7 +71,10 @@ const CommandSpec& solve_command() {
                    "Mohr-Coulomb zones, each from its value before; the dilation angle is kept at most the reduced "
                    "friction angle, or made equal to it with 'associated'. 'include' narrows what is reduced to "
                    "the kinds (joints, zones) and strengths (friction, cohesion, tension) it names, 'exclude' "
-                   "leaves out those it names; whole materials are reduced, wherever they are. First the "
+                   "leaves out those it names. Without a range whole materials are reduced, wherever they are; a "
+                   "range narrows the search to the contacts whose centroid it selects and the zones of the blocks "
+                   "it selects ('not' filters leave some out): they get copies of their materials, and only the "
+                   "copies are reduced (contacts made during a trial are not). First the "
                    "characteristic response Nr is found (unless 'nchar' gives it): the steps the model takes to "
                    "come back to equilibrium after its joint closures, shear stresses and zone stresses are "
                    "doubled with its strengths raised (at least 100). Each trial starts from the state before "
@@ -100,6 +104,10 @@ const CommandSpec& solve_command() {
             if (a.has("fos")) {
                 solve_fos(ctx, a);
                 return;
+            }
+            if (a.has_range) {
+                fail(a.range_loc, "a range belongs to 'solve fos' (it narrows what is reduced)",
+                     {"'solve' cycles the whole model"}, "solve");
             }
             for (const char* kw : {"resolution", "bracket", "nchar", "associated", "include", "exclude"}) {
                 if (const KeywordUse* u = a.find(kw)) {

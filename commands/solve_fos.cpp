@@ -206,7 +206,7 @@ void solve_fos(CommandContext& ctx, const Args& a) {
                  {"give the factor expected stable first, the one expected to fail second"}, "solve");
         }
     }
-    const FosReducible r = fos_reducible(m, t);
+    FosReducible r = fos_reducible(m, t);
     if (r.empty()) {
         fail(loc, "'solve fos' finds nothing to reduce",
              {"it lowers the friction, cohesion and tension of the joint materials the contacts use and of the "
@@ -219,6 +219,20 @@ void solve_fos(CommandContext& ctx, const Args& a) {
              {"give gravity ('grav 0 0 -9.81') or loads ('bound ...'), bring the model to equilibrium, then 'solve fos'"},
              "solve");
     }
+    // A range narrows the search to the contacts and zoned blocks it selects: copies of their
+    // materials are reduced, the rest keep theirs. Checked on a copy first, so that a range
+    // that selects nothing leaves the model as it was.
+    if (a.has_range) {
+        Model probe = m;
+        FosReducible rr = r;
+        fos_isolate(probe, a.range, rr);
+        if (rr.empty()) {
+            fail(a.range_loc, "the range selects no contact and no zoned block with a strength to reduce",
+                 {"a range on 'solve fos' selects contacts by their centroid and zones by their block; 'not' "
+                  "filters leave those out"},
+                 "solve");
+        }
+    }
     const double resolution = a.real_or("resolution", 0.01);
     const double ratio = a.real_or("ratio", 1e-5);
     const long cap = a.has("cycles") ? static_cast<long>(a.real("cycles")) : kDefaultCap;
@@ -227,23 +241,36 @@ void solve_fos(CommandContext& ctx, const Args& a) {
 
     // Every trial starts from this state; the model is put back to it if the search stops
     // with an error or is interrupted.
+    FosIsolation iso;
+    if (a.has_range) iso = fos_isolate(m, a.range, r);
     const Model start = m;
     const FosBase base = fos_base(m);
     struct Rewind {
         Model& m;
         const Model& start;
+        const FosIsolation& iso;
         bool armed = true;
         ~Rewind() {
-            if (armed) m = start;
+            if (!armed) return;
+            m = start;
+            fos_unisolate(m, iso);
         }
-    } rewind{m, start};
+    } rewind{m, start, iso};
     ctx.interp.last_solve.reset();
     ctx.interp.last_fos.reset();
     ctx.interp.interrupt = false;
     CyclingGuard cycling(ctx.interp);
     const auto t0 = std::chrono::steady_clock::now();
     if (talk) {
-        o << "solve fos: reducing " << targets_text(t, r) << " by trial factors F, each trial from the state at step "
+        FosReducible shown = r; // the copies a range made, by the numbers they copy
+        for (int& k : shown.joint_materials) {
+            if (iso.active) k = iso.joint_original[k - iso.n_joint_materials];
+        }
+        for (int& k : shown.zone_materials) {
+            if (iso.active) k = iso.material_original[k - iso.n_materials];
+        }
+        o << "solve fos: reducing " << targets_text(t, shown) << (iso.active ? " where the range selects" : "")
+          << " by trial factors F, each trial from the state at step "
           << start.step << "\n";
     }
     auto interrupted = [&](const std::string& when) {
@@ -330,6 +357,7 @@ void solve_fos(CommandContext& ctx, const Args& a) {
     } else {
         m = start;
     }
+    fos_unisolate(m, iso);
     rewind.armed = false;
     res.end = bracket.end();
     res.factor = bracket.factor();

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/contact.h"
+
 namespace odec {
 
 namespace {
@@ -57,6 +59,66 @@ FosReducible fos_reducible(const Model& m, const FosTargets& t) {
         }
     }
     return r;
+}
+
+FosIsolation fos_isolate(Model& m, const Range& range, FosReducible& r) {
+    FosIsolation iso;
+    iso.active = true;
+    iso.n_joint_materials = static_cast<int>(m.joint_materials.size());
+    iso.n_materials = static_cast<int>(m.materials.size());
+    std::vector<int> joint_copy(iso.n_joint_materials, 0), material_copy(iso.n_materials, 0);
+    for (int k : r.joint_materials) joint_copy[k] = -1; // reducible, no copy yet
+    for (int k : r.zone_materials) material_copy[k] = -1;
+    ContactSet& cs = m.contacts;
+    for (int c = 0; c < cs.size(); ++c) {
+        const int jm = cs.jmat[c];
+        if (jm <= 0 || jm >= iso.n_joint_materials || joint_copy[jm] == 0) continue;
+        if (!range.contains_contact(m, contact_centroid(m, c), cs.block_a[c], cs.block_b[c])) continue;
+        if (joint_copy[jm] < 0) {
+            joint_copy[jm] = static_cast<int>(m.joint_materials.size());
+            m.joint_materials.push_back(m.joint_materials[jm]);
+            iso.joint_original.push_back(jm);
+        }
+        cs.jmat[c] = joint_copy[jm];
+    }
+    BlockSet& s = m.blocks;
+    std::vector<char> zoned_mc(s.size(), 0);
+    for (int z = 0; z < m.zones.size(); ++z) {
+        const int b = m.zones.block[z];
+        if (m.zones.model[z] == kZoneMohrCoulomb && b >= 0 && b < s.size()) zoned_mc[b] = 1;
+    }
+    for (int b = 0; b < s.size(); ++b) {
+        const int mat = s.material[b];
+        if (!zoned_mc[b] || (s.flags[b] & kExcavated) || mat <= 0 || mat >= iso.n_materials || material_copy[mat] == 0) continue;
+        if (!range.contains_block(m, b)) continue;
+        if (material_copy[mat] < 0) {
+            material_copy[mat] = static_cast<int>(m.materials.size());
+            m.materials.push_back(m.materials[mat]);
+            iso.material_original.push_back(mat);
+        }
+        s.material[b] = material_copy[mat];
+    }
+    r.joint_materials.clear();
+    for (int k = 0; k < static_cast<int>(iso.joint_original.size()); ++k) r.joint_materials.push_back(iso.n_joint_materials + k);
+    r.zone_materials.clear();
+    for (int k = 0; k < static_cast<int>(iso.material_original.size()); ++k) r.zone_materials.push_back(iso.n_materials + k);
+    return iso;
+}
+
+void fos_unisolate(Model& m, const FosIsolation& iso) {
+    if (!iso.active) return;
+    ContactSet& cs = m.contacts;
+    for (int c = 0; c < cs.size(); ++c) {
+        const int k = cs.jmat[c] - iso.n_joint_materials;
+        if (k >= 0 && k < static_cast<int>(iso.joint_original.size())) cs.jmat[c] = iso.joint_original[k];
+    }
+    BlockSet& s = m.blocks;
+    for (int b = 0; b < s.size(); ++b) {
+        const int k = s.material[b] - iso.n_materials;
+        if (k >= 0 && k < static_cast<int>(iso.material_original.size())) s.material[b] = iso.material_original[k];
+    }
+    m.joint_materials.resize(iso.n_joint_materials);
+    m.materials.resize(iso.n_materials);
 }
 
 FosBase fos_base(const Model& m) { return FosBase{m.joint_materials, m.materials}; }

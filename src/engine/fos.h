@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "engine/model.h"
+#include "engine/range.h"
 
 namespace odec {
 
@@ -39,6 +40,20 @@ struct FosReducible {
     bool empty() const { return joint_materials.empty() && zone_materials.empty(); }
 };
 FosReducible fos_reducible(const Model& m, const FosTargets& t);
+
+// A search narrowed to a range: the contacts whose centroid the range selects, and the blocks it
+// selects (their zones), are given copies of their joint and zone materials (new numbers, after
+// the others), and only the copies are reduced. Contacts made during a trial take the materials
+// they would otherwise (not reduced). fos_isolate makes the copies and narrows r to them;
+// fos_unisolate gives every contact and block its number back and drops the copies.
+struct FosIsolation {
+    bool active = false;
+    int n_joint_materials = 0, n_materials = 0; // how many there were before the copies
+    std::vector<int> joint_original;            // per copy, in order: the number it copies
+    std::vector<int> material_original;
+};
+FosIsolation fos_isolate(Model& m, const Range& range, FosReducible& r);
+void fos_unisolate(Model& m, const FosIsolation& iso);
 
 // The strengths before a search, to reduce from and to give back.
 struct FosBase {

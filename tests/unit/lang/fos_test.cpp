@@ -263,6 +263,8 @@ TEST(SolveFos, BadInputIsRefusedWithTheModelLeftAsItWas) {
         {"solve fos exclude joints", "'solve fos' finds nothing to reduce"},
         {"solve fos include zones", "'solve fos' finds nothing to reduce"},
         {"solve fos include sideways", "t.dat:1:"},
+        {"solve fos range x 100 200", "the range selects no contact and no zoned block with a strength to reduce"},
+        {"solve range x -10 10", "a range belongs to 'solve fos'"},
     };
     for (const Case& c : cases) {
         s.err.str("");
@@ -290,6 +292,39 @@ TEST(SolveFos, BadInputIsRefusedWithTheModelLeftAsItWas) {
     EXPECT_FALSE(g.run("solve fos"));
     EXPECT_NE(g.error().find("t.dat:1:7: error: nothing loads the model"), std::string::npos) << g.error();
     EXPECT_EQ(model_bytes(g.model), unloaded);
+}
+
+TEST(SolveFos, ARangeNarrowsTheSearchToWhatItSelects) {
+    // Two 1 m cubes on one flat base, gravity tilted 30 degrees: cube A (x 0-1) on a joint of
+    // friction 40, F = tan 40 / tan 30 = 1.4534; cube B (x 10-11) on one of 50, F = 2.0642.
+    // The whole model fails with A; a range that selects B's contact finds B's factor, one that
+    // leaves it out ('not') A's. Afterwards every contact has its own joint material again and
+    // the copies are gone.
+    Session s;
+    ASSERT_TRUE(s.run("poly brick -5 25 -2 2 -1 0\npoly brick 0 1 0 1 0 1\npoly brick 10 11 0 1 0 1\n"
+                      "prop mat=1 dens=2000\nprop jmat=1 jkn=1e9 jks=1e9 jfric=40\nprop jmat=2 jkn=1e9 jks=1e9 jfric=50\n"
+                      "grav 5 0 -8.660254\nfix range z -1 0\nsolve\nchange jmat=2 range x 5 15\nsolve"))
+        << s.error();
+    const double fa = std::tan(40 * M_PI / 180) / std::tan(M_PI / 6), fb = std::tan(50 * M_PI / 180) / std::tan(M_PI / 6);
+    auto jmats = [&] {
+        std::vector<int> v(s.model.contacts.jmat.begin(), s.model.contacts.jmat.end());
+        return v;
+    };
+    const std::vector<int> own = jmats();
+    ASSERT_EQ(own.size(), 2u);
+    struct Case {
+        const char* command;
+        double expected;
+    };
+    for (const Case& c : {Case{"solve fos range x 5 15", fb}, Case{"solve fos", fa}, Case{"solve fos range not x 5 15", fa}}) {
+        ASSERT_TRUE(s.run(c.command)) << c.command << "\n" << s.error();
+        ASSERT_TRUE(s.interp.last_fos) << c.command;
+        const double f = s.interp.last_fos->factor;
+        std::printf("[fos] %s: F %.5f, analytic %.5f (%+.2f %%)\n", c.command, f, c.expected, 100 * (f / c.expected - 1));
+        EXPECT_NEAR(f, c.expected, 0.02 * c.expected) << c.command;
+        EXPECT_EQ(jmats(), own) << c.command;
+        EXPECT_EQ(s.model.joint_materials.size(), 3u) << c.command;
+    }
 }
 
 TEST(FosBracket, BracketsByDoublingAndHalvingThenBisects) {
