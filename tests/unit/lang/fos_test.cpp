@@ -360,3 +360,36 @@ TEST(FosBracket, BracketsByDoublingAndHalvingThenBisects) {
     EXPECT_EQ(never.end(), odec::FosBracket::End::Above);
     EXPECT_EQ(never.stable(), odec::kFosFar);
 }
+
+TEST(SolveFos, ARangeGivesTheZonesOfTheBlocksItSelectsCopiesOfTheirMaterial) {
+    // Two zoned Mohr-Coulomb blocks of one material: a range selecting one gives it a copy of
+    // the material that alone is reduced; the other keeps the material as it is; undoing gives
+    // the block its number back and drops the copy.
+    Session s;
+    ASSERT_TRUE(s.run("poly brick 0 1 0 1 0 1\npoly brick 3 4 0 1 0 1\n"
+                      "prop mat=1 dens=2000 k=1e8 g=6e7 coh=30000 fric=30 ten=1e5 dil=0\nchange cons=2\ngen edge 0.5"))
+        << s.error();
+    odec::Model& m = s.model;
+    odec::FosTargets t;
+    odec::FosReducible r = odec::fos_reducible(m, t);
+    ASSERT_EQ(r.zone_materials, std::vector<int>{1});
+    odec::Range range;
+    odec::Filter f;
+    f.kind = odec::FilterKind::X;
+    f.lo = 2;
+    f.hi = 5;
+    range.filters.push_back(f);
+    const int n_materials = static_cast<int>(m.materials.size());
+    const odec::FosIsolation iso = odec::fos_isolate(m, range, r);
+    ASSERT_EQ(r.zone_materials, std::vector<int>{n_materials});
+    EXPECT_EQ(m.blocks.material[0], 1);
+    EXPECT_EQ(m.blocks.material[1], n_materials);
+    const odec::FosBase base = odec::fos_base(m);
+    odec::reduce_strengths(m, base, r, t, 2.0);
+    EXPECT_DOUBLE_EQ(m.materials[n_materials].cohesion, 15000);
+    EXPECT_NEAR(std::tan(m.materials[n_materials].friction * M_PI / 180), std::tan(M_PI / 6) / 2, 1e-12);
+    EXPECT_DOUBLE_EQ(m.materials[1].cohesion, 30000);
+    odec::fos_unisolate(m, iso);
+    EXPECT_EQ(m.blocks.material[1], 1);
+    EXPECT_EQ(static_cast<int>(m.materials.size()), n_materials);
+}
