@@ -279,7 +279,11 @@ TEST(Cable, PlotAndVtkExport) {
     EXPECT_EQ(layer.scale.units, "N");
     ASSERT_TRUE(s.run("plot block cable file '" + dir + "/bolt.png' size 320 240\nexport vtk '" + dir + "/bolt'"))
         << s.error();
+#if ODEC_HAVE_PICTURES
     EXPECT_GT(odec::test::read_bytes(dir + "/bolt.png").size(), 1000u);
+#else
+    EXPECT_EQ(odec::test::read_bytes(dir + "/bolt.png").size(), 0u); // built without pictures: none drawn
+#endif
     const std::string vtp = odec::test::read_bytes(dir + "/bolt-cables-" + [&] {
         char step[32];
         std::snprintf(step, sizeof step, "%06ld", s.model.step);
