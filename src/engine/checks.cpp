@@ -48,24 +48,17 @@ std::string runaway_cause(const Model& m, int b) {
 // cycling takes 'set jmat', 1 by default, unless its faces lie on a joint plane with one): it
 // would hold nothing, and its blocks would pass through each other.
 static std::string unheld_contact(const Model& m) {
+    const int c = contact_without_joint_properties(m, true);
+    if (c < 0) return "";
     const ContactSet& cs = m.contacts;
-    const int n_jmat = static_cast<int>(m.joint_materials.size());
-    bool any_defined = false;
-    for (const JointMaterial& j : m.joint_materials) any_defined = any_defined || j.defined;
-    if (!any_defined) return "";
-    for (int c = 0; c < cs.size(); ++c) {
-        const int jm = cs.jmat[c];
-        if (jm > 0 && jm < n_jmat && m.joint_materials[jm].defined) continue;
-        if (!(cs.gap[c] < 0)) continue;
-        const BlockSet& s = m.blocks;
-        return "contact " + std::to_string(cs.id[c]) + " between blocks " + std::to_string(s.id[cs.block_a[c]]) +
-               " and " + std::to_string(s.id[cs.block_b[c]]) + " (step " + std::to_string(m.step) +
-               ") has joint material " + std::to_string(jm) +
-               ", which has no properties: it would hold nothing, and the blocks would pass through each "
-               "other. Give them with 'prop jmat=" + std::to_string(jm) +
-               " jkn ... jks ...', or choose the joint material of contacts made while cycling with 'set jmat n'";
-    }
-    return "";
+    const BlockSet& s = m.blocks;
+    const int jm = cs.jmat[c];
+    return "contact " + std::to_string(cs.id[c]) + " between blocks " + std::to_string(s.id[cs.block_a[c]]) + " and " +
+           std::to_string(s.id[cs.block_b[c]]) + " (step " + std::to_string(m.step) + ") has joint material " +
+           std::to_string(jm) +
+           ", which has no properties: it would hold nothing, and the blocks would pass through each other. "
+           "Give them with 'prop jmat=" + std::to_string(jm) +
+           " jkn ... jks ...', or choose the joint material of contacts made while cycling with 'set jmat n'";
 }
 
 std::string runaway_after_step(EnergyWatch& watch, const Model& m) {

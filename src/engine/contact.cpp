@@ -39,7 +39,7 @@ int ContactSet::sub_owner(int k) const {
     return static_cast<int>(std::upper_bound(sub_offset.begin(), sub_offset.end() - 1, k) - sub_offset.begin()) - 1;
 }
 
-ContactInfo contact_info(const Model& m, int c) {
+ContactInfo contact_info(const Model& m, int c, bool touch_area) {
     const ContactSet& cs = m.contacts;
     ContactInfo info;
     info.id = cs.id[c];
@@ -66,7 +66,7 @@ ContactInfo contact_info(const Model& m, int c) {
         all_open &= (cs.sub_flags[k] & kSubOpen) != 0;
         any_failed |= (cs.sub_flags[k] & kSubFailed) != 0;
     }
-    info.area = contact_touch_area(m, c);
+    info.area = touch_area ? contact_touch_area(m, c) : 0.0;
     if (area > 0) {
         info.centroid = x / area;
         info.normal_stress = sn / area;
@@ -148,6 +148,20 @@ int assign_joint_material(Model& m, const Range& r, int jmat, int jcons) {
         ++changed;
     }
     return changed;
+}
+
+int contact_without_joint_properties(const Model& m, bool loaded_only) {
+    const ContactSet& cs = m.contacts;
+    const int n_jmat = static_cast<int>(m.joint_materials.size());
+    bool any_defined = false;
+    for (const JointMaterial& j : m.joint_materials) any_defined = any_defined || j.defined;
+    if (!any_defined) return -1;
+    for (int c = 0; c < cs.size(); ++c) {
+        const int jm = cs.jmat[c];
+        if (jm > 0 && jm < n_jmat && m.joint_materials[jm].defined) continue;
+        if (loaded_only ? cs.gap[c] < 0 : jm > 0) return c;
+    }
+    return -1;
 }
 
 int join_blocks(Model& m, const std::vector<int>& block_indices) {

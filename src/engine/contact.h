@@ -170,6 +170,10 @@ double contact_tolerance(const Model& m);
 // for region/group/id filters) the range selects. jmat or jcons <= 0 leaves that one alone.
 // Returns how many contacts changed.
 int assign_joint_material(Model& m, const Range& r, int jmat, int jcons);
+// The first contact whose joint material has no properties (0 or a number never given 'prop
+// jmat'), or -1; with loaded_only, only one whose blocks overlap. -1 as well when no joint
+// material has properties at all (a model without joints).
+int contact_without_joint_properties(const Model& m, bool loaded_only);
 // `join range ...`: glue every contact between two of these blocks. Returns how many.
 int join_blocks(Model& m, const std::vector<int>& block_indices);
 
@@ -207,7 +211,8 @@ struct ContactInfo {
     bool joined = false;
     ContactState state = ContactState::Elastic;
 };
-ContactInfo contact_info(const Model& m, int contact_index);
+// With touch_area false, `area` is left 0 (the rest needs no geometry: for histories).
+ContactInfo contact_info(const Model& m, int contact_index, bool touch_area = true);
 // Area-weighted centroid of a contact's sub-contacts (its reference point when they have none).
 Eigen::Vector3d contact_centroid(const Model& m, int contact_index);
 // The area where contact c's blocks touch now, m^2. Where faces lie on the common plane (within

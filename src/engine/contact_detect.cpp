@@ -669,15 +669,6 @@ struct Detector {
     int nearest_old(const OldRef& old, int a, int b, const Vec3& x) const {
         int best = -1;
         double best_d = std::numeric_limits<double>::infinity();
-        // Where the old polygon was degenerate (a sub-contact with next to no area beside the
-        // others: two corners all but coinciding), the points' histories do not describe one
-        // continuous joint state: take nothing from them.
-        double lo = std::numeric_limits<double>::infinity(), hi = 0;
-        for (int j = old.k0; j < old.k1; ++j) {
-            lo = std::min(lo, cs.sub_area[j]);
-            hi = std::max(hi, cs.sub_area[j]);
-        }
-        if (!(lo >= 1e-3 * hi)) return -1;
         for (int j = old.k0; j < old.k1; ++j) {
             if (cs.sub_side[j] > 2) continue;
             const int owner = cs.sub_side[j] == 1 ? b : a;
@@ -688,6 +679,19 @@ struct Detector {
             }
         }
         return best;
+    }
+
+    // Whether old contact `old` can hand its sub-contacts' state on: not where its polygon was
+    // degenerate (a sub-contact with next to no area beside the others: two corners all but
+    // coinciding), whose points' histories do not describe one continuous joint state.
+    bool can_inherit(const OldRef& old) const {
+        if (old.c < 0 || old.k1 == old.k0) return false;
+        double lo = std::numeric_limits<double>::infinity(), hi = 0;
+        for (int j = old.k0; j < old.k1; ++j) {
+            lo = std::min(lo, cs.sub_area[j]);
+            hi = std::max(hi, cs.sub_area[j]);
+        }
+        return lo >= 1e-3 * hi;
     }
 
     // The contact's own entries in `next`: id, joint material and model (from the old
@@ -784,6 +788,7 @@ struct Detector {
         // Merge with the old sub-contacts: both lists are in key order.
         int k = old.k0;
         const int k_end = old.k1;
+        const bool inherit = can_inherit(old);
         for (const NewSub& ns : subs) {
             while (k < k_end && cs.sub_key[k] < ns.key) ++k;
             const int side = key_side(ns.key);
@@ -794,7 +799,7 @@ struct Detector {
             if (k < k_end && cs.sub_key[k] == ns.key) {
                 push_history(k, ns.closure, moving, cp.normal);
             } else {
-                const int j = oc >= 0 && !moving ? nearest_old(old, a, b, ns.x) : -1;
+                const int j = inherit && !moving ? nearest_old(old, a, b, ns.x) : -1;
                 if (j >= 0) push_inherited(j, ns.closure, cp.normal);
                 else push_history(-1, ns.closure, moving, cp.normal);
             }

@@ -61,7 +61,7 @@ double history_value(const Model& m, const History& h) {
         int c = contact_index(m, h.contact_id);
         if (c < 0) c = find_contact_at(m, h.point);
         if (c < 0) return 0.0;
-        const ContactInfo ci = contact_info(m, c);
+        const ContactInfo ci = contact_info(m, c, false); // stresses and displacements only
         if (h.kind == HistoryKind::NStress) return ci.normal_stress;
         if (h.kind == HistoryKind::SStress) return ci.shear_stress;
         if (h.kind == HistoryKind::NDis) return ci.normal_disp;

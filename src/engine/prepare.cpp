@@ -135,18 +135,10 @@ std::string prepare_cycle_once(Model& m) {
     }
     // A joint material may be assigned before its properties are given ('change jmat'), but not
     // cycled without them: such a joint would hold nothing.
-    {
-        const ContactSet& cs = m.contacts;
-        const int n_jmat = static_cast<int>(m.joint_materials.size());
-        bool any_defined = false;
-        for (const JointMaterial& j : m.joint_materials) any_defined = any_defined || j.defined;
-        for (int c = 0; c < cs.size() && any_defined; ++c) {
-            const int jm = cs.jmat[c];
-            if (jm > 0 && (jm >= n_jmat || !m.joint_materials[jm].defined)) {
-                return "contact " + std::to_string(cs.id[c]) + " has joint material " + std::to_string(jm) +
-                       ", which has no properties: give them with 'prop jmat=" + std::to_string(jm) + " jkn ... jks ...'";
-            }
-        }
+    if (const int c = contact_without_joint_properties(m, false); c >= 0) {
+        const int jm = m.contacts.jmat[c];
+        return "contact " + std::to_string(m.contacts.id[c]) + " has joint material " + std::to_string(jm) +
+               ", which has no properties: give them with 'prop jmat=" + std::to_string(jm) + " jkn ... jks ...'";
     }
     refresh_contact_surface(m); // the zones' step allows for the joints on their surface
     const double zone_dt = zone_critical_timestep(m);
