@@ -666,11 +666,15 @@ struct Detector {
     }
 
     // The old sub-contact of old contact `old` (blocks a, b) nearest the world point x, or -1.
+    // Slivers of the old polygon (under 1e-3 of its largest share: two corners all but
+    // coinciding), whose histories need not be the joint's, hand nothing on.
     int nearest_old(const OldRef& old, int a, int b, const Vec3& x) const {
         int best = -1;
         double best_d = std::numeric_limits<double>::infinity();
+        double hi = 0;
+        for (int j = old.k0; j < old.k1; ++j) hi = std::max(hi, cs.sub_area[j]);
         for (int j = old.k0; j < old.k1; ++j) {
-            if (cs.sub_side[j] > 2) continue;
+            if (cs.sub_side[j] > 2 || cs.sub_area[j] < 1e-3 * hi) continue;
             const int owner = cs.sub_side[j] == 1 ? b : a;
             const double d = (m.blocks.centroid[owner] + m.blocks.orientation[owner] * cs.sub_local[j] - x).squaredNorm();
             if (d < best_d) {
@@ -679,19 +683,6 @@ struct Detector {
             }
         }
         return best;
-    }
-
-    // Whether old contact `old` can hand its sub-contacts' state on: not where its polygon was
-    // degenerate (a sub-contact with next to no area beside the others: two corners all but
-    // coinciding), whose points' histories do not describe one continuous joint state.
-    bool can_inherit(const OldRef& old) const {
-        if (old.c < 0 || old.k1 == old.k0) return false;
-        double lo = std::numeric_limits<double>::infinity(), hi = 0;
-        for (int j = old.k0; j < old.k1; ++j) {
-            lo = std::min(lo, cs.sub_area[j]);
-            hi = std::max(hi, cs.sub_area[j]);
-        }
-        return lo >= 1e-3 * hi;
     }
 
     // The contact's own entries in `next`: id, joint material and model (from the old
@@ -772,6 +763,20 @@ struct Detector {
         const Vec3* warm = oc >= 0 ? &cs.normal[oc] : nullptr;
         const CommonPlane cp = common_plane(va, vb, warm, oc >= 0 ? tol : 0.0, 0.1 * tol);
         if (require_close && cp.gap > tol) return false;
+        if (oc >= 0 && cs.joined[oc] && old.k1 > old.k0) {
+            // A glued joint is a bond between the material points it was glued over: it keeps
+            // its sub-contacts, their places on their blocks and their areas, and only turns
+            // with the common plane. Shared out anew as the blocks shear and bend on it, the
+            // points' areas and places would change the energy its springs hold without work
+            // (on joints of 1e8 Pa/m, a pendulum of glued blocks gained or lost 0.4 %).
+            push_header(a, b, oc, va, vb, cp);
+            for (int k = old.k0; k < old.k1; ++k) {
+                push_sub(next, cs.sub_side[k], cs.sub_key[k], cs.sub_area[k], cs.sub_local[k]);
+                push_history(k, cs.sub_un[k], false, cp.normal);
+            }
+            next.sub_offset.push_back(next.n_subs());
+            return true;
+        }
         const Frame fr = make_frame(cp);
         present_faces(va, fr, 0, tol, pieces_a, nodal_a);
         present_faces(vb, fr, 1, tol, pieces_b, nodal_b);
@@ -788,7 +793,6 @@ struct Detector {
         // Merge with the old sub-contacts: both lists are in key order.
         int k = old.k0;
         const int k_end = old.k1;
-        const bool inherit = can_inherit(old);
         for (const NewSub& ns : subs) {
             while (k < k_end && cs.sub_key[k] < ns.key) ++k;
             const int side = key_side(ns.key);
@@ -799,7 +803,7 @@ struct Detector {
             if (k < k_end && cs.sub_key[k] == ns.key) {
                 push_history(k, ns.closure, moving, cp.normal);
             } else {
-                const int j = inherit && !moving ? nearest_old(old, a, b, ns.x) : -1;
+                const int j = moving || old.c < 0 ? -1 : nearest_old(old, a, b, ns.x);
                 if (j >= 0) push_inherited(j, ns.closure, cp.normal);
                 else push_history(-1, ns.closure, moving, cp.normal);
             }

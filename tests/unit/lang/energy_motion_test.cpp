@@ -122,16 +122,23 @@ TEST(EnergyMotion, AToppleOnSoftJointsKeepsItsEnergy) {
 
 TEST(EnergyMotion, ARockingBlockKeepsItsEnergy) { check_balance("rocking block", rocking_block(), 1.2); }
 
-TEST(EnergyMotion, APendulumOfGluedBlocksKeepsItsEnergy) { check_balance("pendulum of glued blocks", glued_pendulum(), 0.5); }
+// A glued joint keeps the points and areas it was glued over (contact.h): on joints of 1e8 Pa/m
+// the pendulum shears and bends its joints by millimetres, and sharing their area out anew as it
+// did cost 0.41 % of its energy.
+TEST(EnergyMotion, APendulumOfGluedBlocksKeepsItsEnergy) {
+    check_balance("pendulum of glued blocks", glued_pendulum(), 0.5, {"1e8", "1e10", "1e12"});
+}
 
 TEST(EnergyMotion, AnArchUnderGravityKeepsItsEnergy) { check_balance("arch under gravity", arch(), 0.2); }
 
-// On joints of 1e8 Pa/m the blocks sink and shear by millimetres, and the balance is not yet
-// within 0.1 % (measured: rocking block 0.14 %, glued pendulum 0.41 %, arch 1.9 %): the area of a
-// contact's sub-contacts is shared out anew at each geometry refresh among points whose stresses
-// differ, and that gives or takes energy. Run with --gtest_also_run_disabled_tests.
+// On joints of 1e8 Pa/m the blocks sink by millimetres, and the balance of contacts that are not
+// glued is not yet within 0.1 % (measured: rocking block 0.14 %, arch 1.9 %): where a joint
+// opens into a hinge, its face turns from lying on the common plane (its sub-contacts share the
+// contact polygon) to tilted against it (each corner that presses carries its own area), and the
+// areas, so the energy the springs hold, change at that switch without work (as far as traced: the
+// arch gains 59 J in one refresh as a joint's area goes from 1.00 to 1.14 m^2). Run with
+// --gtest_also_run_disabled_tests.
 TEST(EnergyMotion, DISABLED_OnSoftJointsToo) {
     check_balance("rocking block", rocking_block(), 1.2, {"1e8"});
-    check_balance("pendulum of glued blocks", glued_pendulum(), 0.5, {"1e8"});
     check_balance("arch under gravity", arch(), 0.2, {"1e8"});
 }
