@@ -94,7 +94,10 @@ const CommandSpec& solve_command() {
                    "mechanism and 'print info' and FISH's solve_verdict its verdict, but with its strengths "
                    "given back their values from before 'solve fos'; when no trial failed it is left as it was. "
                    "FISH's fos_f gives the factor. An error or Ctrl-C during the search leaves the model as it "
-                   "was before it. The search holds up to three copies of the model in memory.");
+                   "was before it. The search holds up to three copies of the model in memory. Zones are reduced "
+                   "as they are in small strain ('set small'): in large strain, the default, a failing slope of "
+                   "zones may move far enough to find a new equilibrium and read as stable, and 'solve fos' "
+                   "warns when it reduces zones in large strain.");
         c.example("solve");
         c.example("solve ratio 1e-6 cycles 50000");
         c.example("solve fos");

@@ -273,6 +273,12 @@ void solve_fos(CommandContext& ctx, const Args& a) {
           << " by trial factors F, each trial from the state at step "
           << start.step << "\n";
     }
+    if (!r.zone_materials.empty() && m.settings.large_strain) {
+        warn(ctx, loc,
+             "large strain ('set large', the default): zones whose strength is reduced may move far enough to find "
+             "a new equilibrium, and a trial that fails reads as stable; strength reduction of zones is usually "
+             "run in small strain ('set small' before 'solve fos')");
+    }
     auto interrupted = [&](const std::string& when) {
         if (talk) o << "solve fos: interrupted " << when << "; the model is as it was before 'solve fos'\n";
     };
