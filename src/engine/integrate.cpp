@@ -167,7 +167,15 @@ int integrate(Model& m, double dt) {
                 mom[i] = damp_component(d, s.moment[b][i], s.ang_vel[b][i], inertia(i, i), dt);
             }
             if (auto_damp) power.damping += s.ang_vel[b].dot(inertia.diagonal().cwiseProduct(s.ang_vel[b]));
-            const Vec3 alpha = iso > 0 ? Vec3(mom / iso) : Vec3(inertia.ldlt().solve(mom));
+            // The 3 x 3 inverse in closed form, of the tensor scaled to a trace of 1 (its
+            // determinant, the cube of its size, would underflow for a block of 1e-100 m).
+            Vec3 alpha;
+            if (iso > 0) {
+                alpha = mom / iso;
+            } else {
+                const double t = inertia.trace();
+                alpha = (inertia / t).inverse() * (mom / t);
+            }
             const Vec3 w = s.ang_vel[b] + alpha * kick;
             if (account) {
                 const Mat3 r = s.orientation[b].toRotationMatrix();

@@ -69,7 +69,7 @@ LawParams law_params(const Model& m, int jmat, int jcons) {
 // slips, the mean shear stress of the step times the plastic slip, less the work of dilation
 // against the normal stress; when it opens, what the shear spring held beyond the shear work of
 // the step, and what the normal spring held in tension if that breaks it.
-inline Vec3 joint_step(ContactSet& cs, int k, const LawParams& p, bool joined, const Vec3& nrm, const Vec3& du,
+[[gnu::always_inline]] inline Vec3 joint_step(ContactSet& cs, int k, const LawParams& p, bool joined, const Vec3& nrm, const Vec3& du,
                        double* dissipated = nullptr) {
     std::uint8_t flags = cs.sub_flags[k];
     const double sn_old = cs.sub_sn[k], un_old = cs.sub_un[k] + cs.sub_udil[k];
@@ -234,6 +234,8 @@ void update_contacts(Model& m, double dt) {
     if (account) contact_dissipation.assign(cs.size(), 0.0);
     double* dissipation = account ? contact_dissipation.data() : nullptr;
     auto rigid_contact = [&](int c) {
+        // Most contacts between blocks apart carry no sub-contact: nothing to add.
+        if (cs.sub_offset[c] == cs.sub_offset[c + 1]) return;
         const int a = cs.block_a[c], b = cs.block_b[c];
         if ((s.flags[a] | s.flags[b]) & (kExcavated | kDeformable)) return;
         const LawParams& p = law_of(c);
