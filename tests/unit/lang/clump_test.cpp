@@ -133,8 +133,11 @@ TEST(Clump, FallsAndTurnsExactlyAsOneRigidBody) {
     const double ke = 0.5 * kMass * v_half.squaredNorm() + 0.5 * kIyy * 4;
     EXPECT_NEAR(odec::stored_kinetic_energy(m), ke, 1e-9 * ke);
     // And the account balances: gravity's work went into kinetic energy.
+    // And the account balances: gravity's work went into kinetic energy, less the m g^2 dt^2 / 8
+    // the half-step reading dips by where the spin and the velocity were given (energy.h), as
+    // for one block.
     const odec::EnergyReading r = odec::energy_reading(m);
-    EXPECT_NEAR(r.error(), 0.0, 1e-9 * r.kinetic) << "kinetic " << r.kinetic << " gravity " << r.gravity;
+    EXPECT_NEAR(r.error(), -kMass * 100 * 1e-6 / 8, 1e-9 * r.kinetic) << "kinetic " << r.kinetic << " gravity " << r.gravity;
     EXPECT_EQ(m.contacts.size(), 0);
 }
 
@@ -228,12 +231,13 @@ TEST(Clump, ACutThroughAPieceEndsTheClump) {
     EXPECT_NE(s.out.str().find("the planes cut 1 clump"), std::string::npos) << s.out.str();
     EXPECT_EQ(s.model.blocks.size(), before + 1);
     EXPECT_TRUE(pieces_of_clump(s.model).empty());
-    // Its pieces are glued to each other now, as before clumps: the contacts between them are joined.
+    // Its pieces are glued to each other now, as before clumps, across the faces between them;
+    // the new cut is a joint.
     ASSERT_TRUE(s.run("step 1")) << s.error();
     int joined = 0;
     for (int c = 0; c < s.model.contacts.size(); ++c) joined += s.model.contacts.joined[c];
-    EXPECT_EQ(joined, s.model.contacts.size());
-    EXPECT_GE(joined, before);
+    EXPECT_GE(joined, before - 1);
+    EXPECT_GE(s.model.contacts.size() - joined, 1);
 }
 
 // An arch of nine voussoirs whose intrados is bent inward (each a clump of convex pieces), on a
@@ -282,24 +286,29 @@ namespace {
 // A save file of the format before clumps (11) made from one of this format: the clump array
 // of the blocks (a length and an int per block, written after the inertial moments and before
 // the world vertex offsets, which start at 0) taken out, the lengths and the checksum made right.
-std::string without_clumps(std::string file, int n_blocks) {
+std::string without_clumps(std::string file, const std::vector<int>& clumps) {
+    const int n_blocks = static_cast<int>(clumps.size());
     std::uint64_t n_version = 0;
     std::memcpy(&n_version, &file[16], 8);
     const size_t payload_length_at = 24 + n_version;
     const size_t blks = file.find("BLKS", payload_length_at + 8);
-    // [n][clump] x n, then [n + 1][0] (the vertex offsets).
-    std::string pattern(8, '\0');
+    // [n][clump] x n, then [n + 1][0] (the vertex offsets) or [0][0] (none, nor vertices).
+    std::string pattern(8 + 4 * clumps.size(), '\0');
     std::uint64_t n = static_cast<std::uint64_t>(n_blocks);
     std::memcpy(&pattern[0], &n, 8);
-    const size_t from = blks;
+    std::memcpy(&pattern[8], clumps.data(), 4 * clumps.size());
+    // The last such array of the section (the world vertices follow it).
+    std::uint64_t blks_length = 0;
+    std::memcpy(&blks_length, &file[blks + 4], 8);
     size_t at = std::string::npos;
-    for (size_t p = file.find(pattern, from); p != std::string::npos; p = file.find(pattern, p + 1)) {
-        std::uint64_t next = 0;
-        std::int32_t first = -1, key = 0;
-        std::memcpy(&key, &file[p + 8], 4);
+    for (size_t p = file.rfind(pattern, blks + 12 + blks_length); p != std::string::npos && p > blks;
+         p = file.rfind(pattern, p - 1)) {
+        std::uint64_t next = 0, after = 1;
+        std::int32_t first = -1;
         std::memcpy(&next, &file[p + 8 + 4 * n_blocks], 8);
         std::memcpy(&first, &file[p + 16 + 4 * n_blocks], 4);
-        if (key > 0 && next == n + 1 && first == 0) {
+        std::memcpy(&after, &file[p + 16 + 4 * n_blocks], 8);
+        if ((next == n + 1 && first == 0) || (next == 0 && after == 0)) {
             at = p;
             break;
         }
@@ -346,14 +355,25 @@ TEST(Clump, SaveFilesOldAndNew) {
     ASSERT_TRUE(b.run("step 50")) << b.error();
     for (int i = 0; i < a.model.blocks.size(); ++i) EXPECT_EQ(a.model.blocks.centroid[i], b.model.blocks.centroid[i]);
 
-    const std::string old = without_clumps(read_bytes(base + "_new.sav"), a.model.blocks.size());
+    // An old file: the same model as odec wrote it before clumps, its pieces glued by their
+    // joined joint set (the clump ended by hand here), cycled, saved, its clump array taken out.
+    Session d;
+    ASSERT_TRUE(d.run("config dyn\ndamp off\npoly brick -1 3 -1 2 -1 0\n" + l_block(0, 0.001) +
+                      "prop mat=1 dens=1000\nprop jmat=1 jkn=1e9 jks=1e9 jfric=40\ngrav 0 0 -10\nfix range z -1 0"))
+        << d.error();
+    d.model.blocks.clump.assign(d.model.blocks.size(), 0);
+    ASSERT_TRUE(d.run("step 50\nsave '" + base + "_glued'")) << d.error();
+    const std::string old = without_clumps(read_bytes(base + "_glued.sav"), d.model.blocks.clump);
     ASSERT_FALSE(old.empty()) << "the clump array was not found";
     write_bytes(base + "_old.sav", old);
     Session c;
     ASSERT_TRUE(c.run("restore '" + base + "_old'")) << c.error();
     EXPECT_TRUE(pieces_of_clump(c.model).empty());
-    EXPECT_EQ(c.model.blocks.size(), a.model.blocks.size());
-    ASSERT_TRUE(c.run("step 5")) << c.error();
+    EXPECT_EQ(c.model.blocks.size(), d.model.blocks.size());
+    // It cycles on as the model that wrote it, its pieces glued.
+    ASSERT_TRUE(c.run("step 20")) << c.error();
+    ASSERT_TRUE(d.run("step 20")) << d.error();
+    for (int i = 0; i < c.model.blocks.size(); ++i) EXPECT_EQ(c.model.blocks.centroid[i], d.model.blocks.centroid[i]);
     int between = 0;
     for (int k = 0; k < c.model.contacts.size(); ++k) {
         const int x = c.model.contacts.block_a[k], y = c.model.contacts.block_b[k];
@@ -363,6 +383,7 @@ TEST(Clump, SaveFilesOldAndNew) {
         }
     }
     EXPECT_GE(between, 1);
+    std::remove((base + "_glued.sav").c_str());
     std::remove((base + "_new.sav").c_str());
     std::remove((base + "_old.sav").c_str());
 }
