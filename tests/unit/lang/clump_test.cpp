@@ -214,6 +214,10 @@ TEST(Clump, FixDeleteAndIniTakeTheWholeClump) {
         const Vec3 expect = Vec3(1, 0, 0) + Vec3(0, 0, 0.5).cross(s.model.blocks.centroid[b] - kCentroid);
         EXPECT_LT((odec::velocity_at_t(s.model, b) - expect).norm(), 1e-12);
     }
+    // b_clump names the clump (the id of its first piece): 1 here, 0 for the brick alone.
+    ASSERT_TRUE(s.run("def chk\n  if b_clump(b_near(0.5, 0.5, 2.5)) # 1 then\n    error = 'not in clump 1'\n  endif\n"
+                      "  if b_clump(b_near(5.5, 0.5, 0.5)) # 0 then\n    error = 'the brick is in a clump'\n  endif\nend\n@chk"))
+        << s.error();
     s.out.str("");
     ASSERT_TRUE(s.run("delete range id " + std::to_string(last))) << s.error();
     EXPECT_NE(s.out.str().find("deleting the other"), std::string::npos) << s.out.str();
