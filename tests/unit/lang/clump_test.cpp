@@ -391,3 +391,54 @@ TEST(Clump, SaveFilesOldAndNew) {
     std::remove((base + "_new.sav").c_str());
     std::remove((base + "_old.sav").c_str());
 }
+
+// Zoning a piece zones the whole clump and ends it: its pieces deform as one continuum (their
+// gridpoints shared across the faces between them), as glued pieces did before clumps.
+TEST(Clump, ZoningEndsTheClumpItsPiecesOneContinuum) {
+    Session s;
+    s.interp.quiet = false;
+    ASSERT_TRUE(s.run(l_block() + "prop mat=1 dens=1000 k=1e9 g=1e9\nprop jmat=1 jkn=1e10 jks=1e10 jfric=40")) << s.error();
+    const int n = s.model.blocks.size();
+    s.out.str("");
+    ASSERT_TRUE(s.run("gen edge 0.5 range id 1")) << s.error();
+    EXPECT_NE(s.out.str().find("zoning the other"), std::string::npos) << s.out.str();
+    EXPECT_NE(s.out.str().find("zoned 1 clump"), std::string::npos) << s.out.str();
+    EXPECT_TRUE(pieces_of_clump(s.model).empty());
+    for (int b = 0; b < n; ++b) {
+        EXPECT_TRUE(s.model.blocks.flags[b] & odec::kDeformable);
+        EXPECT_EQ(s.model.blocks.body[b], s.model.blocks.body[0]);
+    }
+}
+
+// 'excavate' and 'fill' take whole clumps: a rigid body does not lose a part.
+TEST(Clump, ExcavateAndFillTakeTheWholeClump) {
+    Session s;
+    ASSERT_TRUE(s.run(l_block() + "poly brick 5 6 0 1 0 1\nprop mat=1 dens=1000\nexcavate range id 1")) << s.error();
+    for (int b : pieces_of_clump(s.model)) EXPECT_TRUE(s.model.blocks.flags[b] & odec::kExcavated);
+    EXPECT_FALSE(s.model.blocks.flags[s.model.blocks.size() - 1] & odec::kExcavated);
+    ASSERT_TRUE(s.run("fill range id 2")) << s.error();
+    for (int b = 0; b < s.model.blocks.size(); ++b) EXPECT_FALSE(s.model.blocks.flags[b] & odec::kExcavated);
+}
+
+// Spun about a pivot at its centroid, held there by a velocity boundary given to one piece:
+// under gravity (acting at the centroid: no moment about it) it turns steadily in place, every
+// piece's centroid on a circle about the pivot, the angle w t exactly.
+TEST(Clump, SpinsInPlaceAboutItsHeldCentroid) {
+    Session s;
+    ASSERT_TRUE(s.run("config dyn\ndamp off\n" + l_block() +
+                      "prop mat=1 dens=1000\ngrav 0 0 -10\nset dt 1e-3\nbound xvel 0 yvel 0 zvel 0 range id 1\n"
+                      "ini yrvel 1.5 range id 2\nstep 1000"))
+        << s.error();
+    const odec::Model& m = s.model;
+    const std::vector<int> p = pieces_of_clump(m);
+    const odec::ClumpBody body = odec::clump_body(m.blocks, p.data(), static_cast<int>(p.size()));
+    EXPECT_LT((body.centroid - kCentroid).norm(), 1e-12);
+    for (int b : p) {
+        SCOPED_TRACE("piece " + std::to_string(m.blocks.id[b]));
+        EXPECT_LT((odec::rotation_since_reset(m, b) - Vec3(0, 1.5, 0)).norm(), 1e-9);
+        // Where the turn took its centroid, from where it was made (its displacement undone).
+        const Vec3 start = m.blocks.centroid[b] - m.blocks.disp[b];
+        EXPECT_LT((m.blocks.centroid[b] - (kCentroid + turn_y(start - kCentroid, 1.5))).norm(), 1e-9);
+        EXPECT_LT((odec::spin_at_t(m, b) - Vec3(0, 1.5, 0)).norm(), 1e-12);
+    }
+}
