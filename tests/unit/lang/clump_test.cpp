@@ -442,3 +442,14 @@ TEST(Clump, SpinsInPlaceAboutItsHeldCentroid) {
         EXPECT_LT((odec::spin_at_t(m, b) - Vec3(0, 1.5, 0)).norm(), 1e-12);
     }
 }
+
+// A tunnel cut through a piece ends the clump too.
+TEST(Clump, ATunnelThroughAPieceEndsTheClump) {
+    Session s;
+    s.interp.quiet = false;
+    ASSERT_TRUE(s.run(l_block() + "prop mat=1 dens=1000")) << s.error();
+    s.out.str("");
+    ASSERT_TRUE(s.run("tunnel a (0.5,-1,2) b (0.5,2,2) radius 0.2 outer 0.4 nrad 1 nseg 1")) << s.error();
+    EXPECT_NE(s.out.str().find("tunnel: the cut went through 1 clump"), std::string::npos) << s.out.str();
+    EXPECT_TRUE(pieces_of_clump(s.model).empty());
+}
