@@ -138,8 +138,11 @@ void set_clump_component_at_t(Model& m, int b, int k, double value, bool spin) {
         turn[i] = spin_at_t(m, p[i]);
     }
     const ClumpBody body = clump_body(s, p.data(), n, vel.data(), turn.data());
-    Vec3 v = body.vel, w = body.spin;
-    (spin ? w : v)[k] = value;
+    // b's centroid keeps its velocity (but for the component given): the clump's follows.
+    const Vec3 lever = s.centroid[b] - body.centroid;
+    Vec3 w = body.spin, v_b = body.vel + w.cross(lever);
+    (spin ? w : v_b)[k] = value;
+    const Vec3 v = v_b - w.cross(lever);
     for (int i = 0; i < n; ++i) {
         const int c = p[i];
         Vec3 lead_v = vel[i] - s.vel[c], lead_w = turn[i] - s.ang_vel[c];

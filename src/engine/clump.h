@@ -72,9 +72,10 @@ ClumpBody clump_body(const BlockSet& s, const int* pieces, int n, const Vec3* ve
 // of the rigid motion at its own centroid (as 'ini' gives one, at t).
 void set_clump_motion(BlockSet& s, const int* pieces, int n, const Vec3& vel, const Vec3& spin);
 
-// Set component k of the velocity at t of the centroid (spin false) or of the spin (spin true)
-// of the clump of piece b, the other components and the half step the integration holds the
-// velocities back by kept (FISH's b_xvel, b_xrvel ...).
+// Set component k of the velocity at t of piece b's centroid (spin false) or of the spin (spin
+// true), the clump of b following as one rigid body: the other components, b's centroid velocity
+// when the spin changes (as for a block alone, it turns about its own centroid) and the half
+// step the integration holds the velocities back by are kept (FISH's b_xvel, b_xrvel ...).
 void set_clump_component_at_t(Model& m, int b, int k, double value, bool spin);
 
 // The integration of the clumps (part of the integration stage): each moves as one rigid body

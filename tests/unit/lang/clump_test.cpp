@@ -207,12 +207,16 @@ TEST(Clump, FixDeleteAndIniTakeTheWholeClump) {
     }
     ASSERT_TRUE(s.run("bound free range id " + std::to_string(last))) << s.error();
     for (int b : p) EXPECT_EQ(s.model.blocks.vel_bc[b], 0);
-    // FISH: a piece's velocity is the clump's.
-    ASSERT_TRUE(s.run("def kick\n  bk = b_near(1.8, 0.5, 0.5)\n  b_zrvel(bk) = 0.5\n  b_xvel(bk) = 1\nend\n@kick"))
+    // FISH: a piece's velocity and spin are set as a block's (its centroid's velocity, the spin
+    // about it), the whole clump following; they read back as set.
+    ASSERT_TRUE(s.run("def kick\n  bk = b_near(1.8, 0.5, 0.5)\n  b_zrvel(bk) = 0.5\n  b_xvel(bk) = 1\n"
+                      "  if b_xvel(bk) # 1 then\n    error = 'b_xvel reads back otherwise'\n  endif\nend\n@kick"))
         << s.error();
+    const int bk = odec::find_block_at(s.model, Vec3(1.8, 0.5, 0.5));
     for (int b : p) {
-        const Vec3 expect = Vec3(1, 0, 0) + Vec3(0, 0, 0.5).cross(s.model.blocks.centroid[b] - kCentroid);
+        const Vec3 expect = Vec3(1, 0, 0) + Vec3(0, 0, 0.5).cross(s.model.blocks.centroid[b] - s.model.blocks.centroid[bk]);
         EXPECT_LT((odec::velocity_at_t(s.model, b) - expect).norm(), 1e-12);
+        EXPECT_LT((odec::spin_at_t(s.model, b) - Vec3(0, 0, 0.5)).norm(), 1e-12);
     }
     // b_clump names the clump (the id of its first piece): 1 here, 0 for the brick alone.
     ASSERT_TRUE(s.run("def chk\n  if b_clump(b_near(0.5, 0.5, 2.5)) # 1 then\n    error = 'not in clump 1'\n  endif\n"
