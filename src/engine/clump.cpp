@@ -13,14 +13,21 @@ namespace odec {
 
 ClumpList list_clumps(const BlockSet& s) {
     ClumpList out;
+    list_clumps(s, out);
+    return out;
+}
+
+void list_clumps(const BlockSet& s, ClumpList& out) {
+    out.key.clear();
+    out.offset.clear();
+    out.pieces.clear();
     thread_local std::vector<std::pair<int, int>> items;
     items.clear();
     for (int b = 0; b < s.size(); ++b) {
         if (s.clump[b] != 0) items.emplace_back(s.clump[b], b);
     }
-    if (items.empty()) return out;
+    if (items.empty()) return;
     std::sort(items.begin(), items.end());
-    out.pieces.reserve(items.size());
     for (size_t i = 0; i < items.size(); ++i) {
         if (i == 0 || items[i].first != items[i - 1].first) {
             out.key.push_back(items[i].first);
@@ -29,7 +36,6 @@ ClumpList list_clumps(const BlockSet& s) {
         out.pieces.push_back(items[i].second);
     }
     out.offset.push_back(static_cast<int>(items.size()));
-    return out;
 }
 
 std::vector<int> clump_pieces(const BlockSet& s, int b) {

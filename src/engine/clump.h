@@ -42,6 +42,8 @@ struct ClumpList {
     int size() const { return static_cast<int>(key.size()); }
 };
 ClumpList list_clumps(const BlockSet& s);
+// The same into `out`, reusing its memory (the cycle allocates nothing once it runs).
+void list_clumps(const BlockSet& s, ClumpList& out);
 
 // The pieces of block b's clump (ascending), or {b} when b is alone.
 std::vector<int> clump_pieces(const BlockSet& s, int b);

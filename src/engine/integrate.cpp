@@ -185,7 +185,8 @@ int integrate(Model& m, double dt) {
         for (int chunk = 0; chunk < n_chunks; ++chunk) energy.add(ce[chunk]);
     }
     {
-        const ClumpList clumps = list_clumps(s);
+        thread_local ClumpList clumps;
+        list_clumps(s, clumps);
         if (clumps.size() > 0) {
             const int bad_clump = integrate_clumps(m, clumps, dt, account ? &energy : nullptr,
                                                    auto_damp ? &total.damping : nullptr, &total.forcing);
