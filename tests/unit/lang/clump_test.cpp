@@ -12,6 +12,7 @@
 
 #include "engine/blocks.h"
 #include "engine/clump.h"
+#include "engine/contact.h"
 #include "engine/energy.h"
 #include "test_util.h"
 
@@ -456,4 +457,34 @@ TEST(Clump, ATunnelThroughAPieceEndsTheClump) {
     ASSERT_TRUE(s.run("tunnel a (0.5,-1,2) b (0.5,2,2) radius 0.2 outer 0.4 nrad 1 nseg 1")) << s.error();
     EXPECT_NE(s.out.str().find("tunnel: the cut went through 1 clump"), std::string::npos) << s.out.str();
     EXPECT_TRUE(pieces_of_clump(s.model).empty());
+}
+
+// The stable timestep of a clump on its joints is that of one body: the stiffness of the springs
+// on all its pieces over its mass, and their stiffness times the squared lever about its centroid
+// over its least principal inertia.
+TEST(Clump, ItsStableTimestepIsOneBodys) {
+    Session s;
+    ASSERT_TRUE(s.run("poly brick -1 3 -1 2 -1 0\n" + l_block() +
+                      "prop mat=1 dens=1000\nprop jmat=1 jkn=1e9 jks=5e8 jfric=40\ngrav 0 0 -10\nfix range z -1 0\n"
+                      "step 5"))
+        << s.error();
+    const odec::Model& m = s.model;
+    const std::vector<int> p = pieces_of_clump(m);
+    const odec::ClumpBody body = odec::clump_body(m.blocks, p.data(), static_cast<int>(p.size()));
+    double kt = 0, kr = 0;
+    const odec::ContactSet& cs = m.contacts;
+    for (int c = 0; c < cs.size(); ++c) {
+        for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
+            const double ki = 1e9 * cs.sub_area[k];
+            kt += ki;
+            kr += ki * (odec::sub_point(m, c, k) - body.centroid).squaredNorm();
+        }
+    }
+    ASSERT_GT(kt, 0);
+    const double i_min = Eigen::SelfAdjointEigenSolver<odec::Mat3>(body.inertia).eigenvalues().minCoeff();
+    const double expect = 2.0 / std::sqrt(std::max(kt / body.mass, kr / i_min));
+    int worst = -1;
+    const double limit = odec::stable_timestep_limit(m, &worst);
+    EXPECT_NEAR(limit, std::max(expect, odec::contact_critical_timestep(m)), 1e-9 * expect);
+    EXPECT_EQ(m.blocks.clump[worst], 2);
 }
