@@ -410,7 +410,7 @@ const CommandSpec& poly_command() {
                    "acts on one acts on all: 'fix', 'free', 'ini' and 'bound' velocities are given to every "
                    "block of a clump a range touches, and 'delete', 'excavate' and 'fill' take whole "
                    "clumps (a line says so). The faces between the blocks are a joint set of their own, "
-                   "joined: a cut through a block of the clump ('jset') or zoning one ('gen edge') ends "
+                   "joined: a cut through a block of the clump ('jset', 'tunnel') or zoning one ('gen edge') ends "
                    "the clump, and its blocks are then glued across those faces, with the joint material "
                    "of new contacts ('set jmat'). A model saved before clumps existed (save format 11 or "
                    "older) restores as it was saved, its blocks glued.\n\n"
@@ -440,7 +440,7 @@ const CommandSpec& poly_command() {
                    "the last reaches the box (half-width w across the axis, horizontally unless the axis is "
                    "vertical, and half-height h). Every block is a convex prism; neighbours share whole faces "
                    "with the same corners, and the faces between the blocks are one joint set, joined, so the "
-                   "blocks act as one mass. The axis runs from 'a' to 'b', or from 'length' l1 to l2 along the "
+                   "blocks act as one mass (glued, not a clump: they are a rock mass meant to part). The axis runs from 'a' to 'b', or from 'length' l1 to l2 along the "
                    "line of plunge 'dip' and trend 'dd' through 'origin'.");
         c.example("poly brick 0 10 0 10 -5 0 region 1 group 'base'");
         c.example("poly prism a (0,0,0) (1,0,0) (0,1,0) b (0,0,2) (1,0,2) (0,1,2)");
