@@ -1,3 +1,5 @@
+#include <algorithm>
+
 #include "analysis_mode.h"
 #include "commands.h"
 #include "common.h"
@@ -163,7 +165,11 @@ const CommandSpec& bound_command() {
                    "'hist table n' multiplies the velocities, loads, couples and stresses of the command by "
                    "table n at the model time (the table's x, in seconds, as 'hist time' records it; held "
                    "beyond its ends). In a static analysis the masses are scaled and model time is not real "
-                   "time: a table then sets the order and the pace of loading, not a real duration.");
+                   "time: a table then sets the order and the pace of loading, not a real duration.\n\n"
+                   "A clump (the blocks of a solid that is not convex, 'poly') is one rigid body: a velocity "
+                   "holds the velocity of its centroid and goes to all its blocks when the range selects any; "
+                   "a load on one of its blocks acts on the whole at its point, its moment taken about the "
+                   "clump's centroid.");
         c.example("bound xvel 0.01 range z 9 10");
         c.example("apply xvel 2.8 hist table 1 range z -1 0");
         c.example("bound zload -1e6 range id 5");
@@ -230,6 +236,10 @@ const CommandSpec& bound_command() {
                     fail(a.find("point")->values[0].loc, "no rigid block holds the point " + vec_text(point),
                          {"give a range to load the blocks of the range at this point"}, "boundary");
                 }
+                // Where the pieces of one clump meet, the point is on the one rigid body.
+                bool one_clump = s.clump[blocks[0]] != 0;
+                for (int b : blocks) one_clump = one_clump && s.clump[b] == s.clump[blocks[0]];
+                if (one_clump) blocks.resize(1);
                 if (blocks.size() > 1) {
                     fail(a.find("point")->values[0].loc,
                          "the point " + vec_text(point) + " lies on blocks " + ids_text(m, blocks) +
@@ -386,12 +396,19 @@ const CommandSpec& bound_command() {
             }
             if (a.has("free") && g.size() > 0) remove_boundary_stress(m, a.range);
             if (!gps.empty()) m.geometry_changed = true;
-            for (int b : blocks) {
+            // Velocities hold a clump's centroid: they go to every piece of a clump the range
+            // touches (loads stay on the pieces they are given to, at their points).
+            std::vector<int> held = blocks;
+            std::sort(held.begin(), held.end());
+            if (any_vel || a.has("free")) take_whole_clumps(ctx, held, any_vel ? "holding" : "releasing");
+            std::vector<int> chosen = blocks;
+            std::sort(chosen.begin(), chosen.end());
+            for (int b : held) {
                 if (s.flags[b] & kDeformable) continue;
                 if (a.has("free")) {
                     s.vel_bc[b] = 0;
                     s.vel_bc_table[b] = 0;
-                    s.loads[b].clear();
+                    if (std::binary_search(chosen.begin(), chosen.end(), b)) s.loads[b].clear();
                 }
                 for (int i = 0; i < 3; ++i) {
                     if (a.has(vel[i])) {

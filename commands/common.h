@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/clump.h"
 #include "engine/model.h"
 #include "engine/range.h"
 #include "lang/interpreter.h"
@@ -34,6 +35,18 @@ inline std::vector<int> blocks_to_change(CommandContext& ctx, const Args& args, 
                  ", nothing changed");
     }
     return blocks;
+}
+
+// The pieces of a clump move as one rigid body (clump.h): a command that holds, frees, moves or
+// removes blocks takes the whole clump of every piece its range selects, and says so in a line.
+inline void take_whole_clumps(CommandContext& ctx, std::vector<int>& blocks, const char* verb) {
+    int clumps = 0;
+    const int added = complete_clumps(ctx.model.blocks, blocks, &clumps);
+    if (added > 0 && !ctx.interp.quiet) {
+        ctx.out << "the range takes part of " << clumps << " clump" << (clumps == 1 ? "" : "s")
+                << " (a solid that is not convex, one rigid body): " << verb << " the other " << added << " block"
+                << (added == 1 ? "" : "s") << " of " << (clumps == 1 ? "it" : "them") << " too\n";
+    }
 }
 
 // What 'insitu' (or 'gen', applying the in-situ stress given before) set, said in a line, and

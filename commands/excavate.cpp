@@ -8,7 +8,9 @@ namespace {
 void set_excavated(CommandContext& ctx, const Args& a, bool on) {
     BlockSet& s = ctx.model.blocks;
     int n = 0;
-    for (int b : select_blocks(ctx.model, a.range, true)) {
+    std::vector<int> blocks = select_blocks(ctx.model, a.range, true);
+    take_whole_clumps(ctx, blocks, on ? "excavating" : "filling");
+    for (int b : blocks) {
         const bool was = s.flags[b] & kExcavated;
         if (was == on) continue;
         if (on) {
@@ -32,7 +34,8 @@ const CommandSpec& excavate_command() {
         CommandSpec c("excavate", 3, "null blocks: they leave the model but are kept for 'fill'");
         c.range();
         c.describe("Excavated blocks carry no load and make no contacts; 'fill' brings them back where "
-                   "they were, at rest. This is how a cavern is excavated in stages.");
+                   "they were, at rest. This is how a cavern is excavated in stages. A clump (the blocks of a solid that "
+                   "is not convex, 'poly') is excavated and filled whole when the range selects any of its blocks.");
         c.example("excavate range cylinder 0,-10,0 0,10,0 3");
         c.handle([](CommandContext& ctx, const Args& a) {
             if (!a.has_range) fail(a.loc, "'excavate' needs a range", {}, "excavate");

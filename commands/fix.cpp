@@ -11,14 +11,16 @@ const CommandSpec& fix_command() {
         c.describe("Without a range every block is fixed. A fixed block still pushes on the blocks it "
                    "touches; 'free' releases it. In deformable blocks the gridpoints the range selects by "
                    "their position are fixed (all three velocity components held at zero); rigid blocks "
-                   "are selected by their centroid.");
+                   "are selected by their centroid; the blocks of a solid that is not convex (a clump, "
+                   "'poly') are fixed together when the range selects any of them.");
         c.example("fix range z -5 0");
         c.example("fix range z -0.01 0.01");
         c.handle([](CommandContext& ctx, const Args& a) {
             Model& m = ctx.model;
             BlockSet& s = m.blocks;
             const std::vector<int> gps = select_gridpoints(m, a.range);
-            const std::vector<int> blocks = gps.empty() ? blocks_to_change(ctx, a) : select_blocks(m, a.range);
+            std::vector<int> blocks = gps.empty() ? blocks_to_change(ctx, a) : select_blocks(m, a.range);
+            take_whole_clumps(ctx, blocks, "fixing");
             int n = 0;
             for (int b : blocks) {
                 if (s.flags[b] & kDeformable) continue;
@@ -55,7 +57,8 @@ const CommandSpec& free_command() {
             Model& m = ctx.model;
             BlockSet& s = m.blocks;
             const std::vector<int> gps = select_gridpoints(m, a.range);
-            const std::vector<int> blocks = gps.empty() ? blocks_to_change(ctx, a) : select_blocks(m, a.range);
+            std::vector<int> blocks = gps.empty() ? blocks_to_change(ctx, a) : select_blocks(m, a.range);
+            take_whole_clumps(ctx, blocks, "freeing");
             int n = 0;
             for (int b : blocks) {
                 if (s.flags[b] & kFixed) {

@@ -247,6 +247,9 @@ const CommandSpec& generate_command() {
             const double edge = a.real("edge");
             std::vector<int> blocks = blocks_to_change(ctx, a);
             if (blocks.empty()) return;
+            // A clump (a solid that is not convex) is zoned whole, and ends: its blocks become
+            // one continuum, glued across the faces between them.
+            take_whole_clumps(ctx, blocks, "zoning");
             // The other blocks of a continuum being zoned again are zoned with it, at their own
             // size, so that its zones still conform (and grade from fine to coarse).
             std::vector<double> edges(blocks.size(), edge);
@@ -290,6 +293,8 @@ const CommandSpec& generate_command() {
                      {}, "generate");
             }
             // Bodies: joined blocks of the range that share a whole face deform as one.
+            const std::vector<int> clumps_before = m.blocks.clump;
+            const int clumps_ended = dissolve_clumps(m, blocks);
             refresh_world_vertices(m);
             detect_contacts(m);
             std::vector<Polyhedron> solids;
@@ -297,6 +302,10 @@ const CommandSpec& generate_command() {
             for (int b : blocks) solids.push_back(world_shape(m, b));
             TetMesh mesh;
             const std::string why = mesh_solids(solids, edges, mesh, &ctx.interp.interrupt);
+            if (ctx.interp.interrupt.load() || !why.empty()) {
+                m.blocks.clump = clumps_before; // the blocks were not zoned: their clumps stay
+                m.geometry_changed = true;
+            }
             if (ctx.interp.interrupt.load()) fail(a.loc, "interrupted: the blocks were not zoned", {}, "generate");
             if (!why.empty()) fail(a.loc, why, {"try another edge length"}, "generate");
             std::vector<int> position(m.blocks.size(), -1);
@@ -340,6 +349,11 @@ const CommandSpec& generate_command() {
             long made = 0;
             for (const auto& t : bm.tets) made += static_cast<long>(t.size());
             if (budget >= 0) budget = std::max<long long>(0, budget - made);
+            if (clumps_ended > 0 && !ctx.interp.quiet) {
+                ctx.out << "zoned " << clumps_ended << " clump" << (clumps_ended == 1 ? "" : "s")
+                        << " (a solid that is not convex): " << (clumps_ended == 1 ? "its" : "their")
+                        << " blocks deform as one continuum, glued across the faces between them\n";
+            }
             if (!ctx.interp.quiet) {
                 ctx.out << "zoned " << blocks.size() << " blocks: " << made << " zones, " << m.gridpoints.size()
                         << " gridpoints in the model; zone quality (radius ratio) worst " << num(mesh.worst_quality)

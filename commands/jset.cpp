@@ -63,7 +63,11 @@ const CommandSpec& jset_command() {
                    "piece thinner than a millionth of the block is not made (it is counted; 'print info' "
                    "shows how many). The orientation convention: the planes' upward normal is "
                    "(sin dip sin dd, sin dip cos dd, cos dip), x east, y north, z up. Deformable blocks are "
-                   "not cut (their zones would not follow): cut the rock first, then zone it.");
+                   "not cut (their zones would not follow): cut the rock first, then zone it. A plane through "
+                   "a block of a clump (a solid that is not convex, 'poly', one rigid body) ends the clump, "
+                   "as a cut through a joined group of rigid blocks parts it in 3DEC: its blocks become "
+                   "blocks of their own, glued across the faces between them (their joined joint set), "
+                   "and a line says so.");
         c.example("jset dip 60 dd 90 origin 0,0,0 spacing 2 number 5");
         c.example("jset dip 0 dd 0 origin 0,0,5 join");
         c.handle([](CommandContext& ctx, const Args& a) {
@@ -131,6 +135,12 @@ const CommandSpec& jset_command() {
                 ctx.out << "joint set " << m.n_joint_sets << ": " << r.planes << " planes, " << r.blocks_cut
                         << " cuts, " << r.slivers_skipped << " skipped as slivers; " << m.blocks.size()
                         << " blocks\n";
+                if (r.clumps_ended > 0) {
+                    ctx.out << "jset: the planes cut " << r.clumps_ended << " clump" << (r.clumps_ended == 1 ? "" : "s")
+                            << " (a solid that is not convex, one rigid body): "
+                            << (r.clumps_ended == 1 ? "its" : "their")
+                            << " blocks are blocks of their own now, glued across the faces between them\n";
+                }
             }
         });
         return c;

@@ -397,14 +397,23 @@ const CommandSpec& poly_command() {
                    "material ('prop mat=n dens=...'). Faces must be planar, within the rounding of the "
                    "coordinates as written; an error names the face that is not.\n\n"
                    "A solid that is not convex (an L-shaped block, a voussoir whose intrados is a polygon "
-                   "bent inward) is made of convex blocks that fill it exactly, joined, as a concave block "
-                   "is made in 3DEC, whose 'poly' takes convex solids only: each has an id of its own (a "
-                   "line says which), "
-                   "with the region, group and material given, and the faces between them are a joint set "
-                   "of their own, joined, so that they act as one body (their joints take the joint "
-                   "material of new contacts, 'set jmat'). Their volumes, centroids and inertias add up "
-                   "to the solid's own. Each block is cut at the edges where the surface folds inward, "
-                   "by planes through those edges.\n\n"
+                   "bent inward) is made of convex blocks that fill it exactly, as a concave block is made "
+                   "in 3DEC of convex blocks joined into one rigid block: each has an id of its own (a "
+                   "line says which), with the region, group and material given. Their volumes, centroids "
+                   "and inertias add up to the solid's own. Each block is cut at the edges where the "
+                   "surface folds inward, by planes through those edges. The blocks are one clump: one "
+                   "rigid body, with one mass (the sum of theirs), one centroid, one inertia tensor (the "
+                   "sum of theirs about that centroid), one velocity and one spin; there is no contact "
+                   "between them, and the forces and loads on each act on the whole, with their moments "
+                   "about its centroid. Each block keeps its own id, contacts, loads and histories and "
+                   "moves exactly as the part of the body it is ('print block' names its clump). What "
+                   "acts on one acts on all: 'fix', 'free', 'ini' and 'bound' velocities are given to every "
+                   "block of a clump a range touches, and 'delete', 'excavate' and 'fill' take whole "
+                   "clumps (a line says so). The faces between the blocks are a joint set of their own, "
+                   "joined: a cut through a block of the clump ('jset', 'tunnel') or zoning one ('gen edge') ends "
+                   "the clump, and its blocks are then glued across those faces, with the joint material "
+                   "of new contacts ('set jmat'). A model saved before clumps existed (save format 11 or "
+                   "older) restores as it was saved, its blocks glued.\n\n"
                    "'prism' joins vertex k of 'a' to vertex k of 'b' ('b' may start at another vertex or "
                    "run the other way: the pairing that makes the sides shortest is taken). When 'b' is "
                    "a translated copy of 'a', the sides are parallelograms. Otherwise (a tapered column "
@@ -431,7 +440,7 @@ const CommandSpec& poly_command() {
                    "the last reaches the box (half-width w across the axis, horizontally unless the axis is "
                    "vertical, and half-height h). Every block is a convex prism; neighbours share whole faces "
                    "with the same corners, and the faces between the blocks are one joint set, joined, so the "
-                   "blocks act as one mass. The axis runs from 'a' to 'b', or from 'length' l1 to l2 along the "
+                   "blocks act as one mass (glued, not a clump: they are a rock mass meant to part). The axis runs from 'a' to 'b', or from 'length' l1 to l2 along the "
                    "line of plunge 'dip' and trend 'dd' through 'origin'.");
         c.example("poly brick 0 10 0 10 -5 0 region 1 group 'base'");
         c.example("poly prism a (0,0,0) (1,0,0) (0,1,0) b (0,0,2) (1,0,2) (0,1,2)");
@@ -613,11 +622,14 @@ const CommandSpec& poly_command() {
             for (const Polyhedron& shape : shapes) {
                 const int b = add_block(m, shape, region, group, material);
                 if (a.has("cons")) m.blocks.cons[b] = static_cast<std::uint8_t>(a.integer("cons"));
+                // The pieces of a solid that is not convex move as one rigid body (clump.h).
+                if (shapes.size() > 1) m.blocks.clump[b] = first_id;
             }
             if (shapes.size() > 1 && !ctx.interp.quiet) {
                 ctx.out << "poly: the solid is not convex: made of " << shapes.size() << " convex blocks, ids " << first_id
-                        << " to " << m.next_block_id - 1 << ", joined (joint set " << m.n_joint_sets
-                        << ") so that they act as one\n";
+                        << " to " << m.next_block_id - 1 << ", one rigid body (clump " << first_id
+                        << "); the faces between them are joint set " << m.n_joint_sets
+                        << ", joined, should the clump end ('jset', 'gen edge')\n";
             }
         });
         return c;

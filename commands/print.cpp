@@ -2,6 +2,7 @@
 #include "commands.h"
 #include "common.h"
 #include "engine/blocks.h"
+#include "engine/clump.h"
 #include "engine/cable.h"
 #include "engine/contact.h"
 #include "engine/cycle.h"
@@ -46,14 +47,20 @@ void print_blocks(CommandContext& ctx, const Args& a) {
           << col(n3(s.disp[b].z()), 10) << col(n3(v.x()), 10) << col(n3(v.y()), 10) << col(n3(v.z()), 10) << " "
           << state << "\n";
     }
+    // The clump column only where there are clumps (clump.h).
+    bool clumps = false;
+    for (int b : sel) clumps = clumps || s.clump[b] != 0;
     o << "\n" << col("id", 5) << col("volume", 11) << col("mass", 10) << col("mat", 5) << col("region", 7)
-      << "  group\n";
+      << (clumps ? col("clump", 7) : std::string()) << "  group\n";
     for (int b : sel) {
         o << col(std::to_string(s.id[b]), 5) << col(n3(s.volume[b]), 11) << col(n3(s.mass[b]), 10)
-          << col(std::to_string(s.material[b]), 5) << col(std::to_string(s.region[b]), 7) << "  "
+          << col(std::to_string(s.material[b]), 5) << col(std::to_string(s.region[b]), 7)
+          << (clumps ? col(s.clump[b] != 0 ? std::to_string(s.clump[b]) : "-", 7) : std::string()) << "  "
           << (s.group[b] >= 0 ? m.group_names[s.group[b]] : "-") << "\n";
     }
-    o << sel.size() << " of " << s.size() << " blocks (x, y, z: centroid; m, m/s, m^3, kg; fix: fixed, null: excavated, h: hidden)\n";
+    o << sel.size() << " of " << s.size() << " blocks (x, y, z: centroid; m, m/s, m^3, kg; fix: fixed, null: excavated, h: hidden";
+    if (clumps) o << "; clump: the solid that is not convex, one rigid body, whose piece the block is";
+    o << ")\n";
 }
 
 std::string g6(double x) {
@@ -419,6 +426,13 @@ void print_info(CommandContext& ctx) {
     o << "title:      " << (m.title.empty() ? "(none)" : m.title) << "\n";
     o << "blocks:     " << m.blocks.size() << " (" << n_fixed << " fixed, " << n_excavated << " excavated)\n";
     o << "contacts:   " << m.contacts.size() << "\n";
+    {
+        const ClumpList cl = list_clumps(m.blocks);
+        if (cl.size() > 0) {
+            o << "clumps:     " << cl.size() << " (solids that are not convex, each one rigid body; "
+              << cl.pieces.size() << " blocks in all)\n";
+        }
+    }
     if (m.zones.size() > 0) {
         int models[3] = {0, 0, 0};
         for (auto c : m.zones.model) ++models[c < 3 ? c : 0];

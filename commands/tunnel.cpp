@@ -66,7 +66,9 @@ const CommandSpec& tunnel_command() {
                    "the hole; the other pieces keep their block's group, region and material. Every new cut is one "
                    "joined joint set, so the rock stays one mass across it; the block's own faces keep their joints. "
                    "A cut that would leave a piece thinner than a millionth of the block is not made ('print info' "
-                   "counts them). Blocks the rings do not reach are left whole.");
+                   "counts them). Blocks the rings do not reach are left whole. A cut through a block of a clump "
+                   "(a solid that is not convex, 'poly', one rigid body) ends the clump, as 'jset' does: its blocks "
+                   "become blocks of their own, glued across the faces between them, and a line says so.");
         c.example("tunnel a (0,-1,0) b (0,11,0) radius 2 outer 6 nrad 3 nseg 4");
         c.example("tunnel dip 0 dd 90 origin 0,5,-20 length -50 50 radius 3 range z -40 0");
         c.handle([](CommandContext& ctx, const Args& a) {
@@ -166,7 +168,7 @@ const CommandSpec& tunnel_command() {
             ++m.n_joint_sets;
             m.joint_planes.push_back(JointPlane{m.n_joint_sets, true, a.has("jmat") ? a.integer("jmat") : 0});
             const std::string core = a.has("group") ? a.text("group") : "tunnel";
-            apply_tunnel_cut(m, plan, m.group_index(core, true));
+            const int clumps_ended = apply_tunnel_cut(m, plan, m.group_index(core, true));
             if (!ctx.interp.quiet) {
                 long in_core = 0;
                 for (const auto& layers : plan.layers) {
@@ -175,6 +177,12 @@ const CommandSpec& tunnel_command() {
                 ctx.out << "tunnel: cut " << plan.blocks.size() << " blocks into " << plan.n_pieces() << " ("
                         << in_core << " inside the wall, group '" << core << "'), joined; " << plan.slivers_skipped
                         << " cuts skipped as slivers; " << m.blocks.size() << " blocks\n";
+                if (clumps_ended > 0) {
+                    ctx.out << "tunnel: the cut went through " << clumps_ended << " clump"
+                            << (clumps_ended == 1 ? "" : "s") << " (a solid that is not convex, one rigid body): "
+                            << (clumps_ended == 1 ? "its" : "their")
+                            << " blocks are blocks of their own now, glued across the faces between them\n";
+                }
             }
         });
         return c;

@@ -18,6 +18,7 @@ static void for_each_array(BlockSet& s, F&& f) {
     f(s.inertial_mass); f(s.inertial_moment);
     f(s.material); f(s.region); f(s.group); f(s.flags); f(s.vel_bc); f(s.vel_bc_value);
     f(s.vel_bc_table); f(s.half_kick); f(s.cons); f(s.corner_gp); f(s.zone_edge); f(s.body);
+    f(s.clump);
 }
 
 int add_block(Model& m, const Polyhedron& world, int region, int group, int material) {
@@ -57,6 +58,7 @@ int add_block(Model& m, const Polyhedron& world, int region, int group, int mate
     s.corner_gp.emplace_back();
     s.zone_edge.push_back(0);
     s.body.push_back(0);
+    s.clump.push_back(0);
     const int b = s.size() - 1;
     const int mat = material;
     const double rho = (mat > 0 && mat < static_cast<int>(m.materials.size())) ? m.materials[mat].density : 0.0;

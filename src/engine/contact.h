@@ -156,8 +156,9 @@ double contact_critical_timestep(const Model& m);
 // The stiffest contact, N/m: its joint material's larger stiffness times its area (0: none).
 double stiffest_contact(const Model& m);
 // The largest timestep at which the explicit cycle is still stable, s, unscaled by dtfrac:
-// per free block, 2 / omega with omega^2 the larger of (sum of the contact stiffnesses on it)
-// / mass and (sum of stiffness times squared lever arm) / smallest principal inertia; the
+// per free block (a clump as one body, about its centroid: clump.h), 2 / omega with omega^2 the
+// larger of (sum of the contact stiffnesses on it) / mass and (sum of stiffness times squared
+// lever arm) / smallest principal inertia; the
 // smallest over the blocks. It is never below contact_critical_timestep (the automatic step
 // must always pass). With no contacts it is contact_critical_timestep / dtfrac, the estimate
 // from the stiffest contact that could form; 0 when there is nothing to estimate from.

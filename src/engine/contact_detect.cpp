@@ -945,6 +945,8 @@ void broad_phase(const Model& m, double tol, std::vector<std::int64_t>& pairs) {
                 if ((s.flags[a] & kFixed) && (s.flags[b] & kFixed) && !s.vel_bc[a] && !s.vel_bc[b]) continue;
                 // The blocks of one continuum share their gridpoints: no contact between them.
                 if ((s.flags[a] & s.flags[b] & kDeformable) && s.body[a] == s.body[b]) continue;
+                // The pieces of one clump move as one rigid body: no contact between them.
+                if (s.clump[a] != 0 && s.clump[a] == s.clump[b]) continue;
                 if ((lo[a].array() > hi[b].array()).any() || (lo[b].array() > hi[a].array()).any()) continue;
                 const Vec3 il = lo[a].cwiseMax(lo[b]);
                 const long owner = (cell_of(il.z(), 2) * dims[1] + cell_of(il.y(), 1)) * dims[0] + cell_of(il.x(), 0);

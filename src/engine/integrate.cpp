@@ -4,6 +4,7 @@
 #include <cmath>
 #include <vector>
 
+#include "engine/clump.h"
 #include "engine/energy.h"
 #include "engine/mass_scaling.h"
 #include "engine/parallel.h"
@@ -13,22 +14,6 @@
 namespace odec {
 
 namespace {
-
-// Damped force component f acting on a degree of freedom moving at v.
-inline double damp_component(const Damping& d, double f, double v, double mass, double dt) {
-    switch (d.mode) {
-    case DampingMode::Local: return f - d.local * std::abs(f) * sign(v);
-    case DampingMode::Auto: return f - d.auto_coefficient * mass * v;
-    case DampingMode::Rayleigh: {
-        // Mass-proportional part of Rayleigh damping: c = 2 xi omega m.
-        const double c = 2.0 * d.rayleigh_fraction * 2.0 * M_PI * d.rayleigh_frequency * mass;
-        return f - c * v;
-    }
-    case DampingMode::Off: break;
-    }
-    (void)dt;
-    return f;
-}
 
 // Adaptive global damping (Cundall's auto damping): a viscous coefficient c (1/s, force
 // c m v) that is nudged every few steps so that the power the damping absorbs stays at
@@ -84,7 +69,8 @@ int integrate(Model& m, double dt) {
         AutoDampingPower& power = cp[chunk];
         int& bad = cb[chunk];
         for (int b = chunk * kChunk; b < std::min(nb, (chunk + 1) * kChunk); ++b) {
-            if (!is_rigid_active(s, b)) continue;
+            // The pieces of a clump move together, after the blocks alone (clump.h).
+            if (!is_rigid_active(s, b) || s.clump[b] != 0) continue;
             // The applied loads of this step, for the work they do (the loads stage's values).
             Vec3 load_f = Vec3::Zero(), load_m = Vec3::Zero();
             if (account && !s.loads[b].empty()) block_applied_load(m, b, m.time, load_f, load_m);
@@ -125,7 +111,7 @@ int integrate(Model& m, double dt) {
             // Translation.
             Vec3 a;
             for (int i = 0; i < 3; ++i) {
-                a[i] = damp_component(d, s.force[b][i], s.vel[b][i], mass, dt) / mass;
+                a[i] = damped_force(d, s.force[b][i], s.vel[b][i], mass, dt) / mass;
             }
             Vec3 v = s.vel[b] + a * kick;
             if (s.vel_bc[b]) {
@@ -164,7 +150,7 @@ int integrate(Model& m, double dt) {
             }
             Vec3 mom;
             for (int i = 0; i < 3; ++i) {
-                mom[i] = damp_component(d, s.moment[b][i], s.ang_vel[b][i], inertia(i, i), dt);
+                mom[i] = damped_force(d, s.moment[b][i], s.ang_vel[b][i], inertia(i, i), dt);
             }
             if (auto_damp) power.damping += s.ang_vel[b].dot(inertia.diagonal().cwiseProduct(s.ang_vel[b]));
             // The 3 x 3 inverse in closed form, of the tensor scaled to a trace of 1 (its
@@ -205,6 +191,15 @@ int integrate(Model& m, double dt) {
     EnergyStep energy;
     if (account) {
         for (int chunk = 0; chunk < n_chunks; ++chunk) energy.add(ce[chunk]);
+    }
+    {
+        thread_local ClumpList clumps;
+        list_clumps(s, clumps);
+        if (clumps.size() > 0) {
+            const int bad_clump = integrate_clumps(m, clumps, dt, account ? &energy : nullptr,
+                                                   auto_damp ? &total.damping : nullptr, &total.forcing);
+            if (bad < 0) bad = bad_clump;
+        }
     }
     const int bad_gp = integrate_gridpoints(m, d, dt, auto_damp ? &total.damping : nullptr, &total.forcing,
                                             account ? &energy : nullptr);

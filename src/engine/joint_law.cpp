@@ -32,6 +32,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/clump.h"
 #include "engine/contact.h"
 #include "engine/parallel.h"
 #include "engine/model.h"
@@ -390,6 +391,7 @@ double stable_timestep_limit(const Model& m, int* block_out) {
     if (block_out) *block_out = -1;
     const double automatic = contact_critical_timestep(m);
     std::vector<double> kt(n, 0.0), kr(n, 0.0);
+    std::vector<Vec3> kx(n, Vec3::Zero()); // sum of k times the lever: moves kr to a clump's centroid
     bool any = false;
     const int n_jmat = static_cast<int>(m.joint_materials.size());
     for (int c = 0; c < cs.size(); ++c) {
@@ -405,14 +407,41 @@ double stable_timestep_limit(const Model& m, int* block_out) {
             kt[b] += ki;
             kr[a] += ki * (x - s.centroid[a]).squaredNorm();
             kr[b] += ki * (x - s.centroid[b]).squaredNorm();
+            kx[a] += ki * (x - s.centroid[a]);
+            kx[b] += ki * (x - s.centroid[b]);
             any = any || ki > 0;
         }
     }
     if (!any) return automatic > 0 ? automatic / m.settings.dtfrac : 0.0;
     double omega2 = 0;
     int worst = -1;
+    // A clump (clump.h) moves as one body: its springs' stiffness over its mass, and their
+    // stiffness times the squared lever about its centroid over its least principal inertia.
+    const ClumpList clumps = list_clumps(s);
+    for (int c = 0; c < clumps.size(); ++c) {
+        const int* p = clumps.pieces.data() + clumps.offset[c];
+        const int np = clumps.offset[c + 1] - clumps.offset[c];
+        bool moves = true;
+        for (int i = 0; i < np; ++i) moves = moves && !(s.flags[p[i]] & (kExcavated | kFixed | kDeformable));
+        const ClumpBody body = clump_body(s, p, np);
+        if (!moves || !(body.mass > 0)) continue;
+        double t = 0, r = 0;
+        for (int i = 0; i < np; ++i) {
+            const Vec3 lever = s.centroid[p[i]] - body.centroid;
+            t += kt[p[i]];
+            r += kr[p[i]] + 2.0 * lever.dot(kx[p[i]]) + kt[p[i]] * lever.squaredNorm();
+        }
+        double w2 = t / body.mass;
+        const double i_min =
+            Eigen::SelfAdjointEigenSolver<Mat3>(body.inertia, Eigen::EigenvaluesOnly).eigenvalues().minCoeff();
+        if (i_min > 0) w2 = std::max(w2, r / i_min);
+        if (w2 > omega2) {
+            omega2 = w2;
+            worst = p[0];
+        }
+    }
     for (int b = 0; b < n; ++b) {
-        if ((s.flags[b] & (kExcavated | kFixed | kDeformable)) || !(s.mass[b] > 0)) continue;
+        if ((s.flags[b] & (kExcavated | kFixed | kDeformable)) || !(s.mass[b] > 0) || s.clump[b] != 0) continue;
         double w2 = kt[b] / s.mass[b];
         const double i_min = Eigen::SelfAdjointEigenSolver<Mat3>(s.inertia_body[b], Eigen::EigenvaluesOnly)
                                  .eigenvalues()

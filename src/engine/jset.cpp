@@ -29,6 +29,7 @@
 #include <cmath>
 
 #include "engine/blocks.h"
+#include "engine/clump.h"
 
 namespace odec {
 
@@ -79,7 +80,7 @@ CutReport cut_joint_set(Model& m, const JointSetSpec& spec, const Range& r, doub
     const int number = std::max(spec.number, 0);
     SplitMix64 rng{spec.seed};
 
-    std::vector<int> targets;
+    std::vector<int> targets, cut_clumps;
     for (int b : select_blocks(m, r)) {
         // Deformable blocks are not cut: their zones would not follow (cut first, then zone).
         if (!(m.blocks.flags[b] & (kHidden | kExcavated | kDeformable))) targets.push_back(b);
@@ -104,11 +105,15 @@ CutReport cut_joint_set(Model& m, const JointSetSpec& spec, const Range& r, doub
             if (spec.persistence < 1.0 && !(rng.uniform() < spec.persistence)) continue;
 
             const std::vector<int> pieces = replace_by_pieces(m, b, {lo, hi}, c0);
+            if (m.blocks.clump[b] != 0) cut_clumps.push_back(b);
             const int a = pieces[1];
             targets.push_back(a);
             ++rep.blocks_cut;
         }
     }
+    // A cut through a piece of a clump ends the clump (clump.h): its pieces become blocks of
+    // their own, glued across the faces between them, and the new piece is one of them.
+    rep.clumps_ended = dissolve_clumps(m, cut_clumps);
     m.slivers_skipped += rep.slivers_skipped;
     if (rep.blocks_cut > 0) {
         // Contacts name vertices and faces of the old shapes.

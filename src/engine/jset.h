@@ -23,6 +23,7 @@ struct CutReport {
     int planes = 0;           // planes placed (each appended to Model::joint_planes)
     int blocks_cut = 0;       // cuts made (each adds one block)
     int slivers_skipped = 0;  // cuts not made because a piece would be thinner than sliver_tol
+    int clumps_ended = 0;     // clumps a cut went through: their pieces are blocks of their own now
 };
 
 // Sine and cosine of an angle in degrees, exact at multiples of 90 degrees.

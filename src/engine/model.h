@@ -132,6 +132,9 @@ struct BlockSet {
     std::vector<double> zone_edge;        // (n_blocks) m, deformable: the edge length it was zoned with
     std::vector<int> body;                // (n_blocks) deformable: continuum it belongs to (blocks zoned
                                           //            together and joined share gridpoints), 1-based; rigid 0
+    std::vector<int> clump;               // (n_blocks) rigid piece of a solid that is not convex: the clump it
+                                          //            moves with as one rigid body (clump.h), named by the id
+                                          //            its first piece was given; 0: a block alone
 
     // Derived, refreshed every step: world vertex positions of all blocks.
     std::vector<int> vertex_offset;       // (n_blocks + 1) start of each block in world_vertices

@@ -4,7 +4,7 @@
 //   detection  contact_detect.cpp  new and lost contacts (when blocks moved far enough)
 //   zones      zones.cpp           zone stresses -> gridpoint forces, with gravity and loads
 //   contacts   joint_law.cpp       relative motion -> joint stresses -> forces on both sides
-//   integrate  integrate.cpp       blocks and gridpoints under one damping law
+//   integrate  integrate.cpp       blocks, clumps (clump.cpp) and gridpoints under one damping law
 //   checks     checks.cpp          run-aways (energy, jumps, sinking) and the stop criteria
 //   record     history.cpp         histories every ncyc steps
 // Before the first step (and whenever the blocks change), prepare.cpp checks that the model can
@@ -12,6 +12,7 @@
 // Joint flow, structural elements and the 2D engine are to join as stages of their own.
 #pragma once
 
+#include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -26,6 +27,23 @@ inline std::string num_text(double x) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.3g", x);
     return buf;
+}
+
+// Damped force component f acting on a degree of freedom of this mass moving at v (the damping
+// law of cycle.h).
+inline double damped_force(const Damping& d, double f, double v, double mass, double dt) {
+    switch (d.mode) {
+    case DampingMode::Local: return f - d.local * std::abs(f) * sign(v);
+    case DampingMode::Auto: return f - d.auto_coefficient * mass * v;
+    case DampingMode::Rayleigh: {
+        // Mass-proportional part of Rayleigh damping: c = 2 xi omega m.
+        const double c = 2.0 * d.rayleigh_fraction * 2.0 * M_PI * d.rayleigh_frequency * mass;
+        return f - c * v;
+    }
+    case DampingMode::Off: break;
+    }
+    (void)dt;
+    return f;
 }
 
 inline bool is_active(const BlockSet& s, int b) { return !(s.flags[b] & kExcavated); }

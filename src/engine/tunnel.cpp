@@ -32,6 +32,7 @@
 #include <limits>
 
 #include "engine/blocks.h"
+#include "engine/clump.h"
 #include "engine/jset.h"
 
 namespace odec {
@@ -428,7 +429,12 @@ TunnelCutPlan plan_tunnel_cut(const Model& m, const TunnelSpec& s, const std::ve
     return plan;
 }
 
-void apply_tunnel_cut(Model& m, const TunnelCutPlan& plan, int core_group) {
+int apply_tunnel_cut(Model& m, const TunnelCutPlan& plan, int core_group) {
+    // Cut pieces of clumps: their clumps end once the cut is made (the blocks' indices hold).
+    std::vector<int> cut_clumps;
+    for (int b : plan.blocks) {
+        if (m.blocks.clump[b] != 0) cut_clumps.push_back(b);
+    }
     for (size_t k = 0; k < plan.blocks.size(); ++k) {
         const std::vector<int> made = replace_by_pieces(m, plan.blocks[k], plan.pieces[k], plan.origins[k]);
         for (size_t i = 0; i < made.size(); ++i) {
@@ -442,6 +448,7 @@ void apply_tunnel_cut(Model& m, const TunnelCutPlan& plan, int core_group) {
         refresh_world_vertices(m);
     }
     m.geometry_changed = true;
+    return dissolve_clumps(m, cut_clumps);
 }
 
 } // namespace odec

@@ -88,7 +88,8 @@ TunnelCutPlan plan_tunnel_cut(const Model& m, const TunnelSpec& spec, const std:
 
 // Carry out a plan: each block is replaced by its pieces (the first keeps its index and id;
 // see replace_by_pieces). The pieces inside the wall join group core_group (-1: keep theirs).
-void apply_tunnel_cut(Model& m, const TunnelCutPlan& plan, int core_group);
+// A cut through a piece of a clump ends the clump (clump.h). Returns how many clumps ended.
+int apply_tunnel_cut(Model& m, const TunnelCutPlan& plan, int core_group);
 
 // The 2D cross-section (coordinates along u and v) of every ring corner: ring k, ray j, for
 // rings 0 (the wall) to n_rings - 1 (poly tunnel, whose last ring is the box) or n_rings (tunnel).

@@ -6,6 +6,7 @@
 
 #include "engine/blocks.h"
 #include "engine/cable.h"
+#include "engine/clump.h"
 #include "engine/contact.h"
 #include "engine/cycle.h"
 #include "engine/model.h"
@@ -95,6 +96,7 @@ Value f_b_vol(Runtime& rt, A a, int, L loc) { BLOCK("b_vol"); return num(B.volum
 Value f_b_mass(Runtime& rt, A a, int, L loc) { BLOCK("b_mass"); return num(B.mass[b]); }
 Value f_b_region(Runtime& rt, A a, int, L loc) { BLOCK("b_region"); return Value::integer(B.region[b]); }
 Value f_b_mat(Runtime& rt, A a, int, L loc) { BLOCK("b_mat"); return Value::integer(B.material[b]); }
+Value f_b_clump(Runtime& rt, A a, int, L loc) { BLOCK("b_clump"); return Value::integer(B.clump[b]); }
 Value f_b_fix(Runtime& rt, A a, int, L loc) { BLOCK("b_fix"); return Value::integer((B.flags[b] & kFixed) ? 1 : 0); }
 Value f_b_type(Runtime& rt, A a, int, L loc) { BLOCK("b_type"); return Value::integer((B.flags[b] & kDeformable) ? 2 : 1); }
 Value f_b_vel(Runtime& rt, A a, int, L loc) { BLOCK("b_vel"); return vec(velocity_at_t(model(rt), b)); }
@@ -127,6 +129,11 @@ void set_block_vel(Runtime& rt, A a, const Value& v, int k, const char* fn, L lo
     const int b = ptr(rt, a, 0, PtrKind::Block, fn, loc);
     Model& m = model(rt);
     const double x = checked(v, fn, loc);
+    // A piece of a clump: its centroid's velocity, the whole clump following (clump.h).
+    if (m.blocks.clump[b] != 0) {
+        set_clump_component_at_t(m, b, k, x, false);
+        return;
+    }
     // The velocity given is the velocity at t, as b_xvel reads it: the stored mid-step
     // velocity differs from it by half a step of acceleration.
     double lead = velocity_at_t(m, b)[k] - m.blocks.vel[b][k];
@@ -155,6 +162,11 @@ void set_block_spin(Runtime& rt, A a, const Value& v, int k, const char* fn, L l
     if (m.blocks.flags[b] & (kFixed | kDeformable)) {
         fish_fail(loc, std::string("'") + fn + "': block " + std::to_string(m.blocks.id[b]) + " is " +
                            ((m.blocks.flags[b] & kFixed) ? "fixed: it does not turn" : "deformable: its gridpoints carry its motion"));
+    }
+    // A piece of a clump: the clump's spin, the piece's centroid keeping its velocity (clump.h).
+    if (m.blocks.clump[b] != 0) {
+        set_clump_component_at_t(m, b, k, x, true);
+        return;
     }
     // The spin given is the spin at t, as b_xrvel reads it (the integration holds it half a step back).
     double lead = spin_at_t(m, b)[k] - m.blocks.ang_vel[b][k];
@@ -468,8 +480,10 @@ const std::vector<Intrinsic>& model_intrinsics() {
         {"b_mat", 1, 1, "b", "the block's material number", "block", f_b_mat, nullptr},
         {"b_fix", 1, 1, "b", "1 when the block is fixed, else 0", "block", f_b_fix, nullptr},
         {"b_type", 1, 1, "b", "1 rigid, 2 deformable (zoned)", "block", f_b_type, nullptr},
+        {"b_clump", 1, 1, "b", "the clump the block is a piece of (a solid that is not convex, one rigid body), named "
+                               "by the id of its first piece; 0 for a block alone", "block", f_b_clump, nullptr},
         {"b_vel", 1, 1, "b", "velocity of the centroid (vector), m/s", "block", f_b_vel, nullptr},
-        {"b_xvel", 1, 1, "b", "x velocity of the centroid, m/s (assignable)", "block", f_b_xvel, s_b_xvel},
+        {"b_xvel", 1, 1, "b", "x velocity of the centroid, m/s (assignable; the piece of a clump takes its clump along)", "block", f_b_xvel, s_b_xvel},
         {"b_yvel", 1, 1, "b", "y velocity of the centroid, m/s (assignable)", "block", f_b_yvel, s_b_yvel},
         {"b_zvel", 1, 1, "b", "z velocity of the centroid, m/s (assignable)", "block", f_b_zvel, s_b_zvel},
         {"b_disp", 1, 1, "b", "displacement of the centroid since 'reset disp' (vector), m", "block", f_b_disp, nullptr},
@@ -488,7 +502,7 @@ const std::vector<Intrinsic>& model_intrinsics() {
                                "c -180 to 180, b -90 to 90 (vector)", "block", f_b_euler, nullptr},
         {"b_rvel", 1, 1, "b", "the block's spin, its angular velocity about the world axes (vector), rad/s",
          "block", f_b_rvel, nullptr},
-        {"b_xrvel", 1, 1, "b", "spin about the x axis, rad/s, right-hand rule (assignable, rigid blocks)", "block", f_b_xrvel, s_b_xrvel},
+        {"b_xrvel", 1, 1, "b", "spin about the x axis, rad/s, right-hand rule (assignable, rigid blocks; a clump turns with its piece)", "block", f_b_xrvel, s_b_xrvel},
         {"b_yrvel", 1, 1, "b", "spin about the y axis, rad/s (assignable, rigid blocks)", "block", f_b_yrvel, s_b_yrvel},
         {"b_zrvel", 1, 1, "b", "spin about the z axis, rad/s (assignable, rigid blocks)", "block", f_b_zrvel, s_b_zrvel},
         {"b_force", 1, 1, "b", "unbalanced force on the block in the last step (vector), N", "block", f_b_force, nullptr},

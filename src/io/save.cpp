@@ -56,6 +56,7 @@
 #include <type_traits>
 #include <utility>
 
+#include "engine/clump.h"
 #include "io/files.h"
 
 #ifndef ODEC_VERSION
@@ -319,6 +320,7 @@ auto fields(IO& io, M& x) -> If<M, BlockSet> {
     if (io.format >= 6) {
         io(x.inertial_mass); io(x.inertial_moment);
     }
+    if (io.format >= 12) io(x.clump);
     // Derived from the above, but written as they are so nothing is recomputed differently
     // (unless stale: see world_vertices_stale).
     io.world_vertices(x.vertex_offset, x.world_vertices);
@@ -1017,8 +1019,9 @@ std::string check_consistent(const Model& m) {
     same(s.inertia_unit.size()); same(s.material.size()); same(s.region.size()); same(s.group.size());
     same(s.flags.size()); same(s.vel_bc.size()); same(s.vel_bc_value.size()); same(s.vel_bc_table.size());
     same(s.half_kick.size()); same(s.cons.size()); same(s.corner_gp.size()); same(s.zone_edge.size());
-    same(s.body.size()); same(s.inertial_mass.size()); same(s.inertial_moment.size());
+    same(s.body.size()); same(s.inertial_mass.size()); same(s.inertial_moment.size()); same(s.clump.size());
     if (!sizes_ok) return "the block arrays differ in length";
+    if (const std::string why = clumps_problem(s); !why.empty()) return why;
     if (!s.vertex_offset.empty() && !world_vertices_stale(m)) {
         if (s.vertex_offset.size() != n + 1 || s.vertex_offset[0] != 0) return "the world vertex offsets are wrong";
         for (size_t b = 0; b < n; ++b) {
@@ -1825,6 +1828,9 @@ bool restore_model(const std::string& path, Model& out, std::string& error) {
             fresh.blocks.zone_edge.assign(n, 0.0);
             fresh.blocks.body.assign(n, 0);
         }
+        // Older files have no clumps: the pieces of a solid that is not convex stay glued by
+        // their joined joint set, as they were saved.
+        if (file_format < 12) fresh.blocks.clump.assign(fresh.blocks.id.size(), 0);
         if (file_format < 4) fresh.contacts.sub_tri.clear(); // no triangles: kept as none
         if (file_format < 7) fresh.gridpoints.applied_table.assign(fresh.gridpoints.pos.size(), 0);
         if (file_format < 9) {

@@ -126,6 +126,7 @@ std::vector<Case> block_cases() {
         {"b_mat", "b_mat(top)", 1, 0, nullptr},
         {"b_fix", "b_fix(base) * 10 + b_fix(top)", 10, 0, nullptr},
         {"b_type", "b_type(top)", 1, 0, nullptr},
+        {"b_clump", "b_clump(top)", 0, 0, nullptr}, // a block alone (clump_test.cpp: one of a clump)
         {"b_xdis", "b_xdis(top)", 4e-7, 1e-7, nullptr},
         {"b_ydis", "b_ydis(top)", 0, 1e-12, nullptr},
         {"b_zdis", "b_zdis(top)", -2e-6, 1e-8, nullptr},

@@ -391,6 +391,25 @@ TEST_F(Save, Format6AppliedForceRestoresAsALoadAtTheCentroid) {
     std::uint32_t format = 0;
     std::memcpy(&format, &file[12], 4);
     ASSERT_EQ(format, odec::kSaveFormatVersion);
+    {
+        // Format 12 added the clumps: an int per block after the inertial moments, before the
+        // world vertex offsets and the vertices ([1][0], then [0] [0]: none until a step).
+        std::string clumps(12, '\0'), offsets(16, '\0');
+        const std::uint64_t one = 1;
+        std::memcpy(&clumps[0], &one, 8);
+        const size_t at_clumps = file.find(clumps + offsets + "ZONE");
+        ASSERT_NE(at_clumps, std::string::npos);
+        file.erase(at_clumps, 12);
+        std::uint64_t n_version = 0, len = 0;
+        std::memcpy(&n_version, &file[16], 8);
+        const size_t payload_length_at = 24 + n_version;
+        const size_t blks = file.find("BLKS", payload_length_at + 8);
+        for (size_t at_length : {blks + 4, payload_length_at}) {
+            std::memcpy(&len, &file[at_length], 8);
+            len -= 12;
+            std::memcpy(&file[at_length], &len, 8);
+        }
+    }
     const double f[3] = {1234.5, -2345.25, 3456.125};
     const std::string force(reinterpret_cast<const char*>(f), 24);
     const size_t at_force = file.find(force);
@@ -720,7 +739,7 @@ TEST(SaveLayout, EveryFieldIsSaved) {
     EXPECT_EQ(count_fields<CableMaterial>(), 8u) << fix;
     // EnergyAccount: 18 saved fields and whether the cycle has the model (false between commands).
     EXPECT_EQ(count_fields<EnergyAccount>(), 19u) << fix;
-    EXPECT_EQ(count_fields<BlockSet>(), 34u) << fix;
+    EXPECT_EQ(count_fields<BlockSet>(), 35u) << fix; // format 12: the clumps
     EXPECT_EQ(count_fields<BlockLoad>(), 5u) << fix;
     // ZoneSet: 7 saved fields and the colouring (derived: rebuilt when stale).
     EXPECT_EQ(count_fields<ZoneSet>(), 10u) << fix;
