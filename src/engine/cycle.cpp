@@ -7,6 +7,7 @@
 #include "engine/blocks.h"
 #include "engine/cable.h"
 #include "engine/contact.h"
+#include "engine/flow.h"
 #include "engine/stages.h"
 
 namespace odec {
@@ -135,6 +136,16 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
             // Cable forces after the joints': they add into the same blocks and gridpoints.
             StageTimer t{prof, Stage::Cables};
             cable_forces(m, m.dt);
+        }
+        if (m.flow.on) {
+            // The pore pressures advance and push on both faces of each joint (flow.h).
+            StageTimer t{prof, Stage::Flow};
+            const std::string why = flow_step(m, m.dt);
+            if (!why.empty()) {
+                res.reason = StopReason::Error;
+                res.message = why;
+                break;
+            }
         }
         int bad;
         {
