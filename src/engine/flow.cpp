@@ -327,7 +327,9 @@ std::string flow_step(Model& m, double dt) {
         std::fill(f.inflow.begin(), f.inflow.end(), 0.0);
         for (int l = 0; l < nl; ++l) {
             const int a = f.link_a[l], b = f.link_b[l];
-            const double q = cond[l] * ((f.pp[a] - head[a]) - (f.pp[b] - head[b]));
+            double q = cond[l] * ((f.pp[a] - head[a]) - (f.pp[b] - head[b]));
+            // A free node at zero pressure is dry: it gives no water (joints above a water table stay dry).
+            if ((q > 0 && !f.fixed[a] && !(f.pp[a] > 0)) || (q < 0 && !f.fixed[b] && !(f.pp[b] > 0))) q = 0;
             f.link_q[l] = q;
             f.inflow[a] -= q;
             f.inflow[b] += q;

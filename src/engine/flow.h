@@ -20,7 +20,9 @@
 // weights of a link summed over its triangles are held at zero or above; a is the mean of the
 // apertures at its two ends. Flow from i to j, m^3/s:
 //     q = c (p_i - p_j - rho g . (x_i - x_j))     (g the model's gravity, rho the fluid's density)
-// so a hydrostatic field p = rho |g| (z_w - z) moves nothing.
+// so a hydrostatic field p = rho |g| (z_w - z) moves nothing. A free node at zero pressure is dry and
+// gives no water, so the joints above a water table stay dry (a node driven below zero by what leaves
+// it within a sub-step is held at zero: the only place water is not conserved exactly).
 //
 // Update. A free node's pressure changes by Kw dt / V times the net inflow (Kw the fluid's bulk
 // modulus), held at zero or above; a node with a fixed pressure ('bound pp') keeps it. Two modes:
