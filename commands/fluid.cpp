@@ -31,8 +31,8 @@ const CommandSpec& fluid_command() {
                    "sub-contact's area, along the normal) and the joint law works on the effective normal stress: "
                    "the joint springs carry sn' = jkn x closure, Coulomb's limit is c + sn' tan(phi). 'print flow' "
                    "lists the nodes, 'print contact' the mean pressure and aperture of each joint; 'hist pp x,y,z', "
-                   "'hist aperture x,y,z', 'hist flowrate' record them; FISH has fl_pp, fl_aperture, fl_flow; 'plot' "
-                   "colours joints by 'jpp' or 'aperture'; 'export vtk' writes the nodes. Joints of deformable blocks "
+                   "'hist aperture x,y,z', 'hist flowrate' record them; FISH has fl_pp, fl_aperture, fl_flow, fl_nnode; 'plot contact pp' "
+                   "and 'plot contact aperture' colour the joints; 'export vtk' writes pore_pressure and aperture with the contacts. Joints of deformable blocks "
                    "carry no flow: a model with deformable blocks cannot cycle with flow on. Not in the energy "
                    "account. A fluid property given without 'config flow' is an error.");
         c.example("config flow");

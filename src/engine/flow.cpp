@@ -127,12 +127,16 @@ void flow_sync(Model& m) {
     // The state of the old nodes, carried by position.
     std::vector<double> pp(nn, 0.0);
     std::vector<std::uint8_t> fixed(nn, 0);
+    // The same nodes as before, each where it was (a model just restored): the volumes of the last
+    // step still hold.
+    bool same = nn == f.n_nodes();
     {
         const double carry = 0.5 * ctol;
         PointGrid old{std::max(carry, 1e-12), {}, &f.pos};
         for (int i = 0; i < f.n_nodes(); ++i) old.add(i);
         for (int i = 0; i < nn; ++i) {
             const int o = f.n_nodes() > 0 ? old.find(pos[i], carry) : -1;
+            same = same && o == i;
             if (o >= 0) {
                 pp[i] = f.pp[o];
                 fixed[i] = f.fixed[o];
@@ -216,7 +220,7 @@ void flow_sync(Model& m) {
     f.link_q.assign(f.n_links(), 0.0);
     f.inflow.assign(nn, 0.0);
     f.volume.assign(nn, 0.0);
-    f.last_volume.clear();
+    if (!same) f.last_volume.clear();
     f.area.assign(nn, 0.0);
     f.sub_aperture.assign(ns, 0.0);
     f.revision = cs.revision;

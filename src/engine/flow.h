@@ -80,6 +80,8 @@ struct FlowSet {
     std::vector<Vec3> pos;         // (n_nodes) m, where the node stands
     std::vector<double> pp;        // (n_nodes) Pa, pore pressure (>= 0)
     std::vector<std::uint8_t> fixed; // (n_nodes) 1: pressure held ('bound pp')
+    std::vector<double> last_volume; // (n_nodes, or empty) m^3, at the previous step (transient: the
+                                     //   change of volume squeezes the water); empty: none yet
 
     // ---- derived (not saved), made again when the contacts change ----
     long revision = -1;            // ContactSet::revision the nodes were made for
@@ -87,7 +89,6 @@ struct FlowSet {
     std::vector<int> sub_node;     // (n_subs) node of each sub-contact (-1: none, deformable)
     std::vector<double> sub_aperture; // (n_subs) m, hydraulic aperture
     std::vector<double> volume;    // (n_nodes) m^3
-    std::vector<double> last_volume; // (n_nodes) m^3, at the previous step (transient)
     std::vector<double> inflow;    // (n_nodes) m^3/s, net inflow of the last sub-step
     std::vector<double> area;      // (n_nodes) m^2, sum of the sub-contact areas
     std::vector<int> link_a, link_b;   // (n_links) the two nodes

@@ -119,7 +119,7 @@ auto fields(IO& io, M& x) -> If<M, FlowSet> {
     io(x.configured); io(x.on);
     io.enumeration(x.mode, static_cast<int>(FlowMode::Transient) + 1);
     io(x.substeps); io(x.density); io(x.viscosity); io(x.bulk); io(x.has_wtable); io(x.wtable);
-    io(x.time); io(x.steps); io(x.pos); io(x.pp); io(x.fixed);
+    io(x.time); io(x.steps); io(x.pos); io(x.pp); io(x.fixed); io(x.last_volume);
 }
 
 // Format 11: cables (cable.h).
@@ -1100,7 +1100,13 @@ std::string check_consistent(const Model& m) {
     if (!cables.empty()) return cables;
     {
         const FlowSet& f = m.flow;
-        if (f.pos.size() != f.pp.size() || f.fixed.size() != f.pp.size()) return "the flow nodes' arrays differ in length";
+        if (f.pos.size() != f.pp.size() || f.fixed.size() != f.pp.size() ||
+            (!f.last_volume.empty() && f.last_volume.size() != f.pp.size())) {
+            return "the flow nodes' arrays differ in length";
+        }
+        for (double v : f.last_volume) {
+            if (!(v >= 0) || !std::isfinite(v)) return "a flow node's volume is no finite number at or above 0";
+        }
         if (!(f.density > 0) || !(f.viscosity > 0) || !(f.bulk > 0) || !std::isfinite(f.density + f.viscosity + f.bulk)) {
             return "the fluid's density, viscosity and bulk modulus must be finite numbers above 0";
         }
