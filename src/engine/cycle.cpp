@@ -216,6 +216,8 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
         if (lim.ratio > 0) {
             StageTimer t{prof, Stage::Checks};
             balanced = unbalanced_ratio(m) < lim.ratio;
+            // With water in the joints, the flow must have settled too (flow.h).
+            if (balanced && m.flow.on) balanced = flow_unbalance(m) < lim.ratio;
         }
         if (balanced) {
             res.reason = StopReason::Ratio;

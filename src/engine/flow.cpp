@@ -477,6 +477,16 @@ ContactFlow contact_flow(const Model& m, int c) {
     return r;
 }
 
+double flow_unbalance(const Model& m) {
+    const FlowSet& f = m.flow;
+    double out = 0, moved = 0;
+    for (int i = 0; i < f.n_nodes() && i < static_cast<int>(f.inflow.size()); ++i) {
+        if (!f.fixed[i]) out += std::abs(f.inflow[i]);
+    }
+    for (double q : f.link_q) moved += std::abs(q);
+    return moved > 0 ? out / moved : 0.0;
+}
+
 double fixed_inflow(const Model& m) {
     const FlowSet& f = m.flow;
     double q = 0;

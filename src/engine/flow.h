@@ -145,6 +145,10 @@ struct ContactFlow {
     double pp = 0, aperture = 0, flow = 0;
 };
 ContactFlow contact_flow(const Model& m, int c);
+// How far the flow is from steady: the sum over the free nodes of |net inflow| over the sum of |q| over
+// the links, of the last sub-step (0 without flow). 'solve' with flow on also waits for it to fall
+// below its ratio.
+double flow_unbalance(const Model& m);
 // The flow the fixed-pressure boundaries feed into the joints, m^3/s: the sum over the nodes with a
 // fixed pressure of what flows out of them into the network (those the water leaves by not counted;
 // in steady flow the two are equal).

@@ -134,6 +134,20 @@ TEST(Flow, DamUpliftIsLinearFromHeelToToe) {
     EXPECT_NEAR(x_c, x_exact, 0.02 * x_exact);
 }
 
+// 'solve' waits for the flow to settle: the dam's base pressures reached by solve alone.
+TEST(Flow, SolveWaitsForTheFlow) {
+    Session s;
+    ASSERT_TRUE(s.run(with(with(script_text("flow-dam-uplift.dat"), "step 1000", "solve ratio 1e-6"), "set substeps 20\n", "")))
+        << s.error();
+    const odec::FlowSet& f = s.model.flow;
+    EXPECT_LT(odec::flow_unbalance(s.model), 1e-6);
+    for (int i = 0; i < f.n_nodes(); ++i) {
+        if (std::abs(f.pos[i].z()) > 1e-6 || f.pos[i].x() < -1e-6 || f.pos[i].x() > 10 + 1e-6) continue;
+        const double p_exact = 196200 + (19620 - 196200) * f.pos[i].x() / 10;
+        EXPECT_NEAR(f.pp[i], p_exact, 1e-4 * p_exact) << "node at x = " << f.pos[i].x();
+    }
+}
+
 TEST(Flow, JointOpensUnderPressureAndFlowFollowsTheCubicLaw) {
     const double sigma = 25000, kn = 1e8, azero = 3e-4, w = 2, l = 4, mu = 1e-3, dp = 500;
     double q_first = 0, q_last = 0;
