@@ -34,23 +34,29 @@ struct CellHash {
     }
 };
 
-// Points within tol of one another, by cell: index of the first point kept near x, or -1.
+// Points within tol of one another, by cells twice as wide: the points within tol of x lie in the
+// 2 x 2 x 2 cells around the corner of its cell nearest it. find gives the nearest point kept within
+// `within` (<= tol) of x (the lowest index among equals), or -1.
 struct PointGrid {
     double tol;
     std::unordered_map<CellKey, std::vector<int>, CellHash> cells;
     const std::vector<Vec3>* pts;
+    double cell() const { return 2 * tol; }
     CellKey key(const Vec3& x) const {
-        return {static_cast<std::int64_t>(std::floor(x.x() / tol)), static_cast<std::int64_t>(std::floor(x.y() / tol)),
-                static_cast<std::int64_t>(std::floor(x.z() / tol))};
+        return {static_cast<std::int64_t>(std::floor(x.x() / cell())), static_cast<std::int64_t>(std::floor(x.y() / cell())),
+                static_cast<std::int64_t>(std::floor(x.z() / cell()))};
     }
     int find(const Vec3& x, double within) const {
         const CellKey k = key(x);
+        // Toward the nearer neighbour along each axis.
+        const int sx = x.x() / cell() - k.x < 0.5 ? -1 : 1, sy = x.y() / cell() - k.y < 0.5 ? -1 : 1,
+                  sz = x.z() / cell() - k.z < 0.5 ? -1 : 1;
         int best = -1;
         double best_d = within * within;
-        for (int dx = -1; dx <= 1; ++dx)
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dz = -1; dz <= 1; ++dz) {
-                    auto it = cells.find({k.x + dx, k.y + dy, k.z + dz});
+        for (int dx = 0; dx <= 1; ++dx)
+            for (int dy = 0; dy <= 1; ++dy)
+                for (int dz = 0; dz <= 1; ++dz) {
+                    auto it = cells.find({k.x + dx * sx, k.y + dy * sy, k.z + dz * sz});
                     if (it == cells.end()) continue;
                     for (int i : it->second) {
                         const double d = ((*pts)[i] - x).squaredNorm();
@@ -106,6 +112,7 @@ void flow_sync(Model& m) {
     std::vector<Vec3> sum;
     std::vector<int> count;
     PointGrid grid{merge, {}, &pts};
+    grid.cells.reserve(static_cast<std::size_t>(ns));
     for (int k = 0; k < ns; ++k) {
         if (!live[k]) continue;
         const int near = grid.find(pts[k], merge);
@@ -225,6 +232,7 @@ void flow_sync(Model& m) {
     f.sub_aperture.assign(ns, 0.0);
     f.revision = cs.revision;
     f.n_subs_seen = ns;
+    ++f.rebuilds;
 }
 
 void flow_apertures(Model& m) {

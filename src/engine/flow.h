@@ -85,6 +85,7 @@ struct FlowSet {
 
     // ---- derived (not saved), made again when the contacts change ----
     long revision = -1;            // ContactSet::revision the nodes were made for
+    long rebuilds = 0;             // times the nodes were made (for tests and profiling)
     int n_subs_seen = -1;
     std::vector<int> sub_node;     // (n_subs) node of each sub-contact (-1: none, deformable)
     std::vector<double> sub_aperture; // (n_subs) m, hydraulic aperture

@@ -102,8 +102,8 @@ int main(int argc, char** argv) {
         for (double x : wet.profile.seconds) total += x;
         const double flow_share = total > 0 ? wet.profile.seconds[static_cast<int>(Stage::Flow)] / total : 0;
         const FlowSet& f = wet.flow;
-        std::printf("n %d: blocks %d, sub-contacts %d (dry %d), flow nodes %d, links %d\n", n, wet.blocks.size(),
-                    wet.contacts.n_subs(), dry.contacts.n_subs(), f.n_nodes(), f.n_links());
+        std::printf("n %d: blocks %d, sub-contacts %d (dry %d), flow nodes %d, links %d, nodes made %ld times\n", n,
+                    wet.blocks.size(), wet.contacts.n_subs(), dry.contacts.n_subs(), f.n_nodes(), f.n_links(), f.rebuilds);
         std::printf("  %ld steps: %.3g s/step without flow, %.3g s/step with flow (x%.2f); the flow stage %.3g s/step "
                     "(%.1f %% of the cycle), %.3g us per flow node per step\n",
                     steps, t_dry, t_wet, t_wet / t_dry, flow_share * t_wet, 100 * flow_share,
