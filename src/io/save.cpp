@@ -1110,7 +1110,7 @@ std::string check_consistent(const Model& m) {
         if (!(f.density > 0) || !(f.viscosity > 0) || !(f.bulk > 0) || !std::isfinite(f.density + f.viscosity + f.bulk)) {
             return "the fluid's density, viscosity and bulk modulus must be finite numbers above 0";
         }
-        if (f.substeps < 1 || !std::isfinite(f.wtable) || !std::isfinite(f.time) || f.steps < 0) {
+        if (f.substeps < 1 || f.substeps > 100000 || !std::isfinite(f.wtable) || !std::isfinite(f.time) || f.steps < 0) {
             return "the flow settings are out of range";
         }
         for (std::size_t i = 0; i < f.pp.size(); ++i) {
