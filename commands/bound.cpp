@@ -4,6 +4,7 @@
 #include "commands.h"
 #include "common.h"
 #include "engine/blocks.h"
+#include "engine/flow.h"
 #include "engine/polyhedron.h"
 
 #include <cmath>
@@ -111,6 +112,51 @@ std::string ids_text(const Model& m, const std::vector<int>& blocks) {
     return t;
 }
 
+// 'bound pp', 'bound wtable', 'bound pfree': the pore pressures of the joints' flow nodes.
+void bound_pore_pressure(CommandContext& ctx, const Args& a) {
+    Model& m = ctx.model;
+    const KeywordUse* first = a.find("pp") ? a.find("pp") : a.find("wtable") ? a.find("wtable") : a.find("pgrad") ? a.find("pgrad") : a.find("pfree");
+    if (!m.flow.configured) fail(first->loc, "fluid flow is not configured", {"give 'config flow' first (as in 3DEC)"}, "boundary");
+    for (const KeywordUse& u : a.uses) {
+        const std::string& n = u.spec->name;
+        if (n != "pp" && n != "pgrad" && n != "wtable" && n != "pfree" && n != "range") {
+            fail(u.loc, "'" + n + "' does not go with the pore pressure ('pp', 'wtable', 'pfree')", {}, "boundary");
+        }
+    }
+    if (a.has("pgrad") && !a.has("pp")) fail(a.find("pgrad")->loc, "'pgrad' goes with 'pp'", {}, "boundary");
+    if (a.has("pp") && a.has("wtable")) fail(a.find("wtable")->loc, "'wtable' and 'pp' exclude each other", {}, "boundary");
+    if (a.has("pfree") && (a.has("pp") || a.has("wtable"))) {
+        fail(a.find("pfree")->loc, "'pfree' releases pressures: it takes no 'pp' or 'wtable'", {}, "boundary");
+    }
+    if (a.has("wtable") && !(m.gravity.norm() > 0)) {
+        fail(a.find("wtable")->loc, "a water table needs gravity to say which way is down", {"set grav 0 0 -9.81"}, "boundary");
+    }
+    if (m.blocks.size() == 0) fail(a.loc, "there are no blocks, so no joints to hold a pressure", {}, "boundary");
+    flow_ready(m);
+    const std::vector<int> nodes = flow_nodes_in_range(m, a.range);
+    if (nodes.empty()) {
+        fail(a.loc, m.flow.n_nodes() == 0 ? "there is no joint between rigid blocks, so no flow node to hold a pressure"
+                                          : "the range selects no flow node (no joint there)",
+             {"flow nodes stand at the sub-contacts of the joints: 'print flow' lists them"}, "boundary");
+    }
+    if (a.has("pfree")) {
+        for (int i : nodes) m.flow.fixed[i] = 0;
+        if (!ctx.interp.quiet) ctx.out << nodes.size() << " flow node" << (nodes.size() == 1 ? "" : "s") << " released\n";
+        return;
+    }
+    PressureSpec spec;
+    if (a.has("wtable")) {
+        m.flow.has_wtable = true;
+        m.flow.wtable = a.real("wtable");
+        spec.wtable = true;
+    } else {
+        spec.p = a.real("pp");
+        if (a.has("pgrad")) spec.grad = a.vec("pgrad");
+    }
+    const int n = set_flow_pressure(m, nodes, spec, true);
+    if (!ctx.interp.quiet) ctx.out << n << " flow node" << (n == 1 ? "" : "s") << " with a fixed pore pressure\n";
+}
+
 } // namespace
 
 const CommandSpec& bound_command() {
@@ -143,6 +189,11 @@ const CommandSpec& bound_command() {
             .integer("table", 1)
             .labelled();
         c.keyword("free", 3, "release prescribed velocities and remove applied forces, moments and stresses");
+        c.keyword("pp", 2, "fix the pore pressure of the joints' flow nodes in the range at p, Pa ('config flow' first)").real("p", 0, kMaxMagnitude);
+        c.keyword("pgrad", 3, "with 'pp': its change per metre, Pa/m: p + g . x at node x").vec("gx,gy,gz");
+        c.keyword("wtable", 2, "fix the pore pressure at the hydrostatic one below a water table at this elevation, m")
+            .real("z", -kMaxMagnitude, kMaxMagnitude);
+        c.keyword("pfree", 3, "release the fixed pore pressures of the flow nodes in the range");
         c.range();
         c.describe("A prescribed velocity component is held whatever the forces; the others stay free. "
                    "Loads add to gravity and contact forces. Without a range every block is taken. Rigid "
@@ -169,14 +220,28 @@ const CommandSpec& bound_command() {
                    "A clump (the blocks of a solid that is not convex, 'poly') is one rigid body: a velocity "
                    "holds the velocity of its centroid and goes to all its blocks when the range selects any; "
                    "a load on one of its blocks acts on the whole at its point, its moment taken about the "
-                   "clump's centroid.");
+                   "clump's centroid.\n\n"
+                   "Pore pressures ('config flow', 'help fluid'): 'pp p' fixes the pressure of the flow nodes of the "
+                   "joints the range selects (by the node's position, or the blocks of its joint), p + g . x with "
+                   "'pgrad g'; 'wtable z' fixes them at the hydrostatic pressure rho |g| (z - elevation) below a water "
+                   "table at elevation z (0 above it), and nodes made later start at it; 'pfree' releases them. "
+                   "Elsewhere the joints' ends are closed (no flow). A range with no flow node in it (no joint there) "
+                   "is an error. To load a face of a rigid block with a reservoir's water, use 'stress' with a "
+                   "gradient: a head of water to z = H with density rho on a face normal to x is 'stress -rho g H 0 0 "
+                   "0 0 0 zgrad rho g 0 0 0 0 0' (tension positive).");
         c.example("bound xvel 0.01 range z 9 10");
         c.example("apply xvel 2.8 hist table 1 range z -1 0");
         c.example("bound zload -1e6 range id 5");
         c.example("bound xload 5e4 point 0,0.5,1.8 range id 2");
         c.example("bound ymoment 1e3 hist table 2 range id 3");
+        c.example("bound pp 1e5 range x -0.1 0.1");
+        c.example("bound wtable 30 range x -0.1 0.1");
         c.handle([](CommandContext& ctx, const Args& a) {
             Model& m = ctx.model;
+            if (a.has("pp") || a.has("pgrad") || a.has("wtable") || a.has("pfree")) {
+                bound_pore_pressure(ctx, a);
+                return;
+            }
             BlockSet& s = m.blocks;
             GridpointSet& g = m.gridpoints;
             const char* vel[3] = {"xvelocity", "yvelocity", "zvelocity"};

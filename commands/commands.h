@@ -15,6 +15,7 @@ const CommandSpec& call_command();
 const CommandSpec& change_command();
 const CommandSpec& damp_command();
 const CommandSpec& fix_command();
+const CommandSpec& fluid_command();
 const CommandSpec& generate_command();
 const CommandSpec& insitu_command();
 const CommandSpec& free_command();

@@ -2,6 +2,7 @@
 // contacts and sub-contacts as the contact bridge sees them, so ParaView shows what
 // `plot contact` shows.
 #include "commands.h"
+#include "engine/flow.h"
 #include "common.h"
 
 #include "io/vtk_export.h"
@@ -22,7 +23,8 @@ const CommandSpec& export_command() {
                    "region, and point data 'displacement' and 'velocity' of each vertex, exact for any "
                    "rotation), name-contacts-<step>.vtp and name-subcontacts-<step>.vtp "
                    "(contact points with normal, area, normal and shear stress, normal and shear displacement, "
-                   "force and state) and name.pvd, the collection ParaView opens. When blocks are deformable, "
+                   "force and state; with 'config flow' also 'pore_pressure', Pa, and 'aperture', the hydraulic "
+                   "aperture, m) and name.pvd, the collection ParaView opens. When blocks are deformable, "
                    "name-zones-<step>.vtu holds their zones as tetrahedra at the current gridpoint positions, "
                    "with cell data 'stress' (Pa, tension positive; a symmetric tensor of 6 components in VTK's "
                    "order xx, yy, zz, xy, yz, xz), 'smin', 'smid', 'smax' (principal stresses, Pa, smin the most "
@@ -33,9 +35,14 @@ const CommandSpec& export_command() {
                    "name may carry a directory; an extension (.vtu, .vtp, .pvd, .vtk) is dropped.");
         c.example("export vtk 'slope'");
         c.handle([](CommandContext& ctx, const Args& a) {
-            const Model& m = ctx.model;
             const Value& name = a.find("vtk")->values[0];
             check_file_allowed(ctx, name.loc, name.text, "export");
+            if (ctx.model.flow.configured && ctx.model.contacts.detected) {
+                // The pore pressures and apertures of the contacts as they stand.
+                flow_sync(ctx.model);
+                flow_apertures(ctx.model);
+            }
+            const Model& m = ctx.model;
             const ContactView contacts = make_contact_view(m);
             std::vector<std::string> written;
             std::string error;

@@ -81,6 +81,9 @@ const CommandSpec& hist_command() {
                                     "node to its last, N")
             .vec("x,y,z")
             .in_choice(1);
+        c.keyword("pp", 2, "pore pressure of the flow node nearest the point, Pa ('config flow')").vec("x,y,z").in_choice(1);
+        c.keyword("aperture", 3, "hydraulic aperture of the flow node nearest the point, m (mean over its area)").vec("x,y,z").in_choice(1);
+        c.keyword("flowrate", 5, "flow the fixed-pressure boundaries feed into the joints, m^3/s").in_choice(1);
         c.keyword("contact", 4, "with a contact quantity: follow the contact with this id instead of a point")
             .integer("id", 1);
         c.keyword("write", 2, "write histories n ... to a CSV file").integer("n", 1).repeat().in_choice(1);
@@ -289,6 +292,11 @@ const CommandSpec& hist_command() {
                 if (k < 0) fail(a.find(what)->loc, "there are no cables to follow", {"make one with 'cable'"}, "history");
                 h.cable_id = m.cables.id[c];
                 h.cable_item = force ? k - m.cables.first_segment(c) + 1 : k - m.cables.node_offset[c] + 1;
+            }
+            if (what == "pp" || what == "aperture" || what == "flowrate") {
+                if (!m.flow.configured) fail(a.find(what)->loc, "fluid flow is not configured", {"give 'config flow' first (as in 3DEC)"}, "history");
+                h.kind = what == "pp" ? HistoryKind::PorePressure : what == "aperture" ? HistoryKind::Aperture : HistoryKind::FlowRate;
+                if (what != "flowrate") h.point = a.vec(what);
             }
             h.label = history_default_label(h);
             // Its own samples start with the next one the model takes.

@@ -2,6 +2,7 @@
 #include "common.h"
 #include "engine/blocks.h"
 #include "engine/contact.h"
+#include "engine/flow.h"
 #include "engine/insitu.h"
 #include "engine/zones.h"
 
@@ -15,6 +16,10 @@ const CommandSpec& insitu_command() {
         c.keyword("xgrad", 2, "its change per metre of x, Pa/m").real("gxx").real("gyy").real("gzz").real("gxy").real("gxz").real("gyz");
         c.keyword("ygrad", 2, "its change per metre of y, Pa/m").real("gxx").real("gyy").real("gzz").real("gxy").real("gxz").real("gyz");
         c.keyword("zgrad", 2, "its change per metre of z, Pa/m").real("gxx").real("gyy").real("gzz").real("gxy").real("gxz").real("gyz");
+        c.keyword("pp", 2, "the initial pore pressure of the joints' flow nodes, Pa ('config flow' first)").real("p", 0, kMaxMagnitude);
+        c.keyword("pgrad", 3, "with 'pp': its change per metre, Pa/m: p + g . x at node x").vec("gx,gy,gz");
+        c.keyword("wtable", 2, "the hydrostatic pore pressure below a water table at this elevation, m (kept for nodes made later)")
+            .real("z", -kMaxMagnitude, kMaxMagnitude);
         c.range("which zones and contacts, by their centroid and block: see 'help range'");
         c.describe("Every zone of a deformable block whose centroid the range selects takes the stress "
                    "s + x xgrad + y ygrad + z zgrad, x, y, z its centroid. Stresses are tension positive, so "
@@ -48,11 +53,54 @@ const CommandSpec& insitu_command() {
                    "Other contacts found later (blocks that come into contact as the model moves, blocks added "
                    "or cut after 'insitu' and not zoned afterwards) start unloaded: they were not joints of the "
                    "rock when its stress was given. Gridpoint displacements and velocities are not changed; 'insitu' given again sets the "
-                   "stresses again.");
+                   "stresses again.\n\n"
+                   "'pp p' (with 'pgrad g': p + g . x) or 'wtable z' (rho |g| (z - elevation) below a water table at "
+                   "elevation z, 0 above it) set the pore pressure of the joints' flow nodes the range selects "
+                   "('config flow', 'help fluid'); nodes with a fixed pressure ('bound pp') keep theirs. The water "
+                   "table is kept: nodes made later (new contacts) start at its pressure. They go without 'stress'.");
         c.example("insitu stress -15e6 -15e6 -30e6 0 0 0");
         c.example("insitu stress 0 0 0 0 0 0 zgrad 1.3e4 1.3e4 2.6e4 0 0 0");
+        c.example("insitu wtable 30");
         c.handle([](CommandContext& ctx, const Args& a) {
             Model& m = ctx.model;
+            if (a.has("pp") || a.has("pgrad") || a.has("wtable")) {
+                const KeywordUse* first = a.find("pp") ? a.find("pp") : a.find("wtable") ? a.find("wtable") : a.find("pgrad");
+                if (!m.flow.configured) fail(first->loc, "fluid flow is not configured", {"give 'config flow' first (as in 3DEC)"}, "insitu");
+                for (const KeywordUse& u : a.uses) {
+                    const std::string& n = u.spec->name;
+                    if (n != "pp" && n != "pgrad" && n != "wtable" && n != "range") {
+                        fail(u.loc, "'" + n + "' does not go with the pore pressure ('pp', 'wtable')", {}, "insitu");
+                    }
+                }
+                if (a.has("pgrad") && !a.has("pp")) fail(a.find("pgrad")->loc, "'pgrad' goes with 'pp'", {}, "insitu");
+                if (a.has("pp") && a.has("wtable")) fail(a.find("wtable")->loc, "'wtable' and 'pp' exclude each other", {}, "insitu");
+                if (a.has("wtable") && !(m.gravity.norm() > 0)) {
+                    fail(a.find("wtable")->loc, "a water table needs gravity to say which way is down", {"set grav 0 0 -9.81"}, "insitu");
+                }
+                if (m.blocks.size() == 0) fail(a.loc, "there are no blocks, so no joints to hold a pressure", {}, "insitu");
+                flow_ready(m);
+                std::vector<int> nodes;
+                for (int i : flow_nodes_in_range(m, a.range)) {
+                    if (!m.flow.fixed[i]) nodes.push_back(i);
+                }
+                if (nodes.empty() && !a.has("wtable")) {
+                    fail(a.loc, m.flow.n_nodes() == 0 ? "there is no joint between rigid blocks, so no flow node to hold a pressure"
+                                                      : "the range selects no free flow node (no joint there, or all fixed)",
+                         {"flow nodes stand at the sub-contacts of the joints: 'print flow' lists them"}, "insitu");
+                }
+                PressureSpec spec;
+                if (a.has("wtable")) {
+                    m.flow.has_wtable = true;
+                    m.flow.wtable = a.real("wtable");
+                    spec.wtable = true;
+                } else {
+                    spec.p = a.real("pp");
+                    if (a.has("pgrad")) spec.grad = a.vec("pgrad");
+                }
+                const int n = set_flow_pressure(m, nodes, spec, false);
+                if (!ctx.interp.quiet) ctx.out << n << " flow node" << (n == 1 ? "" : "s") << " set\n";
+                return;
+            }
             if (!a.has("stress") && !a.has("xgrad") && !a.has("ygrad") && !a.has("zgrad")) {
                 fail(a.loc, "'insitu' needs 'stress sxx syy szz sxy sxz syz'", {}, "insitu");
             }

@@ -13,6 +13,7 @@
 // lies outside the slab. `principal` draws the zones' principal stresses when the model has
 // zones, the contacts' otherwise.
 #include "commands.h"
+#include "engine/flow.h"
 #include "common.h"
 #include "plot_settings.h"
 
@@ -41,7 +42,7 @@ using render::VectorKind;
 
 const std::vector<std::string> kBlockQuantities = {"disp", "xdis", "ydis",  "zdis",     "vel",    "xvel",
                                                    "yvel", "zvel", "group", "material", "region", "fixed"};
-const std::vector<std::string> kContactQuantities = {"nstress", "sstress", "ndis", "sdis", "state"};
+const std::vector<std::string> kContactQuantities = {"nstress", "sstress", "ndis", "sdis", "state", "pp", "aperture"};
 const std::vector<std::string> kZoneQuantities = {"sxx", "syy",  "szz",  "sxy",   "sxz", "syz",
                                                   "smin", "smid", "smax", "state", "disp"};
 const std::vector<std::string> kViews = {"iso", "x", "-x", "y", "-y", "z", "-z", "eye"};
@@ -61,7 +62,8 @@ ContactQuantity contact_quantity(const std::string& q) {
     static const std::map<std::string, ContactQuantity> table = {
         {"nstress", ContactQuantity::NormalStress}, {"sstress", ContactQuantity::ShearStress},
         {"ndis", ContactQuantity::NormalDisp},      {"sdis", ContactQuantity::ShearDisp},
-        {"state", ContactQuantity::State}};
+        {"state", ContactQuantity::State}, {"pp", ContactQuantity::PorePressure},
+        {"aperture", ContactQuantity::Aperture}};
     return table.at(q);
 }
 
@@ -444,6 +446,10 @@ void handle_plot(CommandContext& ctx, const Args& a) {
                                          : "widen the range"},
                  "plot");
         }
+        if (ctx.model.flow.configured && ctx.model.contacts.detected) {
+            flow_sync(ctx.model);
+            flow_apertures(ctx.model);
+        }
         contacts = make_contact_view(m, &chosen);
         centre_sub_contacts(contacts);
     }
@@ -582,7 +588,7 @@ const CommandSpec& plot_command() {
             "'block'. "
             "Contact quantities: nstress (normal stress, compression positive), sstress (shear stress), ndis "
             "(normal closure, closing positive as in print and hist), sdis (shear displacement), state (elastic, slipping, open, "
-            "failed). 'principal' in a model with zones draws at zone centroids three bars along the principal "
+            "failed), pp (pore pressure, Pa, with 'config flow') and aperture (hydraulic aperture, m). 'principal' in a model with zones draws at zone centroids three bars along the principal "
             "directions, as long as the stresses are large, black in compression and magenta in tension (colours "
             "no map uses, so they read over contours); many zones "
             "are thinned to about a thousand spread evenly, and with 'cut' the zones the plane crosses are "

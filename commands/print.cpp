@@ -6,6 +6,7 @@
 #include "engine/cable.h"
 #include "engine/contact.h"
 #include "engine/cycle.h"
+#include "engine/flow.h"
 #include "engine/parallel.h"
 #include "engine/verdict.h"
 #include "engine/zones.h"
@@ -289,12 +290,52 @@ void print_histories(CommandContext& ctx, const Args& a) {
     }
 }
 
+// The flow nodes: position, pore pressure, whether fixed, hydraulic aperture (volume / area) and
+// net inflow of the last sub-step.
+void print_flow(CommandContext& ctx, const Args& a) {
+    Model& m = ctx.model;
+    std::ostream& o = ctx.out;
+    FlowSet& f = m.flow;
+    if (!f.configured) {
+        o << "fluid flow is not configured ('config flow')\n";
+        return;
+    }
+    if (m.contacts.detected) {
+        flow_sync(m);
+        flow_apertures(m);
+    }
+    o << "fluid flow " << (f.on ? "on" : "off") << ", " << (f.mode == FlowMode::Steady ? "steady" : "transient")
+      << " (" << f.substeps << " sub-step" << (f.substeps == 1 ? "" : "s") << " per step in steady mode); density "
+      << n3(f.density) << " kg/m^3, viscosity " << n3(f.viscosity) << " Pa s, bulk modulus " << n3(f.bulk) << " Pa";
+    if (f.has_wtable) o << "; water table at " << n3(f.wtable) << " m";
+    o << "\n" << f.n_nodes() << " nodes, " << f.n_links() << " links, " << f.steps << " flow sub-steps";
+    if (f.mode == FlowMode::Transient) o << ", flow time " << n3(f.time) << " s";
+    o << "; inflow at the fixed nodes " << n3(fixed_inflow(m)) << " m^3/s\n";
+    o << col("node", 6) << col("x", 9) << col("y", 9) << col("z", 9) << col("pp", 10) << col("aperture", 10)
+      << col("volume", 10) << col("inflow", 10) << " fixed\n";
+    const std::vector<int> nodes = flow_nodes_in_range(m, a.range);
+    for (int i : nodes) {
+        const bool derived = i < static_cast<int>(f.volume.size());
+        const double ap = derived && f.area[i] > 0 ? f.volume[i] / f.area[i] : 0.0;
+        o << col(std::to_string(i + 1), 6) << col(n3(f.pos[i].x()), 9) << col(n3(f.pos[i].y()), 9)
+          << col(n3(f.pos[i].z()), 9) << col(n3(f.pp[i]), 10) << col(n3(ap), 10)
+          << col(n3(derived ? f.volume[i] : 0.0), 10) << col(n3(derived ? f.inflow[i] : 0.0), 10) << " "
+          << (f.fixed[i] ? "yes" : "-") << "\n";
+    }
+    o << nodes.size() << " of " << f.n_nodes()
+      << " nodes (pp: pore pressure, Pa; aperture: hydraulic, m, mean over the node's area; volume, m^3;\n"
+         "inflow: net inflow of the last sub-step, m^3/s)\n";
+}
+
 void print_contacts(CommandContext& ctx, const Args& a) {
     const Model& m = ctx.model;
     std::ostream& o = ctx.out;
+    const bool flow = m.flow.configured && static_cast<int>(m.flow.sub_node.size()) == m.contacts.n_subs() &&
+                      m.flow.sub_aperture.size() == m.flow.sub_node.size();
     o << col("id", 5) << col("blk a", 5) << col("blk b", 5) << col("x", 9) << col("y", 9) << col("z", 9)
-      << col("area", 9) << col("nstress", 10) << col("sstress", 10) << col("ndis", 10) << col("sdis", 10)
-      << " state\n";
+      << col("area", 9) << col("nstress", 10) << col("sstress", 10) << col("ndis", 10) << col("sdis", 10);
+    if (flow) o << col("pp", 10) << col("aperture", 10);
+    o << " state\n";
     int n = 0;
     for (int c = 0; c < m.contacts.size(); ++c) {
         const ContactInfo ci = contact_info(m, c);
@@ -304,12 +345,18 @@ void print_contacts(CommandContext& ctx, const Args& a) {
           << col(std::to_string(m.blocks.id[ci.block_b]), 5) << col(n3(ci.centroid.x()), 9)
           << col(n3(ci.centroid.y()), 9) << col(n3(ci.centroid.z()), 9) << col(n3(ci.area), 9)
           << col(n3(ci.normal_stress), 10) << col(n3(ci.shear_stress), 10) << col(n3(ci.normal_disp), 10)
-          << col(n3(ci.shear_disp), 10) << " " << (ci.area > 0 ? contact_state_name(ci.state) : "apart")
+          << col(n3(ci.shear_disp), 10);
+        if (flow) {
+            const ContactFlow cf = contact_flow(m, c);
+            o << col(n3(cf.pp), 10) << col(n3(cf.aperture), 10);
+        }
+        o << " " << (ci.area > 0 ? contact_state_name(ci.state) : "apart")
           << (ci.joined ? ",joined" : "") << "\n";
     }
     o << n << " of " << m.contacts.size()
       << " contacts (x, y, z: centroid; area: where the blocks touch now; nstress, sstress: mean\n"
-         "over the sub-contacts' spring areas, Pa, compression +; m, closure +; apart: near, not touching)\n";
+         "over the sub-contacts' spring areas, Pa, compression +; m, closure +; apart: near, not touching"
+      << (flow ? ";\npp: mean pore pressure, Pa; aperture: mean hydraulic aperture, m (effective nstress)" : "") << ")\n";
 }
 
 void print_max(CommandContext& ctx) {
@@ -547,14 +594,17 @@ const CommandSpec& print_command() {
             .in_choice(1);
         c.keyword("cable", 3, "cables: axial force and state of each segment; position, displacement, grout force, "
                               "slip and state of each node").in_choice(1);
+        c.keyword("flow", 2, "fluid flow in the joints: the fluid and each flow node's pore pressure, aperture, "
+                             "volume and inflow").in_choice(1);
         c.range();
         c.require_one_of(1);
         c.example("print block range z 0 10");
         c.example("print hist 1 2");
         c.handle([](CommandContext& ctx, const Args& a) {
             const std::string what = a.chosen(1);
-            if (a.has_range && what != "block" && what != "contact" && what != "zone" && what != "gridpoint" && what != "gp") {
-                fail(a.range_loc, "'range' goes with 'print block', 'contact', 'zone' and 'gridpoint'", {}, "print");
+            if (a.has_range && what != "block" && what != "contact" && what != "zone" && what != "gridpoint" && what != "gp" &&
+                what != "flow") {
+                fail(a.range_loc, "'range' goes with 'print block', 'contact', 'zone', 'gridpoint' and 'flow'", {}, "print");
             }
             if (what == "block") print_blocks(ctx, a);
             else if (what == "zone") print_zones(ctx, a);
@@ -565,6 +615,7 @@ const CommandSpec& print_command() {
             else if (what == "property") print_properties(ctx);
             else if (what == "energy") print_energy(ctx, a);
             else if (what == "cable") print_cables(ctx);
+            else if (what == "flow") print_flow(ctx, a);
             else print_info(ctx);
         });
         return c;

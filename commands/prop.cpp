@@ -1,6 +1,7 @@
 #include "commands.h"
 #include "common.h"
 #include "engine/blocks.h"
+#include "engine/stages.h"
 
 namespace odec {
 
@@ -32,6 +33,9 @@ const CommandSpec& prop_command() {
         c.keyword("zdilation", 3, "same as 'jzdilation' (the older name)").real("u", 0);
         c.keyword("jres_friction", 4, "residual friction angle after failure, degrees (joint model 2)")
             .real("phi", 0, 90, Limit::Closed, Limit::Open);
+        c.keyword("azero", 3, "joint: hydraulic aperture at zero effective normal stress, m (fluid flow)").real("a", 0, 1e3);
+        c.keyword("ares", 3, "joint: residual (smallest) hydraulic aperture, m").real("a", 0, 1e3);
+        c.keyword("amax", 3, "joint: largest hydraulic aperture, m (0: no cap)").real("a", 0, 1e3);
         c.keyword("cb_area", 5, "cable: cross-section area of the steel, m^2").real("A", 0, kMaxMagnitude, Limit::Open);
         c.keyword("cb_e", 4, "cable: Young's modulus of the steel, Pa").real("E", 0, kMaxMagnitude, Limit::Open);
         c.keyword("cb_yield", 4, "cable: tensile yield force, N (0: no limit)").real("F", 0, kMaxMagnitude);
@@ -45,10 +49,13 @@ const CommandSpec& prop_command() {
                    "Changing the density of a material updates the mass of its blocks. Cable properties "
                    "(those starting with cb_) also go with 'mat': they make the cable material of that "
                    "number, which 'cable ... prop n' takes; a material number may hold block and cable "
-                   "properties side by side.");
+                   "properties side by side. The hydraulic apertures of a joint (azero, ares, amax, m) also go with "
+                   "'jmat': the aperture of a joint for fluid flow is azero less its closure, held between ares and "
+                   "amax ('help fluid').");
         c.example("prop mat=2 cb_area=1.81e-4 cb_e=98.6e9 cb_yield=0.5e6 cb_kbond=112e6 cb_sbond=0.175e6");
         c.example("prop mat=1 dens=2700");
         c.example("prop jmat=1 jkn=1e10 jks=5e9 jfric=30 jcoh=0 jten=0");
+        c.example("prop jmat=1 azero=1e-4 ares=2e-5 amax=1e-3");
         c.handle([](CommandContext& ctx, const Args& a) {
             Model& m = ctx.model;
             const bool joint = a.chosen(1) == "jmat";
@@ -56,7 +63,7 @@ const CommandSpec& prop_command() {
             for (const KeywordUse& u : a.uses) {
                 const std::string& n = u.spec->name;
                 if (n == "material" || n == "jmat") continue;
-                const bool is_joint = n[0] == 'j' || n == "zdilation";
+                const bool is_joint = n[0] == 'j' || n == "zdilation" || n == "azero" || n == "ares" || n == "amax";
                 if (is_joint != joint) {
                     const char* kind = is_joint ? "joint" : n.compare(0, 3, "cb_") == 0 ? "cable" : "block";
                     fail(u.loc, "'" + n + "' is a " + kind + " property: give it with '" +
@@ -66,6 +73,16 @@ const CommandSpec& prop_command() {
             }
             if (joint) {
                 const int n = a.integer("jmat");
+                {
+                    // Checked first: a refused command changes nothing.
+                    const JointMaterial old = n < static_cast<int>(m.joint_materials.size()) ? m.joint_materials[n] : JointMaterial();
+                    const double ares = a.real_or("ares", old.ares), amax = a.real_or("amax", old.amax);
+                    if (amax > 0 && amax < ares) {
+                        fail((a.has("amax") ? a.find("amax") : a.find("ares"))->loc,
+                             "the largest hydraulic aperture (amax " + num_text(amax) + " m) is below the residual one (ares " +
+                                 num_text(ares) + " m)", {}, "property");
+                    }
+                }
                 ensure_index(m.joint_materials, n);
                 JointMaterial& j = m.joint_materials[n];
                 j.defined = true;
@@ -77,6 +94,9 @@ const CommandSpec& prop_command() {
                 j.dilation = a.real_or("jdilation", j.dilation);
                 j.zdilation = a.real_or("zdilation", a.real_or("jzdilation", j.zdilation));
                 j.res_friction = a.real_or("jres_friction", j.res_friction);
+                j.azero = a.real_or("azero", j.azero);
+                j.ares = a.real_or("ares", j.ares);
+                j.amax = a.real_or("amax", j.amax);
                 m.geometry_changed = true; // stiffness may change the timestep
                 return;
             }

@@ -14,6 +14,11 @@ const CommandSpec& set_command() {
                               "that carry no stress yet; deeper ones stop the cycling command with an error that "
                               "names them (0: 0.5 % of the smaller block's size, the cube root of its volume)")
             .real("tol", 0);
+        c.keyword("flow", 4, "fluid flow in the joints ('config flow' first): 'on' or 'off'; 'steady' (pressures "
+                             "head for the steady field, each node at its own step) or 'transient' (they follow "
+                             "the model's time)")
+            .one_of("what", {"on", "off", "steady", "transient"});
+        c.keyword("substeps", 4, "steady flow: flow sub-steps per mechanical step").integer("n", 1, 100000).defaults("1");
         c.keyword("echo", 2, "echo script commands with their file and line").one_of("state", {"on", "off"}).defaults("on");
         c.keyword("log", 3, "copy the commands and what they print into the log file").one_of("state", {"on", "off"}).defaults("off");
         c.keyword("logfile", 4, "the log file (appended to)").string("name").defaults("odec.log");
@@ -86,6 +91,11 @@ const CommandSpec& set_command() {
                     d.mode = DampingMode::Local;
                     d.local = 0.8;
                     if (!ctx.interp.quiet) ctx.out << "static solution: local damping 0.8\n";
+                }
+            }
+            for (const char* k : {"flow", "substeps"}) {
+                if (a.has(k) && !m.flow.configured) {
+                    fail(a.find(k)->loc, "fluid flow is not configured", {"give 'config flow' first (as in 3DEC)"}, "set");
                 }
             }
             if (a.has("small") && a.has("large")) fail(a.find("small")->loc, "'small' and 'large' exclude each other", {}, "set");
@@ -170,6 +180,16 @@ const CommandSpec& set_command() {
             if (a.has("echo")) ctx.interp.echo = a.text("echo") == "on";
             if (a.has("gravity")) m.gravity = a.vec("gravity");
             if (a.has("ncyc")) m.histories.ncyc = a.integer("ncyc");
+            if (a.has("flow")) {
+                const std::string w = a.text("flow");
+                if (w == "on" || w == "off") {
+                    m.flow.on = w == "on";
+                    m.geometry_changed = true; // held blocks have contacts only with flow on
+                }
+                else m.flow.mode = w == "steady" ? FlowMode::Steady : FlowMode::Transient;
+                m.flow.last_volume.clear();
+            }
+            if (a.has("substeps")) m.flow.substeps = a.integer("substeps");
             if (a.has("jmat")) m.settings.default_jmat = a.integer("jmat");
             if (a.has("jcons")) m.settings.default_jcons = a.integer("jcons");
             if (a.has("small") || a.has("large")) {

@@ -104,6 +104,8 @@ struct ContactSet {
     std::vector<Eigen::Quaterniond> geo_orientation; // (n_blocks) orientation then
     std::vector<double> radius;           // (n_blocks) m, largest vertex distance from the centroid
     long n_detections = 0;                // full detections so far (for tests and profiling)
+    long revision = 0;                    // (not saved) counts the refreshes that rewrote the contacts,
+                                          //   so that what is derived from them knows to follow
 
     // Derived from the zones, rebuilt when the model changes (not saved): the surface
     // triangles of every deformable block, outward, grouped by block.

@@ -942,7 +942,8 @@ void broad_phase(const Model& m, double tol, std::vector<std::int64_t>& pairs) {
             const int a = cell_items[i];
             for (long j = i + 1; j < cell_start[c + 1]; ++j) {
                 const int b = cell_items[j];
-                if ((s.flags[a] & kFixed) && (s.flags[b] & kFixed) && !s.vel_bc[a] && !s.vel_bc[b]) continue;
+                // Two held blocks need no contact, unless water flows in the joint between them (flow.h).
+                if (!m.flow.on && (s.flags[a] & kFixed) && (s.flags[b] & kFixed) && !s.vel_bc[a] && !s.vel_bc[b]) continue;
                 // The blocks of one continuum share their gridpoints: no contact between them.
                 if ((s.flags[a] & s.flags[b] & kDeformable) && s.body[a] == s.body[b]) continue;
                 // The pieces of one clump move as one rigid body: no contact between them.
@@ -1225,6 +1226,7 @@ void detect_contacts(Model& m) {
         }
         rw.finish();
     }
+    ++cs.revision;
     if (!same_pairs) cs.colored = false;
     // The parts are buffers for the contacts rebuilt in one window, kept so that passes allocate
     // nothing. So are the jobs and the plan, but after a full pass they are as large as all

@@ -7,6 +7,7 @@
 #include "engine/blocks.h"
 #include "engine/cable.h"
 #include "engine/contact.h"
+#include "engine/flow.h"
 #include "engine/stages.h"
 
 namespace odec {
@@ -136,6 +137,16 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
             StageTimer t{prof, Stage::Cables};
             cable_forces(m, m.dt);
         }
+        if (m.flow.on) {
+            // The pore pressures advance and push on both faces of each joint (flow.h).
+            StageTimer t{prof, Stage::Flow};
+            const std::string why = flow_step(m, m.dt);
+            if (!why.empty()) {
+                res.reason = StopReason::Error;
+                res.message = why;
+                break;
+            }
+        }
         int bad;
         {
             StageTimer t{prof, Stage::Integrate};
@@ -205,6 +216,8 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
         if (lim.ratio > 0) {
             StageTimer t{prof, Stage::Checks};
             balanced = unbalanced_ratio(m) < lim.ratio;
+            // With water in the joints, the flow must have settled too (flow.h).
+            if (balanced && m.flow.on) balanced = flow_unbalance(m) < lim.ratio;
         }
         if (balanced) {
             res.reason = StopReason::Ratio;

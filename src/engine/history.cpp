@@ -7,6 +7,7 @@
 #include "engine/contact.h"
 #include "engine/cycle.h"
 #include "engine/energy.h"
+#include "engine/flow.h"
 #include "engine/model.h"
 
 namespace odec {
@@ -30,6 +31,15 @@ double history_value(const Model& m, const History& h) {
         }
         return k >= 0 && k <= cs.segments_of(c) ? cs.grout_force[cs.node_offset[c] + k] : 0.0;
     }
+    case HistoryKind::PorePressure:
+    case HistoryKind::Aperture: {
+        const FlowSet& f = m.flow;
+        const int i = flow_node_at(m, h.point);
+        if (i < 0) return 0.0;
+        if (h.kind == HistoryKind::PorePressure) return f.pp[i];
+        return i < static_cast<int>(f.area.size()) && f.area[i] > 0 ? f.volume[i] / f.area[i] : 0.0;
+    }
+    case HistoryKind::FlowRate: return fixed_inflow(m);
     case HistoryKind::Energy: {
         double v = 0;
         energy_term(m, h.source, v);
@@ -177,6 +187,9 @@ static const char* kind_word(HistoryKind k) {
     case HistoryKind::Energy: return "energy";
     case HistoryKind::CableForce: return "cable_force";
     case HistoryKind::CableGrout: return "cable_grout";
+    case HistoryKind::PorePressure: return "pp";
+    case HistoryKind::Aperture: return "aperture";
+    case HistoryKind::FlowRate: return "flowrate";
     }
     return "?";
 }
@@ -205,6 +218,12 @@ std::string history_default_label(const History& h) {
     } else if (h.contact_id > 0) {
         std::snprintf(buf, sizeof buf, " (%g,%g,%g) contact %d", h.point.x(), h.point.y(), h.point.z(), h.contact_id);
         s += buf;
+    } else if (h.kind == HistoryKind::PorePressure || h.kind == HistoryKind::Aperture) {
+        std::snprintf(buf, sizeof buf, " (%g,%g,%g) (%s)", h.point.x(), h.point.y(), h.point.z(),
+                      h.kind == HistoryKind::PorePressure ? "Pa" : "m");
+        s += buf;
+    } else if (h.kind == HistoryKind::FlowRate) {
+        s += " (m^3/s)";
     }
     return s;
 }

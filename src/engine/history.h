@@ -30,6 +30,9 @@ enum class HistoryKind {
     Energy,     // a term of the energy account (`hist energy name`, the name in `source`), J
     CableForce, // axial force of a cable segment, N (tension positive)
     CableGrout, // grout force on a cable node along the cable, N (toward its last node positive)
+    PorePressure, // pore pressure of the flow node nearest the point, Pa (flow.h)
+    Aperture,   // hydraulic aperture of the flow node nearest the point (mean over its area), m
+    FlowRate,   // flow the fixed-pressure boundaries feed into the joints, m^3/s
 };
 
 struct History {

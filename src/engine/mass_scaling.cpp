@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "engine/cable.h"
+#include "engine/flow.h"
 #include "engine/contact.h"
 #include "engine/model.h"
 #include "engine/parallel.h"
@@ -223,6 +224,8 @@ std::string choose_timestep_and_masses(Model& m, double rigid_dt, double zone_dt
             if (zone_static > 0 && (!(dt > 0) || zone_static < dt)) dt = zone_static;
             // Nothing else to set the pace: the cables' own step with the steel's mass.
             if (!(dt > 0)) dt = cable_dt;
+            // Every block held: the flow alone sets the pace (flow.h).
+            if (!(dt > 0) && m.flow.on) dt = flow_stable_timestep(m);
         }
         if (!(dt > 0)) {
             return m.cables.size() > 0
@@ -244,6 +247,7 @@ std::string choose_timestep_and_masses(Model& m, double rigid_dt, double zone_dt
     } else {
         real_masses(m);
         dt = m.settings.dt_fixed > 0 ? m.settings.dt_fixed : real_dt;
+        if (!(dt > 0) && m.flow.on) dt = flow_stable_timestep(m);
         if (!(dt > 0)) {
             return "no timestep: there are no contacts or zones to set one, so give it with 'set dt'";
         }

@@ -23,6 +23,7 @@
 #include "engine/cable.h"
 #include "engine/contact.h"
 #include "engine/energy.h"
+#include "engine/flow.h"
 #include "engine/history.h"
 #include "engine/insitu.h"
 #include "engine/polyhedron.h"
@@ -56,6 +57,9 @@ struct JointMaterial {
     double dilation = 0;      // deg
     double zdilation = 0;     // m, shear displacement at which dilation stops (0: no limit)
     double res_friction = 0;  // deg (joint model 2)
+    double azero = 0;         // m, hydraulic aperture at zero effective normal stress (flow.h)
+    double ares = 0;          // m, residual (smallest) hydraulic aperture
+    double amax = 0;          // m, largest hydraulic aperture (0: no cap)
 };
 
 // A plane cut by `jset`: the faces it makes on both sides carry its number, so that
@@ -144,7 +148,7 @@ struct BlockSet {
 };
 
 // Cycle stages, timed into Profile.
-enum class Stage { ApplyLoads, DetectContacts, UpdateContacts, Zones, Integrate, Record, Checks, Cables, Count };
+enum class Stage { ApplyLoads, DetectContacts, UpdateContacts, Zones, Integrate, Record, Checks, Cables, Flow, Count };
 const char* stage_name(Stage s);
 
 struct Profile {
@@ -215,6 +219,7 @@ struct Model {
     ZoneSet zones;                              // tetrahedral zones of deformable blocks
     GridpointSet gridpoints;                    // their corners
     CableSet cables;                            // cables and rock bolts (cable.h)
+    FlowSet flow;                               // fluid flow in the joints (flow.h)
     StressBoundary stress_boundary;             // faces loaded by `bound stress`
     std::vector<InsituRecord> insitu;           // `insitu` fields, in order, for zones made later
     HistorySet histories;

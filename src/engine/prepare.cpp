@@ -8,6 +8,7 @@
 #include "engine/contact_gridpoint.h"
 #include "engine/mass_scaling.h"
 #include "engine/cable.h"
+#include "engine/flow.h"
 #include "engine/stages.h"
 
 namespace odec {
@@ -123,6 +124,8 @@ std::string prepare_cycle_once(Model& m) {
         if (!zp.empty()) return zp;
         const std::string cp = cables_problem(m);
         if (!cp.empty()) return cp;
+        const std::string fp = flow_problem(m);
+        if (!fp.empty()) return fp;
     }
     if (m.geometry_changed) {
         refresh_world_vertices(m);

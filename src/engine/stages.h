@@ -9,7 +9,8 @@
 //   record     history.cpp         histories every ncyc steps
 // Before the first step (and whenever the blocks change), prepare.cpp checks that the model can
 // cycle and chooses the timestep and the masses (mass_scaling.h).
-// Joint flow, structural elements and the 2D engine are to join as stages of their own.
+//   flow       flow.cpp            joint fluid flow: pore pressures and their forces on the blocks
+// Structural elements other than cables and the 2D engine are to join as stages of their own.
 #pragma once
 
 #include <cmath>
@@ -238,6 +239,10 @@ struct EnergyWatch {
             }
             if ((s.flags[b] & kFixed) || !(s.mass[b] > 0)) continue;
             applied_work += m.dt * (applied.dot(s.vel[b]) + applied_moment.dot(s.ang_vel[b]));
+            // The pore pressure in the joints works on the blocks as a load does (flow.h).
+            if (m.flow.on && static_cast<int>(m.flow.block_force.size()) == s.size()) {
+                applied_work += m.dt * (m.flow.block_force[b].dot(s.vel[b]) + m.flow.block_moment[b].dot(s.ang_vel[b]));
+            }
             // Moving more than half its size in one step, a block jumps past the blocks in
             // its way: contact detection cannot see them.
             if (jumper < 0 && neighbours && s.vel[b].stableNorm() * m.dt > 0.5 * size[b]) jumper = b;

@@ -8,6 +8,7 @@
 #include "engine/cable.h"
 #include "engine/clump.h"
 #include "engine/contact.h"
+#include "engine/flow.h"
 #include "engine/cycle.h"
 #include "engine/model.h"
 #include "engine/zones.h"
@@ -237,6 +238,35 @@ Value f_c_near(Runtime& rt, A a, int n, L loc) {
     ensure_contacts(rt, m, loc);
     const int c = find_contact_at(m, point_args(a, n, 0, "c_near", loc));
     return c < 0 ? Value::null() : Value::pointer(PtrKind::Contact, c);
+}
+// -- fluid flow in the joints --------------------------------------------------------------------
+// The flow node nearest the point (its nodes made for the contacts as they stand), or a failure.
+int flow_node_arg(Runtime& rt, A a, int n, const char* name, L loc) {
+    Model& m = model(rt);
+    if (!m.flow.configured) fish_fail(loc, std::string("'") + name + "': fluid flow is not configured ('config flow')");
+    ensure_contacts(rt, m, loc);
+    flow_sync(m);
+    flow_apertures(m);
+    const int i = flow_node_at(m, point_args(a, n, 0, name, loc));
+    if (i < 0) fish_fail(loc, std::string("'") + name + "': there are no flow nodes (no joints between rigid blocks)");
+    return i;
+}
+Value f_fl_pp(Runtime& rt, A a, int n, L loc) { return num(model(rt).flow.pp[flow_node_arg(rt, a, n, "fl_pp", loc)]); }
+Value f_fl_aperture(Runtime& rt, A a, int n, L loc) {
+    const int i = flow_node_arg(rt, a, n, "fl_aperture", loc);
+    const FlowSet& f = model(rt).flow;
+    return num(f.area[i] > 0 ? f.volume[i] / f.area[i] : 0.0);
+}
+Value f_fl_flow(Runtime& rt, A, int, L loc) {
+    if (!model(rt).flow.configured) fish_fail(loc, "'fl_flow': fluid flow is not configured ('config flow')");
+    return num(fixed_inflow(model(rt)));
+}
+Value f_fl_nnode(Runtime& rt, A, int, L loc) {
+    Model& m = model(rt);
+    if (!m.flow.configured) fish_fail(loc, "'fl_nnode': fluid flow is not configured ('config flow')");
+    ensure_contacts(rt, m, loc);
+    flow_sync(m);
+    return Value::integer(m.flow.n_nodes());
 }
 Value f_c_extra(Runtime& rt, A a, int, L loc) { CONTACT("c_extra"); return extra_get(rt, 1, C.id[c]); }
 void s_c_extra(Runtime& rt, A a, int, const Value& v, L loc) { CONTACT("c_extra"); rt.extras[1][C.id[c]] = v; }
@@ -547,6 +577,10 @@ const std::vector<Intrinsic>& model_intrinsics() {
         {"cx_ndis", 1, 1, "s", "normal closure, compression positive, m", "contact", f_cx_ndis, nullptr},
         {"cx_sdis", 1, 1, "s", "magnitude of the shear displacement, m", "contact", f_cx_sdis, nullptr},
         {"cx_state", 1, 1, "s", "state bits: 1 slipping, 2 open, 4 failed (0 elastic)", "contact", f_cx_state, nullptr},
+        {"fl_pp", 1, 3, "x,y,z | v", "pore pressure of the flow node nearest the point, Pa", "flow", f_fl_pp, nullptr},
+        {"fl_aperture", 1, 3, "x,y,z | v", "hydraulic aperture of the flow node nearest the point (mean over its area), m", "flow", f_fl_aperture, nullptr},
+        {"fl_flow", 0, 0, "", "flow the fixed-pressure boundaries feed into the joints, m^3/s", "flow", f_fl_flow, nullptr},
+        {"fl_nnode", 0, 0, "", "the number of flow nodes", "flow", f_fl_nnode, nullptr},
         {"cable_num", 0, 0, "", "the number of cables", "cable", f_cable_num, nullptr},
         {"cable_id", 1, 1, "k", "the id of the k-th cable (from 1, in order)", "cable", f_cable_id, nullptr},
         {"cable_nseg", 1, 1, "id", "the number of segments of cable id (it has one node more)", "cable", f_cable_nseg, nullptr},

@@ -109,6 +109,18 @@ template <class IO, class M>
 auto fields(IO& io, M& x) -> If<M, JointMaterial> {
     io(x.defined); io(x.kn); io(x.ks); io(x.friction); io(x.cohesion); io(x.tension);
     io(x.dilation); io(x.zdilation); io(x.res_friction);
+    if (io.format >= 13) {
+        io(x.azero); io(x.ares); io(x.amax);
+    }
+}
+
+// Format 13: fluid flow in the joints (flow.h): settings, fluid and the nodes' state.
+template <class IO, class M>
+auto fields(IO& io, M& x) -> If<M, FlowSet> {
+    io(x.configured); io(x.on);
+    io.enumeration(x.mode, static_cast<int>(FlowMode::Transient) + 1);
+    io(x.substeps); io(x.density); io(x.viscosity); io(x.bulk); io(x.has_wtable); io(x.wtable);
+    io(x.time); io(x.steps); io(x.pos); io(x.pp); io(x.fixed); io(x.last_volume);
 }
 
 // Format 11: cables (cable.h).
@@ -176,7 +188,8 @@ auto fields(IO& io, M& x) -> If<M, Table> {
 template <class IO, class M>
 auto fields(IO& io, M& x) -> If<M, History> {
     // The last kind each format knows: format 3 added zone stresses and reactions.
-    const HistoryKind last = io.format >= 11  ? HistoryKind::CableGrout
+    const HistoryKind last = io.format >= 13  ? HistoryKind::FlowRate
+                             : io.format >= 11  ? HistoryKind::CableGrout
                              : io.format >= 8 ? HistoryKind::Energy
                              : io.format >= 5 ? HistoryKind::Fish
                              : io.format >= 3 ? HistoryKind::ZReaction
@@ -261,10 +274,10 @@ auto fields(IO& io, M& x) -> If<M, EnergyAccount> {
 
 template <class IO, class M>
 auto fields(IO& io, M& x) -> If<M, Profile> {
-    // Format 3 added the zone stage, format 6 the checks, format 11 the cables; older files time
+    // Format 3 added the zone stage, format 6 the checks, format 11 the cables, 13 the flow; older files time
     // the others, in the same order.
     const int expected = static_cast<int>(Stage::Count) - (io.format >= 3 ? 0 : 1) - (io.format >= 6 ? 0 : 1) -
-                         (io.format >= 11 ? 0 : 1);
+                         (io.format >= 11 ? 0 : 1) - (io.format >= 13 ? 0 : 1);
     int n_stages = expected;
     io(n_stages);
     io.check(n_stages == expected, "the profile has " + std::to_string(n_stages) + " stages, save format " +
@@ -273,6 +286,7 @@ auto fields(IO& io, M& x) -> If<M, Profile> {
         if (io.format < 3 && k == static_cast<int>(Stage::Zones)) continue;
         if (io.format < 6 && k == static_cast<int>(Stage::Checks)) continue;
         if (io.format < 11 && k == static_cast<int>(Stage::Cables)) continue;
+        if (io.format < 13 && k == static_cast<int>(Stage::Flow)) continue;
         io(x.seconds[k]);
     }
     io(x.steps);
@@ -453,6 +467,7 @@ void model_sections(IO& io, M& m) {
     io.section("TABL", [&] { io(m.tables); });
     if (io.format >= 8) io.section("ENRG", [&] { io(m.energy); });
     if (io.format >= 11) io.section("CABL", [&] { io(m.cables); });
+    if (io.format >= 13) io.section("FLOW", [&] { io(m.flow); });
 }
 
 // ---- writing ----
@@ -1086,6 +1101,32 @@ std::string check_consistent(const Model& m) {
     if (!zones.empty()) return zones;
     const std::string cables = check_cables_consistent(m);
     if (!cables.empty()) return cables;
+    {
+        const FlowSet& f = m.flow;
+        if (f.pos.size() != f.pp.size() || f.fixed.size() != f.pp.size() ||
+            (!f.last_volume.empty() && f.last_volume.size() != f.pp.size())) {
+            return "the flow nodes' arrays differ in length";
+        }
+        for (double v : f.last_volume) {
+            if (!(v >= 0) || !std::isfinite(v)) return "a flow node's volume is no finite number at or above 0";
+        }
+        if (!(f.density > 0) || !(f.viscosity > 0) || !(f.bulk > 0) || !std::isfinite(f.density + f.viscosity + f.bulk)) {
+            return "the fluid's density, viscosity and bulk modulus must be finite numbers above 0";
+        }
+        if (f.substeps < 1 || f.substeps > 100000 || !std::isfinite(f.wtable) || !std::isfinite(f.time) || f.steps < 0) {
+            return "the flow settings are out of range";
+        }
+        for (std::size_t i = 0; i < f.pp.size(); ++i) {
+            if (!(f.pp[i] >= 0) || !std::isfinite(f.pp[i]) || !f.pos[i].allFinite() || f.fixed[i] > 1) {
+                return "flow node " + std::to_string(i + 1) + " has a pressure or position that is no finite number";
+            }
+        }
+        for (const JointMaterial& j : m.joint_materials) {
+            if (!(j.azero >= 0) || !(j.ares >= 0) || !(j.amax >= 0) || !std::isfinite(j.azero + j.ares + j.amax)) {
+                return "a joint material has a hydraulic aperture that is no finite number at or above 0";
+            }
+        }
+    }
     const HistorySet& h = m.histories;
     for (const History& item : h.items) {
         if (item.first < 0 || static_cast<size_t>(item.first) > h.sample_steps.size() ||

@@ -30,8 +30,10 @@ namespace odec {
 // take the automatic one); 11: cables and rock bolts, their histories and the cables stage of
 // the profile (older files have none); 12: clumps, the pieces of a rigid solid that is not
 // convex moving as one rigid body (older files have none: their pieces stay glued by their
-// joined joint set, as they were saved).
-constexpr std::uint32_t kSaveFormatVersion = 12;
+// joined joint set, as they were saved); 13: fluid flow in the joints (its settings, fluid and
+// nodes), the hydraulic apertures of joint materials and the flow stage of the profile (older
+// files have no flow).
+constexpr std::uint32_t kSaveFormatVersion = 13;
 
 // Write the model to `path`. A model that restore would refuse (a velocity that is not a finite
 // number after a run-away, an index out of range) is not written: save and restore run the

@@ -459,6 +459,8 @@ bool write_contacts_vtp(const ContactRows& rows, const std::vector<std::string>&
     if (!rows.block1.empty()) data.push_back(scalar_array("block1", rows.block1, true));
     if (!rows.block2.empty()) data.push_back(scalar_array("block2", rows.block2, true));
     if (!rows.normal_stress.empty()) data.push_back(scalar_array("normal_stress", rows.normal_stress, false));
+    if (!rows.pore_pressure.empty()) data.push_back(scalar_array("pore_pressure", rows.pore_pressure, false));
+    if (!rows.aperture.empty()) data.push_back(scalar_array("aperture", rows.aperture, false));
     if (!rows.shear_stress.empty()) {
         data.push_back(vector_array("shear_stress", rows.shear_stress));
         std::vector<double> mag;

@@ -1,5 +1,7 @@
 #include "render/contact_bridge.h"
 
+#include "engine/flow.h"
+
 namespace odec {
 
 namespace {
@@ -46,6 +48,10 @@ ContactView make_contact_view(const Model& m, const std::vector<int>* contact_in
 
     ContactRows& rows = view.contacts;
     ContactRows& subs = view.sub_contacts;
+    // The pore pressures and apertures, when the flow nodes were made for these sub-contacts.
+    const FlowSet& fl = m.flow;
+    const bool flow = fl.configured && have_subs && static_cast<int>(fl.sub_node.size()) == cs.n_subs() &&
+                      fl.sub_aperture.size() == fl.sub_node.size();
     reserve_rows(rows, chosen.size(), false);
     if (have_subs) reserve_rows(subs, static_cast<size_t>(cs.n_subs()), true);
 
@@ -64,6 +70,11 @@ ContactView make_contact_view(const Model& m, const std::vector<int>* contact_in
         rows.normal_disp.push_back(info.normal_disp); // closure positive, as print and hist
         rows.shear_disp.push_back(info.shear_disp_vec);
         rows.state.push_back(static_cast<int>(info.state));
+        if (flow) {
+            const ContactFlow cf = contact_flow(m, c);
+            rows.pore_pressure.push_back(cf.pp);
+            rows.aperture.push_back(cf.aperture);
+        }
 
         Vec3 force = Vec3::Zero();
         if (have_subs) {
@@ -83,6 +94,11 @@ ContactView make_contact_view(const Model& m, const std::vector<int>* contact_in
                 subs.force.push_back(f);
                 subs.state.push_back(static_cast<int>(sub_state(cs.sub_flags[k])));
                 subs.parent.push_back(row);
+                if (flow) {
+                    const int node = fl.sub_node[k];
+                    subs.pore_pressure.push_back(node >= 0 ? fl.pp[node] : 0.0);
+                    subs.aperture.push_back(fl.sub_aperture[k]);
+                }
             }
         }
         rows.force.push_back(force);

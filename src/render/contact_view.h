@@ -25,6 +25,9 @@ struct ContactRows {
     std::vector<Eigen::Vector3d> force;        // (n) N, on block2 from block1
     std::vector<int> state;                    // (n) index into ContactView::state_names
     std::vector<int> parent;                   // (n) sub-contacts only: row of its contact
+    std::vector<double> pore_pressure;         // (n) Pa, fluid flow ('config flow'): of the node, or the
+                                               //     contact's mean over its sub-contacts
+    std::vector<double> aperture;              // (n) m, hydraulic aperture (likewise)
 
     int size() const { return static_cast<int>(centroid.size()); }
 };
@@ -52,7 +55,8 @@ inline bool contact_rows_valid(const ContactRows& r, std::string& error) {
            check(r.normal_stress.size(), "normal_stress", true) && check(r.shear_stress.size(), "shear_stress", true) &&
            check(r.normal_disp.size(), "normal_disp", true) && check(r.shear_disp.size(), "shear_disp", true) &&
            check(r.force.size(), "force", true) && check(r.state.size(), "state", true) &&
-           check(r.parent.size(), "parent", true);
+           check(r.parent.size(), "parent", true) && check(r.pore_pressure.size(), "pore_pressure", true) &&
+           check(r.aperture.size(), "aperture", true);
 }
 
 } // namespace odec

@@ -330,6 +330,8 @@ QuantityInfo contact_quantity_info(ContactQuantity q) {
     case ContactQuantity::NormalDisp: return {"joint normal closure, closing +", "m", true};
     case ContactQuantity::ShearDisp: return {"joint shear displacement", "m", false};
     case ContactQuantity::State: return {"contact state", "", false};
+    case ContactQuantity::PorePressure: return {"joint pore pressure", "Pa", false};
+    case ContactQuantity::Aperture: return {"joint hydraulic aperture", "m", false};
     }
     return {};
 }
@@ -677,6 +679,8 @@ bool add_contacts(Scene& scene, const ContactView& view, ContactQuantity q, cons
     case ContactQuantity::NormalDisp: if (!need(rows.normal_disp.size(), "normal displacement")) return false; break;
     case ContactQuantity::ShearDisp: if (!need(rows.shear_disp.size(), "shear displacement")) return false; break;
     case ContactQuantity::State: if (!need(rows.state.size(), "state")) return false; break;
+    case ContactQuantity::PorePressure: if (!need(rows.pore_pressure.size(), "pore pressure (fluid flow: 'config flow')")) return false; break;
+    case ContactQuantity::Aperture: if (!need(rows.aperture.size(), "hydraulic aperture (fluid flow: 'config flow')")) return false; break;
     }
     Vec3 cut_n = Vec3::Zero();
     double cut_d = 0;
@@ -699,6 +703,8 @@ bool add_contacts(Scene& scene, const ContactView& view, ContactQuantity q, cons
         case ContactQuantity::NormalDisp: v = rows.normal_disp[i]; break;
         case ContactQuantity::ShearDisp: v = rows.shear_disp[i].norm(); break;
         case ContactQuantity::State: v = rows.state[i]; break;
+        case ContactQuantity::PorePressure: v = rows.pore_pressure[i]; break;
+        case ContactQuantity::Aperture: v = rows.aperture[i]; break;
         }
         const Vec3 nrm = unit_or(rows.normal[i], Vec3(0, 0, 1));
         Vec3 u, w;
@@ -838,6 +844,9 @@ std::string history_axis_title(HistoryKind k) {
     case HistoryKind::Energy: return "energy (J)";
     case HistoryKind::CableForce: return "cable axial force, tension + (N)";
     case HistoryKind::CableGrout: return "cable grout force (N)";
+    case HistoryKind::PorePressure: return "pore pressure (Pa)";
+    case HistoryKind::Aperture: return "hydraulic aperture (m)";
+    case HistoryKind::FlowRate: return "flow rate (m3/s)";
     }
     return "value";
 }

@@ -36,8 +36,8 @@ namespace odec::render {
 enum class BlockColour { Flat, Disp, XDis, YDis, ZDis, Vel, XVel, YVel, ZVel, Group, Material, Region, Fixed };
 // `plot vector disp|vel`.
 enum class VectorKind { Disp, Vel };
-// `plot contact nstress|sstress|ndis|sdis|state`.
-enum class ContactQuantity { NormalStress, ShearStress, NormalDisp, ShearDisp, State };
+// `plot contact nstress|sstress|ndis|sdis|state|pp|aperture`.
+enum class ContactQuantity { NormalStress, ShearStress, NormalDisp, ShearDisp, State, PorePressure, Aperture };
 // `plot zone sxx|syy|szz|sxy|sxz|syz|smin|smid|smax|state|disp`: stress components and
 // principal stresses (Pa, tension positive; smin the most compressive), the plastic state, and
 // the gridpoints' displacement magnitude.

@@ -30,7 +30,7 @@ TEST(Errors, UnknownKeywordListsWhatIsExpected) {
               "    set dtfarc 0.1\n"
               "        ^~~~~~\n"
               "  did you mean 'dtfrac'?\n"
-              "  expected one of: dt, dtfrac, ctol, ovtol, echo, log, logfile, gravity, ncyc, jmat, jcons, plot, dynamic, threads, energy, large, small\n"
+              "  expected one of: dt, dtfrac, ctol, ovtol, flow, substeps, echo, log, logfile, gravity, ncyc, jmat, jcons, plot, dynamic, threads, energy, large, small\n"
               "  see 'help set'\n");
 }
 

@@ -304,6 +304,18 @@ std::vector<Case> cable_cases() {
     };
 }
 
+// A joint 4 m long and 2 m wide with the aperture 2e-4 m, its pressure held at 1e5 Pa along x = 0
+// and 0 along x = 4, the upper block cut across at x = 2 (flow-parallel-plate.dat, cut once):
+// linear pressure, Q = a^3 W dp / (12 mu L).
+std::vector<Case> flow_cases() {
+    return {
+        {"fl_pp", "fl_pp(2,0,0)", 5e4, 5, nullptr},
+        {"fl_aperture", "fl_aperture(vector(2,2,0))", 2e-4, 1e-12, nullptr},
+        {"fl_flow", "fl_flow", 8e-12 * 2 * 1e5 / (12 * 1e-3 * 4), 1e-9, nullptr},
+        {"fl_nnode", "fl_nnode", 8, 0, nullptr}, // 6 on the joint, 2 atop the cut
+    };
+}
+
 // Intrinsics tested by scripts of their own below (files, arrays, out, error, memory offsets).
 const std::vector<std::string> kScripted = {"open", "write", "read", "close", "array_size", "out",
                                             "lose_array", "error", "imem", "fmem"};
@@ -438,6 +450,16 @@ TEST(FishIntrinsics, Cables) {
     run_cases(s, "", cable_cases());
 }
 
+TEST(FishIntrinsics, Flow) {
+    Session s;
+    ASSERT_TRUE(s.run("config flow\npoly brick 0 4 0 2 -1 0\npoly brick 0 2 0 2 0 1\npoly brick 2 4 0 2 0 1\n"
+                      "prop mat=1 dens=2500\nprop jmat=1 jkn=1e10 jks=1e10 azero=2e-4\nfix\n"
+                      "bound pp 1e5 range x -0.01 0.01 z -0.01 0.01\nbound pp 0 range x 3.99 4.01 z -0.01 0.01\n"
+                      "set substeps 20\nstep 100"))
+        << s.error();
+    run_cases(s, "", flow_cases());
+}
+
 TEST(FishIntrinsics, MemoryOffsetsOfTheClassicCodesSayWhatToWrite) {
     Session s;
     ASSERT_TRUE(s.run(kRestingBlock)) << s.error();
@@ -491,7 +513,7 @@ TEST(FishIntrinsics, SetGivesFishVariablesValues) {
 TEST(FishIntrinsics, EveryIntrinsicHasACase) {
     std::set<std::string> covered(kScripted.begin(), kScripted.end());
     for (const auto& table : {math_cases(), block_cases(), block_write_cases(), block_turn_cases(), zone_cases(),
-                              zone_step_cases(), cable_cases()}) {
+                              zone_step_cases(), cable_cases(), flow_cases()}) {
         for (const Case& c : table) covered.insert(c.intrinsic);
     }
     // The energy account's, each read against its term by Energy.CommandsAndFish (energy_test.cpp).

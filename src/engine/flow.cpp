@@ -1,0 +1,508 @@
+// Fluid flow along the joints: nodes, links, the pressure update and the pressure forces
+// (flow.h explains the scheme).
+#include "engine/flow.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <unordered_map>
+
+#include "engine/blocks.h"
+#include "engine/contact.h"
+#include "engine/model.h"
+#include "engine/range.h"
+
+namespace odec {
+
+namespace {
+
+// Whether contact c is one flow runs in: between two rigid blocks, neither excavated.
+bool flow_contact(const Model& m, int c) {
+    const BlockSet& s = m.blocks;
+    const int a = m.contacts.block_a[c], b = m.contacts.block_b[c];
+    return !((s.flags[a] | s.flags[b]) & (kExcavated | kDeformable));
+}
+
+struct CellKey {
+    std::int64_t x, y, z;
+    bool operator==(const CellKey& o) const { return x == o.x && y == o.y && z == o.z; }
+};
+struct CellHash {
+    std::size_t operator()(const CellKey& k) const {
+        return static_cast<std::size_t>(k.x * 73856093LL ^ k.y * 19349663LL ^ k.z * 83492791LL);
+    }
+};
+
+// Points within tol of one another, by cells twice as wide: the points within tol of x lie in the
+// 2 x 2 x 2 cells around the corner of its cell nearest it. find gives the nearest point kept within
+// `within` (<= tol) of x (the lowest index among equals), or -1.
+struct PointGrid {
+    double tol;
+    std::unordered_map<CellKey, std::vector<int>, CellHash> cells;
+    const std::vector<Vec3>* pts;
+    double cell() const { return 2 * tol; }
+    CellKey key(const Vec3& x) const {
+        return {static_cast<std::int64_t>(std::floor(x.x() / cell())), static_cast<std::int64_t>(std::floor(x.y() / cell())),
+                static_cast<std::int64_t>(std::floor(x.z() / cell()))};
+    }
+    int find(const Vec3& x, double within) const {
+        const CellKey k = key(x);
+        // Toward the nearer neighbour along each axis.
+        const int sx = x.x() / cell() - k.x < 0.5 ? -1 : 1, sy = x.y() / cell() - k.y < 0.5 ? -1 : 1,
+                  sz = x.z() / cell() - k.z < 0.5 ? -1 : 1;
+        int best = -1;
+        double best_d = within * within;
+        for (int dx = 0; dx <= 1; ++dx)
+            for (int dy = 0; dy <= 1; ++dy)
+                for (int dz = 0; dz <= 1; ++dz) {
+                    auto it = cells.find({k.x + dx * sx, k.y + dy * sy, k.z + dz * sz});
+                    if (it == cells.end()) continue;
+                    for (int i : it->second) {
+                        const double d = ((*pts)[i] - x).squaredNorm();
+                        if (d <= best_d && (best < 0 || d < best_d || i < best)) {
+                            best_d = d;
+                            best = i;
+                        }
+                    }
+                }
+        return best;
+    }
+    void add(int i) { cells[key((*pts)[i])].push_back(i); }
+};
+
+} // namespace
+
+double hydrostatic_pressure(const Model& m, const Vec3& x) {
+    const FlowSet& f = m.flow;
+    if (!f.has_wtable) return 0;
+    const double g = m.gravity.norm();
+    if (!(g > 0)) return 0;
+    // Depth below the table along gravity: the table is the level surface through height wtable.
+    const Vec3 up = -m.gravity / g;
+    const double depth = f.wtable - up.dot(x);
+    return depth > 0 ? f.density * g * depth : 0.0;
+}
+
+void flow_sync(Model& m) {
+    FlowSet& f = m.flow;
+    const ContactSet& cs = m.contacts;
+    if (f.revision == cs.revision && f.n_subs_seen == cs.n_subs() &&
+        static_cast<int>(f.volume.size()) == f.n_nodes()) {
+        return;
+    }
+    const BlockSet& s = m.blocks;
+    const int ns = cs.n_subs();
+    // The points, and which contacts carry flow.
+    std::vector<Vec3> pts(ns, Vec3::Zero());
+    std::vector<char> live(ns, 0);
+    for (int c = 0; c < cs.size(); ++c) {
+        if (!flow_contact(m, c)) continue;
+        for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
+            const int owner = cs.sub_side[k] == 1 ? cs.block_b[c] : cs.block_a[c];
+            pts[k] = s.centroid[owner] + s.orientation[owner] * cs.sub_local[k];
+            live[k] = 1;
+        }
+    }
+    const double ctol = cs.ctol > 0 ? cs.ctol : contact_tolerance(m);
+    const double merge = std::max(1e-3 * ctol, 1e-12);
+    // Nodes: the first point of each group within `merge` of one another.
+    std::vector<int> node_of(ns, -1);
+    std::vector<int> first; // first point of each node
+    std::vector<Vec3> sum;
+    std::vector<int> count;
+    PointGrid grid{merge, {}, &pts};
+    grid.cells.reserve(static_cast<std::size_t>(ns));
+    for (int k = 0; k < ns; ++k) {
+        if (!live[k]) continue;
+        const int near = grid.find(pts[k], merge);
+        if (near >= 0) {
+            node_of[k] = node_of[near];
+        } else {
+            node_of[k] = static_cast<int>(first.size());
+            first.push_back(k);
+            sum.push_back(Vec3::Zero());
+            count.push_back(0);
+            grid.add(k);
+        }
+        sum[node_of[k]] += pts[k];
+        ++count[node_of[k]];
+    }
+    const int nn = static_cast<int>(first.size());
+    std::vector<Vec3> pos(nn);
+    for (int i = 0; i < nn; ++i) pos[i] = sum[i] / count[i];
+    // The state of the old nodes, carried by position.
+    std::vector<double> pp(nn, 0.0);
+    std::vector<std::uint8_t> fixed(nn, 0);
+    // The same nodes as before, each where it was (a model just restored): the volumes of the last
+    // step still hold.
+    bool same = nn == f.n_nodes();
+    {
+        const double carry = 0.5 * ctol;
+        PointGrid old{std::max(carry, 1e-12), {}, &f.pos};
+        for (int i = 0; i < f.n_nodes(); ++i) old.add(i);
+        for (int i = 0; i < nn; ++i) {
+            const int o = f.n_nodes() > 0 ? old.find(pos[i], carry) : -1;
+            same = same && o == i;
+            if (o >= 0) {
+                pp[i] = f.pp[o];
+                fixed[i] = f.fixed[o];
+            } else {
+                pp[i] = hydrostatic_pressure(m, pos[i]);
+            }
+        }
+    }
+    f.pos = std::move(pos);
+    f.pp = std::move(pp);
+    f.fixed = std::move(fixed);
+    f.sub_node = std::move(node_of);
+    // Links: each contact polygon fanned into triangles, the linear finite-element weights.
+    f.link_a.clear();
+    f.link_b.clear();
+    f.link_sa.clear();
+    f.link_sb.clear();
+    f.link_w.clear();
+    std::vector<int> ring;
+    std::vector<double> angle;
+    struct Edge {
+        int i, j;
+        double w;
+    };
+    std::vector<Edge> edges;
+    for (int c = 0; c < cs.size(); ++c) {
+        if (!flow_contact(m, c)) continue;
+        const int k0 = cs.sub_offset[c], k1 = cs.sub_offset[c + 1];
+        if (k1 - k0 < 3) continue;
+        const Vec3 n = cs.normal[c];
+        Vec3 ctr = Vec3::Zero();
+        for (int k = k0; k < k1; ++k) ctr += pts[k];
+        ctr /= (k1 - k0);
+        const Vec3 t1 = n.unitOrthogonal(), t2 = n.cross(t1);
+        ring.clear();
+        angle.assign(k1 - k0, 0.0);
+        for (int k = k0; k < k1; ++k) {
+            const Vec3 d = pts[k] - ctr;
+            angle[k - k0] = std::atan2(d.dot(t2), d.dot(t1));
+            ring.push_back(k);
+        }
+        std::sort(ring.begin(), ring.end(), [&](int x, int y) {
+            const double ax = angle[x - k0], ay = angle[y - k0];
+            return ax < ay || (ax == ay && x < y);
+        });
+        edges.clear();
+        auto add = [&](int i, int j, double w) {
+            if (i > j) std::swap(i, j);
+            for (Edge& e : edges) {
+                if (e.i == i && e.j == j) {
+                    e.w += w;
+                    return;
+                }
+            }
+            edges.push_back({i, j, w});
+        };
+        const int r = static_cast<int>(ring.size());
+        for (int t = 1; t + 1 < r; ++t) {
+            const int v[3] = {ring[0], ring[t], ring[t + 1]};
+            // Twice the area, in the plane.
+            const Vec3 e1 = pts[v[1]] - pts[v[0]], e2 = pts[v[2]] - pts[v[0]];
+            const double area2 = (e1.cross(e2)).dot(n);
+            if (!(std::abs(area2) > 1e-14 * (e1.squaredNorm() + e2.squaredNorm()))) continue;
+            for (int q = 0; q < 3; ++q) {
+                // The corner q; the edge opposite it joins the other two.
+                const Vec3 u = pts[v[(q + 1) % 3]] - pts[v[q]], w = pts[v[(q + 2) % 3]] - pts[v[q]];
+                const double cot = u.dot(w) / std::abs(u.cross(w).dot(n));
+                add(v[(q + 1) % 3], v[(q + 2) % 3], 0.5 * cot);
+            }
+        }
+        for (const Edge& e : edges) {
+            const int na = f.sub_node[e.i], nb = f.sub_node[e.j];
+            if (na == nb || !(e.w > 0)) continue;
+            f.link_a.push_back(na);
+            f.link_b.push_back(nb);
+            f.link_sa.push_back(e.i);
+            f.link_sb.push_back(e.j);
+            f.link_w.push_back(e.w);
+        }
+    }
+    f.link_q.assign(f.n_links(), 0.0);
+    f.inflow.assign(nn, 0.0);
+    f.volume.assign(nn, 0.0);
+    if (!same) f.last_volume.clear();
+    f.area.assign(nn, 0.0);
+    f.sub_aperture.assign(ns, 0.0);
+    f.revision = cs.revision;
+    f.n_subs_seen = ns;
+    ++f.rebuilds;
+}
+
+void flow_apertures(Model& m) {
+    FlowSet& f = m.flow;
+    const ContactSet& cs = m.contacts;
+    std::fill(f.volume.begin(), f.volume.end(), 0.0);
+    std::fill(f.area.begin(), f.area.end(), 0.0);
+    const int n_jmat = static_cast<int>(m.joint_materials.size());
+    for (int c = 0; c < cs.size(); ++c) {
+        const int jm = cs.jmat[c];
+        const JointMaterial* j = (jm > 0 && jm < n_jmat && m.joint_materials[jm].defined) ? &m.joint_materials[jm] : nullptr;
+        for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
+            const int node = f.sub_node[k];
+            if (node < 0) continue;
+            double a = 0;
+            if (j) {
+                a = std::max(j->azero - cs.sub_un[k], j->ares);
+                if (j->amax > 0) a = std::min(a, j->amax);
+            }
+            a = std::max(a, 0.0);
+            f.sub_aperture[k] = a;
+            f.volume[node] += a * cs.sub_area[k];
+            f.area[node] += cs.sub_area[k];
+        }
+    }
+}
+
+void flow_ready(Model& m) {
+    if (!m.contacts.detected || m.geometry_changed || !m.contacts.surface_ready) {
+        refresh_world_vertices(m);
+        detect_contacts(m);
+    }
+    flow_sync(m);
+}
+
+int set_flow_pressure(Model& m, const std::vector<int>& nodes, const PressureSpec& spec, bool fix) {
+    FlowSet& f = m.flow;
+    for (int i : nodes) {
+        const double p = spec.wtable ? hydrostatic_pressure(m, f.pos[i]) : spec.p + spec.grad.dot(f.pos[i]);
+        f.pp[i] = std::max(0.0, p);
+        if (fix) f.fixed[i] = 1;
+    }
+    f.last_volume.clear();
+    return static_cast<int>(nodes.size());
+}
+
+double flow_stable_timestep(Model& m) {
+    FlowSet& f = m.flow;
+    flow_sync(m);
+    flow_apertures(m);
+    const int nn = f.n_nodes();
+    std::vector<double> sumc(nn, 0.0);
+    for (int l = 0; l < f.n_links(); ++l) {
+        const double a = 0.5 * (f.sub_aperture[f.link_sa[l]] + f.sub_aperture[f.link_sb[l]]);
+        const double c = a * a * a / (12.0 * f.viscosity) * f.link_w[l];
+        sumc[f.link_a[l]] += c;
+        sumc[f.link_b[l]] += c;
+    }
+    double dt = 0;
+    for (int i = 0; i < nn; ++i) {
+        if (f.fixed[i] || !(sumc[i] > 0) || !(f.volume[i] > 0)) continue;
+        const double d = 0.8 * f.volume[i] / (f.bulk * sumc[i]);
+        if (dt == 0 || d < dt) dt = d;
+    }
+    // No free node stores water (every pressure fixed): nothing evolves, a nominal second.
+    return dt > 0 ? dt : (nn > 0 ? 1.0 : 0.0);
+}
+
+std::string flow_problem(const Model& m) {
+    const FlowSet& f = m.flow;
+    if (!f.on) return "";
+    const BlockSet& s = m.blocks;
+    for (int b = 0; b < s.size(); ++b) {
+        if ((s.flags[b] & kDeformable) && !(s.flags[b] & kExcavated)) {
+            return "fluid flow runs in the joints of rigid blocks only, and block " + std::to_string(s.id[b]) +
+                   " is deformable ('set flow off' to cycle without flow)";
+        }
+    }
+    bool any = false;
+    for (const JointMaterial& j : m.joint_materials) any = any || (j.defined && (j.azero > 0 || j.ares > 0));
+    if (!any) {
+        return "fluid flow is on but no joint material has a hydraulic aperture: give 'prop jmat=n azero=...' "
+               "(or 'set flow off')";
+    }
+    return "";
+}
+
+std::string flow_step(Model& m, double dt) {
+    FlowSet& f = m.flow;
+    flow_sync(m);
+    flow_apertures(m);
+    const int nn = f.n_nodes(), nl = f.n_links();
+    const double mu = f.viscosity;
+    std::vector<double> cond(nl), sumc(nn, 0.0), head(nn);
+    for (int l = 0; l < nl; ++l) {
+        const double a = 0.5 * (f.sub_aperture[f.link_sa[l]] + f.sub_aperture[f.link_sb[l]]);
+        cond[l] = a * a * a / (12.0 * mu) * f.link_w[l];
+        sumc[f.link_a[l]] += cond[l];
+        sumc[f.link_b[l]] += cond[l];
+    }
+    // The pressure a hydrostatic column adds between two points: rho g . x.
+    for (int i = 0; i < nn; ++i) head[i] = f.density * m.gravity.dot(f.pos[i]);
+    auto flows = [&] {
+        std::fill(f.inflow.begin(), f.inflow.end(), 0.0);
+        for (int l = 0; l < nl; ++l) {
+            const int a = f.link_a[l], b = f.link_b[l];
+            double q = cond[l] * ((f.pp[a] - head[a]) - (f.pp[b] - head[b]));
+            // A free node at zero pressure is dry: it gives no water (joints above a water table stay dry).
+            if ((q > 0 && !f.fixed[a] && !(f.pp[a] > 0)) || (q < 0 && !f.fixed[b] && !(f.pp[b] > 0))) q = 0;
+            f.link_q[l] = q;
+            f.inflow[a] -= q;
+            f.inflow[b] += q;
+        }
+    };
+    if (f.mode == FlowMode::Steady) {
+        constexpr double kRelax = 0.8;
+        double dt_min = 0;
+        for (int i = 0; i < nn; ++i) {
+            if (f.fixed[i] || !(sumc[i] > 0) || !(f.volume[i] > 0)) continue;
+            const double d = f.volume[i] / (f.bulk * sumc[i]);
+            if (dt_min == 0 || d < dt_min) dt_min = d;
+        }
+        f.dt = kRelax * dt_min;
+        for (int it = 0; it < f.substeps; ++it) {
+            flows();
+            for (int i = 0; i < nn; ++i) {
+                if (f.fixed[i] || !(sumc[i] > 0)) continue;
+                f.pp[i] = std::max(0.0, f.pp[i] + (f.volume[i] > 0 ? kRelax : 1.0) * f.inflow[i] / sumc[i]);
+            }
+            ++f.steps;
+        }
+    } else {
+        double dt_min = 0;
+        for (int i = 0; i < nn; ++i) {
+            if (f.fixed[i] || !(sumc[i] > 0) || !(f.volume[i] > 0)) continue;
+            const double d = 0.8 * f.volume[i] / (f.bulk * sumc[i]);
+            if (dt_min == 0 || d < dt_min) dt_min = d;
+        }
+        long n = 1;
+        if (dt_min > 0 && dt > dt_min) n = static_cast<long>(std::ceil(dt / dt_min));
+        constexpr long kMaxSub = 100000;
+        if (n > kMaxSub) {
+            return "transient flow would need " + std::to_string(n) + " sub-steps in one mechanical step of " +
+                   std::to_string(dt) + " s (its stable step is " + std::to_string(dt_min) +
+                   " s); the most is " + std::to_string(kMaxSub) + ": use 'set flow steady', a larger azero or a "
+                   "smaller fluid bulk modulus";
+        }
+        const double h = dt / n;
+        f.dt = h;
+        // The change of volume since the last step squeezes or draws the water.
+        const bool have_last = f.last_volume.size() == f.volume.size();
+        for (int i = 0; i < nn && have_last; ++i) {
+            if (f.fixed[i] || !(f.volume[i] > 0)) continue;
+            const double mean = 0.5 * (f.volume[i] + f.last_volume[i]);
+            f.pp[i] = std::max(0.0, f.pp[i] - f.bulk * (f.volume[i] - f.last_volume[i]) / mean);
+        }
+        for (long it = 0; it < n; ++it) {
+            flows();
+            for (int i = 0; i < nn; ++i) {
+                if (f.fixed[i] || !(sumc[i] > 0)) continue;
+                if (f.volume[i] > 0) f.pp[i] = std::max(0.0, f.pp[i] + f.bulk * h / f.volume[i] * f.inflow[i]);
+                else f.pp[i] = std::max(0.0, f.pp[i] + f.inflow[i] / sumc[i]);
+            }
+            ++f.steps;
+        }
+        f.time += dt;
+        f.last_volume = f.volume;
+    }
+    // The pressure pushes the two blocks of every sub-contact apart.
+    BlockSet& s = m.blocks;
+    const ContactSet& cs = m.contacts;
+    f.block_force.assign(s.size(), Vec3::Zero());
+    f.block_moment.assign(s.size(), Vec3::Zero());
+    for (int c = 0; c < cs.size(); ++c) {
+        const int a = cs.block_a[c], b = cs.block_b[c];
+        const Vec3 n = cs.normal[c];
+        for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
+            const int node = f.sub_node[k];
+            if (node < 0 || !(f.pp[node] > 0) || !(cs.sub_area[k] > 0)) continue;
+            const int owner = cs.sub_side[k] == 1 ? b : a;
+            const Vec3 x = s.centroid[owner] + s.orientation[owner] * cs.sub_local[k];
+            const Vec3 fb = f.pp[node] * cs.sub_area[k] * n;
+            const Vec3 mb = (x - s.centroid[b]).cross(fb), ma = -(x - s.centroid[a]).cross(fb);
+            s.force[b] += fb;
+            s.moment[b] += mb;
+            s.force[a] -= fb;
+            s.moment[a] += ma;
+            s.force_scale[a] += fb.norm();
+            s.force_scale[b] += fb.norm();
+            f.block_force[b] += fb;
+            f.block_moment[b] += mb;
+            f.block_force[a] -= fb;
+            f.block_moment[a] += ma;
+        }
+    }
+    return "";
+}
+
+std::vector<int> flow_nodes_in_range(const Model& m, const Range& r) {
+    const FlowSet& f = m.flow;
+    const ContactSet& cs = m.contacts;
+    std::vector<int> first(f.n_nodes(), -1); // a sub-contact of each node
+    for (int k = 0; k < static_cast<int>(f.sub_node.size()) && k < cs.n_subs(); ++k) {
+        if (f.sub_node[k] >= 0 && first[f.sub_node[k]] < 0) first[f.sub_node[k]] = k;
+    }
+    std::vector<int> out;
+    for (int i = 0; i < f.n_nodes(); ++i) {
+        if (first[i] < 0) continue;
+        const int c = cs.sub_owner(first[i]);
+        if (r.contains_contact(m, f.pos[i], cs.block_a[c], cs.block_b[c])) out.push_back(i);
+    }
+    return out;
+}
+
+int flow_node_at(const Model& m, const Vec3& x) {
+    const FlowSet& f = m.flow;
+    int best = -1;
+    double best_d = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < f.n_nodes(); ++i) {
+        const double d = (f.pos[i] - x).squaredNorm();
+        if (d < best_d) {
+            best_d = d;
+            best = i;
+        }
+    }
+    return best;
+}
+
+ContactFlow contact_flow(const Model& m, int c) {
+    const FlowSet& f = m.flow;
+    const ContactSet& cs = m.contacts;
+    ContactFlow r;
+    double area = 0;
+    if (static_cast<int>(f.sub_node.size()) != cs.n_subs()) return r;
+    for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
+        const int node = f.sub_node[k];
+        if (node < 0) continue;
+        const double w = cs.sub_area[k];
+        r.pp += w * f.pp[node];
+        r.aperture += w * f.sub_aperture[k];
+        area += w;
+    }
+    if (area > 0) {
+        r.pp /= area;
+        r.aperture /= area;
+    }
+    for (int l = 0; l < f.n_links(); ++l) {
+        if (f.link_sa[l] >= cs.sub_offset[c] && f.link_sa[l] < cs.sub_offset[c + 1]) r.flow += std::abs(f.link_q[l]);
+    }
+    return r;
+}
+
+double flow_unbalance(const Model& m) {
+    const FlowSet& f = m.flow;
+    double out = 0, moved = 0;
+    for (int i = 0; i < f.n_nodes() && i < static_cast<int>(f.inflow.size()); ++i) {
+        if (!f.fixed[i]) out += std::abs(f.inflow[i]);
+    }
+    for (double q : f.link_q) moved += std::abs(q);
+    return moved > 0 ? out / moved : 0.0;
+}
+
+double fixed_inflow(const Model& m) {
+    const FlowSet& f = m.flow;
+    double q = 0;
+    // What the network takes from a fixed node is what the boundary feeds in there.
+    for (int i = 0; i < f.n_nodes() && i < static_cast<int>(f.inflow.size()); ++i) {
+        if (f.fixed[i] && f.inflow[i] < 0) q -= f.inflow[i];
+    }
+    return q;
+}
+
+} // namespace odec

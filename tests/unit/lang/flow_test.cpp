@@ -1,0 +1,302 @@
+// Fluid flow in the joints (flow.h): the verification problems of examples/verification/flow-*.dat
+// against their analytic answers, conservation in transient flow, what reads the flow (print, hist,
+// FISH, plot, VTK) and the refusals of bad input.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "engine/blocks.h"
+#include "engine/flow.h"
+#include "fish/runtime.h"
+#include "test_util.h"
+
+using odec::test::Session;
+
+namespace {
+
+const std::string kDir = std::string(ODEC_SOURCE_DIR) + "/examples/verification/";
+
+std::string script_text(const std::string& name) {
+    std::ifstream in(kDir + name);
+    std::stringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
+// The script with one piece of text replaced (which must be there).
+std::string with(std::string script, const std::string& from, const std::string& to) {
+    const size_t at = script.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    if (at != std::string::npos) script.replace(at, from.size(), to);
+    return script;
+}
+
+void report(const char* what, double computed, double analytic, const char* unit) {
+    std::printf("[verification] %-44s computed %12.6g  analytic %12.6g %s  (%+.3f %%)\n", what, computed, analytic, unit,
+                100.0 * (computed - analytic) / analytic);
+}
+
+// The flow the fixed nodes at x < x_max feed in (the inlet side), m^3/s.
+double inflow_left(const odec::Model& m, double x_max) {
+    const odec::FlowSet& f = m.flow;
+    double q = 0;
+    for (int i = 0; i < f.n_nodes(); ++i) {
+        if (f.fixed[i] && f.pos[i].x() < x_max) q -= f.inflow[i];
+    }
+    return q;
+}
+
+} // namespace
+
+TEST(Flow, ParallelPlateCubicLaw) {
+    Session s;
+    ASSERT_TRUE(s.interp.run_file(kDir + "flow-parallel-plate.dat")) << s.error();
+    const double a = 2e-4, w = 2, l = 4, dp = 1e5, mu = 1e-3;
+    const double q_exact = a * a * a * w * dp / (12 * mu * l);
+    const double q = inflow_left(s.model, 0.01);
+    report("flow: parallel plate, Q", q, q_exact, "m^3/s");
+    EXPECT_NEAR(q, q_exact, 1e-3 * q_exact);
+    // What flows in flows out, and the pressure inside falls linearly.
+    EXPECT_NEAR(odec::fixed_inflow(s.model), q_exact, 1e-3 * q_exact);
+    const odec::FlowSet& f = s.model.flow;
+    int inside = 0;
+    for (int i = 0; i < f.n_nodes(); ++i) {
+        if (std::abs(f.pos[i].z()) > 1e-6 || f.fixed[i]) continue;
+        const double p_exact = dp * (1 - f.pos[i].x() / l);
+        EXPECT_NEAR(f.pp[i], p_exact, 1e-3 * dp) << "node at x = " << f.pos[i].x();
+        ++inside;
+    }
+    EXPECT_EQ(inside, 6); // x = 1, 2, 3 on both sides
+    EXPECT_NE(s.out.str().find("inflow at the fixed nodes 3.33e-05 m^3/s"), std::string::npos) << s.out.str();
+}
+
+// Whether the block on the incline slides when its base joint holds pressure p, Pa.
+bool incline_slides(double p, double* moved = nullptr) {
+    Session s;
+    char text[32];
+    std::snprintf(text, sizeof text, "bound pp %.6g", p);
+    EXPECT_TRUE(s.run(with(script_text("flow-incline.dat"), "bound pp 6800", text))) << s.error();
+    const int b = s.model.block_index(2);
+    const double d = s.model.blocks.disp[b].norm();
+    if (moved) *moved = d;
+    return d > 1e-3;
+}
+
+TEST(Flow, InclineSlidesAtTheAnalyticPressure) {
+    const double deg = M_PI / 180;
+    const double p_c = 20000 * (std::cos(20 * deg) - std::sin(20 * deg) / std::tan(30 * deg));
+    double d_lo = 0, d_hi = 0;
+    EXPECT_FALSE(incline_slides(0.98 * p_c, &d_lo)) << "moved " << d_lo;
+    EXPECT_TRUE(incline_slides(1.02 * p_c, &d_hi)) << "moved " << d_hi;
+    // Between them, by halves: the pressure at which it starts to slide.
+    double lo = 0.98 * p_c, hi = 1.02 * p_c;
+    for (int k = 0; k < 5; ++k) {
+        const double mid = 0.5 * (lo + hi);
+        (incline_slides(mid) ? hi : lo) = mid;
+    }
+    const double found = 0.5 * (lo + hi);
+    report("flow: incline, pressure that slides the block", found, p_c, "Pa");
+    EXPECT_NEAR(found, p_c, 0.01 * p_c);
+}
+
+TEST(Flow, DamUpliftIsLinearFromHeelToToe) {
+    Session s;
+    ASSERT_TRUE(s.interp.run_file(kDir + "flow-dam-uplift.dat")) << s.error();
+    const double p1 = 196200, p2 = 19620, b = 10, w = 2;
+    const odec::FlowSet& f = s.model.flow;
+    double worst = 0;
+    int base = 0;
+    for (int i = 0; i < f.n_nodes(); ++i) {
+        if (std::abs(f.pos[i].z()) > 1e-6 || f.pos[i].x() < -1e-6 || f.pos[i].x() > b + 1e-6) continue;
+        const double p_exact = p1 + (p2 - p1) * f.pos[i].x() / b;
+        worst = std::max(worst, std::abs(f.pp[i] - p_exact) / p_exact);
+        ++base;
+    }
+    EXPECT_EQ(base, 22);
+    std::printf("[verification] flow: dam uplift, largest error of the base pressures %.4f %%\n", 100 * worst);
+    EXPECT_LT(worst, 0.02);
+    // The uplift on the dam (block 13, the last made), and where it acts.
+    const int dam = s.model.block_index(13);
+    const double up = f.block_force[dam].z(), up_exact = b * w * (p1 + p2) / 2;
+    report("flow: dam uplift force", up, up_exact, "N");
+    EXPECT_NEAR(up, up_exact, 0.02 * up_exact);
+    // Its moment about the dam's centroid (x = 5) gives its line of action.
+    const double x_c = s.model.blocks.centroid[dam].x() + f.block_moment[dam].y() / -up;
+    const double x_exact = b * (p1 + 2 * p2) / (3 * (p1 + p2));
+    report("flow: dam uplift, distance from the heel", x_c, x_exact, "m");
+    EXPECT_NEAR(x_c, x_exact, 0.02 * x_exact);
+}
+
+// 'solve' waits for the flow to settle: the dam's base pressures reached by solve alone.
+TEST(Flow, SolveWaitsForTheFlow) {
+    Session s;
+    ASSERT_TRUE(s.run(with(with(script_text("flow-dam-uplift.dat"), "step 1000", "solve ratio 1e-6"), "set substeps 20\n", "")))
+        << s.error();
+    const odec::FlowSet& f = s.model.flow;
+    EXPECT_LT(odec::flow_unbalance(s.model), 1e-6);
+    for (int i = 0; i < f.n_nodes(); ++i) {
+        if (std::abs(f.pos[i].z()) > 1e-6 || f.pos[i].x() < -1e-6 || f.pos[i].x() > 10 + 1e-6) continue;
+        const double p_exact = 196200 + (19620 - 196200) * f.pos[i].x() / 10;
+        EXPECT_NEAR(f.pp[i], p_exact, 1e-4 * p_exact) << "node at x = " << f.pos[i].x();
+    }
+}
+
+TEST(Flow, JointOpensUnderPressureAndFlowFollowsTheCubicLaw) {
+    const double sigma = 25000, kn = 1e8, azero = 3e-4, w = 2, l = 4, mu = 1e-3, dp = 500;
+    double q_first = 0, q_last = 0;
+    for (double p : {1000.0, 10000.0, 20000.0}) {
+        Session s;
+        char in[48], out[48];
+        std::snprintf(in, sizeof in, "bound pp %.6g range x -0.01", p + dp / 2);
+        std::snprintf(out, sizeof out, "bound pp %.6g range x 3.99", p - dp / 2);
+        std::string script = with(script_text("flow-opening.dat"), "bound pp 20250 range x -0.01", in);
+        script = with(script, "bound pp 19750 range x 3.99", out);
+        ASSERT_TRUE(s.run(script)) << s.error();
+        const double a_exact = azero - (sigma - p) / kn;
+        const odec::ContactFlow cf = odec::contact_flow(s.model, 0);
+        char what[64];
+        std::snprintf(what, sizeof what, "flow: opening joint, aperture at p = %g", p);
+        report(what, cf.aperture, a_exact, "m");
+        EXPECT_NEAR(cf.aperture, a_exact, 0.01 * a_exact);
+        const double q_exact = a_exact * a_exact * a_exact * w * dp / (12 * mu * l);
+        const double q = inflow_left(s.model, 0.01);
+        std::snprintf(what, sizeof what, "flow: opening joint, Q at p = %g", p);
+        report(what, q, q_exact, "m^3/s");
+        EXPECT_NEAR(q, q_exact, 0.01 * q_exact);
+        // The joint's springs carry the effective stress.
+        EXPECT_NEAR(odec::contact_info(s.model, 0).normal_stress, sigma - p, 0.01 * sigma);
+        if (p == 1000.0) q_first = q;
+        q_last = q;
+    }
+    EXPECT_GT(q_last, 50 * q_first);
+}
+
+// Transient flow with closed boundaries: no water is made or lost, and the pressure evens out.
+TEST(Flow, TransientKeepsTheWater) {
+    Session s;
+    std::string script = with(script_text("flow-parallel-plate.dat"), "bound pp 1e5 range x -0.01 0.01\nbound pp 0 range x 3.99 4.01\n",
+                              "set flow transient\ninsitu pp 1e5 range x -0.01 1.01\n");
+    script = with(script, "set substeps 20\nstep 100\n", "step 1\n");
+    ASSERT_TRUE(s.run(script)) << s.error();
+    const odec::FlowSet& f = s.model.flow;
+    auto stored = [&] {
+        double v = 0;
+        for (int i = 0; i < f.n_nodes(); ++i) v += f.volume[i] * f.pp[i];
+        return v;
+    };
+    const double before = stored();
+    ASSERT_GT(before, 0);
+    ASSERT_TRUE(s.run("step 3000")) << s.error();
+    EXPECT_NEAR(stored(), before, 1e-9 * before);
+    double lo = 1e300, hi = 0, vol = 0;
+    for (int i = 0; i < f.n_nodes(); ++i) {
+        lo = std::min(lo, f.pp[i]);
+        hi = std::max(hi, f.pp[i]);
+        vol += f.volume[i];
+    }
+    EXPECT_NEAR(lo, before / vol, 1e-3 * before / vol);
+    EXPECT_NEAR(hi, before / vol, 1e-3 * before / vol);
+    EXPECT_GT(f.time, 0);
+}
+
+// A water table: the nodes below it start hydrostatic, and hydrostatic pressure moves no water.
+TEST(Flow, WaterTableIsHydrostaticAndAtRest) {
+    Session s;
+    ASSERT_TRUE(s.run("config flow\ngrav 0 0 -10\npoly brick 0 1 0 1 0 10\npoly brick 1 2 0 1 0 10\n"
+                      "prop mat=1 dens=2500\nprop jmat=1 jkn=1e10 jks=1e10 azero=1e-4\nfix\n"
+                      "insitu wtable 8\nstep 200"))
+        << s.error();
+    const odec::FlowSet& f = s.model.flow;
+    ASSERT_GT(f.n_nodes(), 0);
+    for (int i = 0; i < f.n_nodes(); ++i) {
+        const double p_exact = std::max(0.0, 1000 * 10 * (8 - f.pos[i].z()));
+        EXPECT_NEAR(f.pp[i], p_exact, 1e-6 * 8e4) << "node at z = " << f.pos[i].z();
+    }
+}
+
+TEST(Flow, HistoriesFishPrintPlotAndExportReadIt) {
+    Session s;
+    std::string script = script_text("flow-parallel-plate.dat");
+    script = with(script, "set substeps 20\n", "set substeps 20\nhist ncyc 10\nhist pp 2,0,0\nhist aperture 2,0,0\nhist flowrate\n");
+    ASSERT_TRUE(s.run(script)) << s.error();
+    const auto& h = s.model.histories.items;
+    ASSERT_EQ(h.size(), 3u);
+    EXPECT_NEAR(h[0].values.back(), 5e4, 50);
+    EXPECT_NEAR(h[1].values.back(), 2e-4, 1e-9);
+    EXPECT_NEAR(h[2].values.back(), 3.3333e-5, 1e-8);
+    ASSERT_TRUE(s.run("def f\n  p = fl_pp(1,0,0)\n  a = fl_aperture(vector(1,0,0))\n  q = fl_flow\n  n = fl_nnode\nend\n@f"))
+        << s.error();
+    auto g = [&](const char* n) { return s.interp.fish().find(n)->value.number(); };
+    EXPECT_NEAR(g("p"), 7.5e4, 75);
+    EXPECT_NEAR(g("a"), 2e-4, 1e-9);
+    EXPECT_NEAR(g("q"), 3.3333e-5, 1e-8);
+    EXPECT_EQ(g("n"), 16);
+    s.out.str("");
+    ASSERT_TRUE(s.run("print contact")) << s.error();
+    EXPECT_NE(s.out.str().find("aperture"), std::string::npos) << s.out.str();
+    const std::string stem = "/tmp/odec-flow-test-" + std::to_string(::getpid());
+    ASSERT_TRUE(s.run("export vtk '" + stem + "'")) << s.error();
+    const std::string vtp = odec::test::read_bytes(stem + "-subcontacts-000100.vtp");
+    EXPECT_NE(vtp.find("pore_pressure"), std::string::npos);
+    EXPECT_NE(vtp.find("aperture"), std::string::npos);
+    std::system(("rm -f '" + stem + "'-* '" + stem + ".pvd'").c_str());
+}
+
+TEST(Flow, BadInputIsRefusedWithTheModelUnchanged) {
+    {
+        Session s;
+        EXPECT_FALSE(s.run("fluid density 1000"));
+        EXPECT_NE(s.error().find("t.dat:1:1: error: fluid flow is not configured"), std::string::npos) << s.error();
+        EXPECT_NE(s.error().find("config flow"), std::string::npos) << s.error();
+        EXPECT_EQ(s.model.flow.density, 1000);
+        EXPECT_FALSE(s.run("set flow on"));
+        EXPECT_NE(s.error().find("fluid flow is not configured"), std::string::npos) << s.error();
+        EXPECT_FALSE(s.model.flow.on);
+        EXPECT_FALSE(s.run("poly brick 0 1 0 1 0 1\nbound pp 1e5"));
+        EXPECT_NE(s.error().find("t.dat:2:7: error: fluid flow is not configured"), std::string::npos) << s.error();
+    }
+    {
+        Session s;
+        ASSERT_TRUE(s.run("config flow\npoly brick 0 1 0 1 0 1\nprop mat=1 dens=2000"));
+        EXPECT_FALSE(s.run("bound pp 1e5"));
+        EXPECT_NE(s.error().find("t.dat:1:1: error: there is no joint between rigid blocks"), std::string::npos) << s.error();
+        ASSERT_TRUE(s.run("poly brick 0 1 0 1 1 2\nprop jmat=1 jkn=1e9 jks=1e9 azero=1e-4"));
+        EXPECT_FALSE(s.run("bound pp 1e5 range x 5 6"));
+        EXPECT_NE(s.error().find("the range selects no flow node (no joint there)"), std::string::npos) << s.error();
+        for (int i = 0; i < s.model.flow.n_nodes(); ++i) EXPECT_FALSE(s.model.flow.fixed[i]);
+        EXPECT_FALSE(s.run("bound pp 1e5 pfree"));
+        EXPECT_FALSE(s.run("bound pgrad 0,0,1"));
+        EXPECT_NE(s.error().find("'pgrad' goes with 'pp'"), std::string::npos) << s.error();
+        EXPECT_FALSE(s.run("bound pp 1e5 xvel 1"));
+        EXPECT_NE(s.error().find("'xvelocity' does not go with the pore pressure"), std::string::npos) << s.error();
+        EXPECT_FALSE(s.run("bound wtable 3"));
+        EXPECT_NE(s.error().find("a water table needs gravity"), std::string::npos) << s.error();
+        EXPECT_FALSE(s.model.flow.has_wtable);
+        EXPECT_FALSE(s.run("prop jmat=1 ares=1e-4 amax=1e-5"));
+        EXPECT_NE(s.error().find("amax 1e-05 m) is below the residual one"), std::string::npos) << s.error();
+        EXPECT_EQ(s.model.joint_materials[1].ares, 0);
+        EXPECT_FALSE(s.run("insitu pp 1e5 stress 0 0 0 0 0 0"));
+        EXPECT_NE(s.error().find("'stress' does not go with the pore pressure"), std::string::npos) << s.error();
+    }
+    {
+        // Flow on without any hydraulic aperture, and with a deformable block: said before the first step.
+        Session s;
+        ASSERT_TRUE(s.run("config flow\npoly brick 0 1 0 1 0 1\npoly brick 0 1 0 1 1 2\nprop mat=1 dens=2000 k=1e9 g=1e9\n"
+                          "prop jmat=1 jkn=1e9 jks=1e9\nfix range z 0 1\ngrav 0 0 -10"));
+        EXPECT_FALSE(s.run("step 1"));
+        EXPECT_NE(s.error().find("no joint material has a hydraulic aperture"), std::string::npos) << s.error();
+        EXPECT_EQ(s.model.step, 0);
+        ASSERT_TRUE(s.run("prop jmat=1 azero=1e-4\ngen edge 0.5 range z 1 2"));
+        EXPECT_FALSE(s.run("step 1"));
+        EXPECT_NE(s.error().find("fluid flow runs in the joints of rigid blocks only"), std::string::npos) << s.error();
+        EXPECT_EQ(s.model.step, 0);
+        ASSERT_TRUE(s.run("set flow off\nstep 1")) << s.error();
+    }
+}
