@@ -3,6 +3,7 @@
 #include "common.h"
 #include "engine/blocks.h"
 #include "engine/cable.h"
+#include "engine/liner.h"
 #include "engine/contact.h"
 #include "engine/zones.h"
 #include "fish/intrinsics.h"
@@ -79,6 +80,14 @@ const CommandSpec& hist_command() {
             .in_choice(1);
         c.keyword("cable_grout", 7, "grout force on the cable node nearest the point, along the cable from its first "
                                     "node to its last, N")
+            .vec("x,y,z")
+            .in_choice(1);
+        c.keyword("liner_nx", 8, "membrane force n_x of the liner element whose centroid is nearest the point, N/m "
+                                 "(tension positive; x around the liner's axis: 'help liner')")
+            .vec("x,y,z")
+            .in_choice(1);
+        c.keyword("liner_mx", 8, "bending moment m_x of the liner element whose centroid is nearest the point, N m/m "
+                                 "(positive: the face on the void's side in tension)")
             .vec("x,y,z")
             .in_choice(1);
         c.keyword("contact", 4, "with a contact quantity: follow the contact with this id instead of a point")
@@ -289,6 +298,15 @@ const CommandSpec& hist_command() {
                 if (k < 0) fail(a.find(what)->loc, "there are no cables to follow", {"make one with 'cable'"}, "history");
                 h.cable_id = m.cables.id[c];
                 h.cable_item = force ? k - m.cables.first_segment(c) + 1 : k - m.cables.node_offset[c] + 1;
+            }
+            if (what == "liner_nx" || what == "liner_mx") {
+                h.kind = what == "liner_nx" ? HistoryKind::LinerNx : HistoryKind::LinerMx;
+                h.point = a.vec(what);
+                const int e = nearest_liner_element(m, h.point);
+                if (e < 0) fail(a.find(what)->loc, "there are no liners to follow", {"make one with 'liner'"}, "history");
+                const int c = m.liners.liner_of_element(e);
+                h.cable_id = m.liners.id[c];
+                h.cable_item = e - m.liners.elem_offset[c] + 1;
             }
             h.label = history_default_label(h);
             // Its own samples start with the next one the model takes.

@@ -14,6 +14,7 @@ const char* stage_name(Stage s) {
     case Stage::Record: return "record";
     case Stage::Checks: return "checks";
     case Stage::Cables: return "cables";
+    case Stage::Liners: return "liners";
     case Stage::Count: break;
     }
     return "?";

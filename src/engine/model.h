@@ -25,6 +25,7 @@
 #include "engine/energy.h"
 #include "engine/history.h"
 #include "engine/insitu.h"
+#include "engine/liner.h"
 #include "engine/polyhedron.h"
 #include "engine/table.h"
 #include "engine/zones.h"
@@ -141,7 +142,7 @@ struct BlockSet {
 };
 
 // Cycle stages, timed into Profile.
-enum class Stage { ApplyLoads, DetectContacts, UpdateContacts, Zones, Integrate, Record, Checks, Cables, Count };
+enum class Stage { ApplyLoads, DetectContacts, UpdateContacts, Zones, Integrate, Record, Checks, Cables, Liners, Count };
 const char* stage_name(Stage s);
 
 struct Profile {
@@ -212,6 +213,7 @@ struct Model {
     ZoneSet zones;                              // tetrahedral zones of deformable blocks
     GridpointSet gridpoints;                    // their corners
     CableSet cables;                            // cables and rock bolts (cable.h)
+    LinerSet liners;                            // liners and shotcrete (liner.h)
     StressBoundary stress_boundary;             // faces loaded by `bound stress`
     std::vector<InsituRecord> insitu;           // `insitu` fields, in order, for zones made later
     HistorySet histories;

@@ -1,6 +1,7 @@
 #include "engine/zones.h"
 
 #include "engine/cable.h"
+#include "engine/liner.h"
 
 #include "engine/contact.h"
 
@@ -383,6 +384,7 @@ std::vector<double> gridpoint_stiffness(const Model& m, double joint_factor) {
     for (size_t i = 0; i < joint.size() && i < k.size(); ++i) k[i] += joint_factor * joint[i];
     // The grout of cables tied to the zones (cable.h).
     add_cable_gridpoint_stiffness(m, k);
+    add_liner_gridpoint_stiffness(m, k);
     return k;
 }
 

@@ -28,8 +28,9 @@ namespace odec {
 // rotation), and the first sample of each history (histories made during a run no longer
 // hold a NaN for each sample before them); 10: the overlap tolerance ('set ovtol'; older files
 // take the automatic one); 11: cables and rock bolts, their histories and the cables stage of
-// the profile (older files have none).
-constexpr std::uint32_t kSaveFormatVersion = 11;
+// the profile (older files have none); 12: liners and the liners stage of the profile (older
+// files have none).
+constexpr std::uint32_t kSaveFormatVersion = 12;
 
 // Write the model to `path`. A model that restore would refuse (a velocity that is not a finite
 // number after a run-away, an index out of range) is not written: save and restore run the

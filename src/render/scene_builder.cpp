@@ -838,6 +838,8 @@ std::string history_axis_title(HistoryKind k) {
     case HistoryKind::Energy: return "energy (J)";
     case HistoryKind::CableForce: return "cable axial force, tension + (N)";
     case HistoryKind::CableGrout: return "cable grout force (N)";
+    case HistoryKind::LinerNx: return "liner n_x, tension + (N/m)";
+    case HistoryKind::LinerMx: return "liner m_x, void side in tension + (N m/m)";
     }
     return "value";
 }
