@@ -7,7 +7,8 @@ namespace odec {
 const CommandSpec& liner_command() {
     static const CommandSpec spec = [] {
         CommandSpec c("liner", 3, "lay a liner (shotcrete, a lining) on the free faces of zoned blocks; delete one");
-        c.range();
+        c.range("the faces to line: those whose three corners it all contains (location filters test the corners, "
+                "region, group and id filters the face's block)");
         c.keyword("property", 4, "with a range: its liner material ('prop mat=n li_...')").integer("n", 1, 1000000);
         c.keyword("axis", 2, "with a range: the axis of the liner's report frame (default: the range's cylinder axis, else z)")
             .vec("ax,ay,az");

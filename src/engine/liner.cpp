@@ -220,6 +220,8 @@ void build_liner_stiffness(LinerSet& ls) {
     }
 }
 
+void refresh_liner_stiffness(LinerSet& ls) { ensure_stiffness(ls); }
+
 int add_liner(Model& m, const Range& range, int mat, const Vec3& axis_in, std::string& why) {
     LinerSet& ls = m.liners;
     if (mat < 1 || mat >= static_cast<int>(ls.materials.size()) || !ls.materials[mat].defined) {

@@ -156,6 +156,8 @@ std::string liners_problem(const Model& m);
 void attach_liner_nodes(Model& m);
 // Element stiffnesses and the nodes' stiffness bounds from pos0 and the materials.
 void build_liner_stiffness(LinerSet& ls);
+// The same when they are missing (after 'restore': they are not saved).
+void refresh_liner_stiffness(LinerSet& ls);
 
 // The liners' own stable timestep with real masses (translations), s (0: none).
 double liner_critical_timestep(const Model& m);

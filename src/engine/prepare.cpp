@@ -136,6 +136,7 @@ std::string prepare_cycle_once(Model& m) {
         const std::string overlap = overlap_problem(m);
         if (!overlap.empty()) return overlap;
     }
+    refresh_liner_stiffness(m.liners); // not saved: rebuilt after 'restore'
     // A joint material may be assigned before its properties are given ('change jmat'), but not
     // cycled without them: such a joint would hold nothing.
     if (const int c = contact_without_joint_properties(m, false); c >= 0) {
