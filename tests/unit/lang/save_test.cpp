@@ -446,15 +446,16 @@ TEST_F(Save, Format6AppliedForceRestoresAsALoadAtTheCentroid) {
     file.erase(damp - 8, 8);
     shrink(sets + 4, 8);
     shrink(payload_length_at, 8);
-    // Format 11 added the cables stage of the profile, the last of its stage times (the cables
-    // themselves are a section after ENRG, gone with it).
+    // Format 11 added the cables stage of the profile and format 12 the liners stage, the last
+    // two of its stage times (the cables and liners themselves are sections after ENRG, gone
+    // with it).
     const size_t prof = file.find("PROF", payload_length_at + 8);
     ASSERT_TRUE(prof != std::string::npos && prof < blks);
     const int stages = 7;
     std::memcpy(&file[prof + 12], &stages, 4);
-    file.erase(prof + 12 + 4 + 7 * 8, 8);
-    shrink(prof + 4, 8);
-    shrink(payload_length_at, 8);
+    file.erase(prof + 12 + 4 + 7 * 8, 16);
+    shrink(prof + 4, 16);
+    shrink(payload_length_at, 16);
     format = 6;
     std::memcpy(&file[12], &format, 4);
     std::uint64_t h = 0xcbf29ce484222325ull;
@@ -713,11 +714,15 @@ constexpr size_t count_fields() {
 TEST(SaveLayout, EveryFieldIsSaved) {
     using namespace odec;
     const char* fix = "a field was added: save and restore it in src/io/save.cpp, then update this count";
-    // Model: 25 saved fields and the report of the last choice of masses (mass_scaling, said
+    // Model: 26 saved fields and the report of the last choice of masses (mass_scaling, said
     // by the commands once and chosen again before the next step).
-    EXPECT_EQ(count_fields<Model>(), 27u) << fix;
+    EXPECT_EQ(count_fields<Model>(), 28u) << fix;
     EXPECT_EQ(count_fields<CableSet>(), 25u) << fix;
     EXPECT_EQ(count_fields<CableMaterial>(), 8u) << fix;
+    // LinerSet: 30 saved fields and 3 derived (the element stiffnesses and the nodes' bounds,
+    // rebuilt from pos0 and the materials).
+    EXPECT_EQ(count_fields<LinerSet>(), 33u) << fix;
+    EXPECT_EQ(count_fields<LinerMaterial>(), 10u) << fix;
     // EnergyAccount: 18 saved fields and whether the cycle has the model (false between commands).
     EXPECT_EQ(count_fields<EnergyAccount>(), 19u) << fix;
     EXPECT_EQ(count_fields<BlockSet>(), 34u) << fix;
@@ -742,7 +747,7 @@ TEST(SaveLayout, EveryFieldIsSaved) {
     EXPECT_EQ(count_fields<TableSet>(), 1u) << fix;
     EXPECT_EQ(count_fields<Damping>(), 5u) << fix;
     EXPECT_EQ(count_fields<Settings>(), 10u) << fix;
-    EXPECT_EQ(count_fields<Profile>(), 9u) << fix; // 8 stage times and the step count
+    EXPECT_EQ(count_fields<Profile>(), 10u) << fix; // 9 stage times and the step count
     EXPECT_EQ(count_fields<InsituRecord>(), 2u) << fix;
     EXPECT_EQ(count_fields<StressField>(), 4u) << fix;
     EXPECT_EQ(count_fields<Range>(), 1u) << fix;
