@@ -2,9 +2,14 @@
 // of a thin ring in an elastic plane (full slip), bonds that break, and what the commands refuse.
 #include <gtest/gtest.h>
 
+#include <stdlib.h>
+
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 
 #include "engine/liner.h"
+#include "render/scene_builder.h"
 #include "test_util.h"
 
 using namespace odec;
@@ -128,6 +133,36 @@ TEST(Liner, BondBreaksInTensionPastItsStrength) {
     }
 }
 
+// The same liner with gravity along x: its weight shears the bond (5 kPa, no normal pressure).
+// A cohesion above it holds; one below breaks in shear and the liner slides off along x, held
+// back by nothing but friction on no pressure.
+TEST(Liner, BondBreaksInShearPastItsCohesion) {
+    for (const double scoh : {2e4, 2e3}) {
+        Session s;
+        ASSERT_TRUE(s.run(kBrick)) << s.error();
+        ASSERT_TRUE(s.run("prop mat=2 li_ncut=1e5 li_scoh=" + std::to_string(scoh) + " li_sfric=30\n"
+                          "liner range z 0.99 1.01 prop 2\n"
+                          "grav 10 0 0\n"
+                          "step 400\n"))
+            << s.error();
+        const LinerSet& ls = s.model.liners;
+        ASSERT_EQ(ls.size(), 1);
+        int broken = 0;
+        double slide = 0;
+        for (int i = 0; i < ls.n_nodes(); ++i) {
+            broken += (ls.state[i] & kBondBrokenShear) != 0;
+            slide = std::max(slide, ls.disp[i].x());
+        }
+        if (scoh > 5e3) {
+            EXPECT_EQ(broken, 0) << "a cohesion of " << scoh << " Pa holds 5 kPa";
+            EXPECT_LT(slide, 1e-5);
+        } else {
+            EXPECT_EQ(broken, ls.n_nodes()) << "a cohesion of " << scoh << " Pa breaks under 5 kPa";
+            EXPECT_GT(slide, 5e-5) << "the liner slides";
+        }
+    }
+}
+
 TEST(Liner, PrintHistFishAndVtkReadIt) {
     Session s;
     ASSERT_TRUE(s.run(kBrick)) << s.error();
@@ -159,10 +194,35 @@ TEST(Liner, PrintHistFishAndVtkReadIt) {
     EXPECT_NE(out.find("liner_nx liner 1 element"), std::string::npos) << out;
     ASSERT_EQ(s.model.histories.items.size(), 2u);
     EXPECT_FALSE(s.model.histories.items[0].values.empty());
-    // The liner weighs on the rock: the bond is in compression, about rho t g A at each node.
+    // The liner weighs on the rock: the bond is in compression.
     double total = 0;
     for (int i = 0; i < ls.n_nodes(); ++i) total += ls.bond_n[i];
     EXPECT_GT(total, 0.0);
+    // The picture: one triangle per element coloured by n_x; the VTK file: the triangles and
+    // their forces and moments.
+    odec::render::PlotOptions opt;
+    odec::render::Scene scene = odec::render::begin_scene(s.model, opt);
+    EXPECT_EQ(odec::render::add_liners(scene, s.model, opt), ls.n_elements());
+    ASSERT_EQ(scene.polygons.size(), 1u);
+    EXPECT_EQ(scene.polygons[0].cell_scalars.size(), static_cast<size_t>(ls.n_elements()));
+    EXPECT_EQ(scene.polygons[0].cell_scalars[3], liner_resultants(ls, 3).nx);
+    char tmpl[] = "/tmp/odec-liner-test-XXXXXX";
+    ASSERT_NE(mkdtemp(tmpl), nullptr);
+    const std::string dir = tmpl;
+    ASSERT_TRUE(s.run("plot liner file '" + dir + "/lin.png' size 320 240\nexport vtk '" + dir + "/lin'")) << s.error();
+    char step[32];
+    std::snprintf(step, sizeof step, "%06ld", s.model.step);
+    const std::string vtp = read_bytes(dir + "/lin-liners-" + step + ".vtp");
+    EXPECT_NE(vtp.find("NumberOfPoints=\"" + std::to_string(ls.n_nodes()) + "\""), std::string::npos);
+    EXPECT_NE(vtp.find("NumberOfPolys=\"" + std::to_string(ls.n_elements()) + "\""), std::string::npos);
+    for (const char* name : {"n_x", "n_y", "n_xy", "m_x", "m_y", "m_xy", "bond_normal_force", "bond_state"}) {
+        EXPECT_NE(vtp.find(std::string("Name=\"") + name + "\""), std::string::npos) << name;
+    }
+    EXPECT_FALSE(s.run("new\nplot liner file '" + dir + "/none.png'"));
+    EXPECT_NE(s.error().find("there are no liners to plot"), std::string::npos) << s.error();
+    s.all_succeeded = true;
+    std::error_code ec;
+    std::filesystem::remove_all(dir, ec);
 }
 
 TEST(Liner, BadInputIsRefusedWithTheModelUnchanged) {
