@@ -32,8 +32,10 @@
 //   elements   f = -K d, d the element's nodal displacements and rotations since creation
 //   bond       normal and shear forces from the relative motion, capped as above; the rock
 //              takes their reaction at the tie (its gridpoints by weight)
+// and, after the blocks and gridpoints are integrated:
 //   nodes      velocities and spins from the forces and moments under the model's damping
-//              law, then positions and rotations (liners are walked in order, one thread)
+//              law, then positions and rotations
+// Liners are walked in order on one thread, so the sums are the same whatever the threads.
 // Masses. Static mode: every node gets the mass k dt^2 and the rotational inertia kr dt^2, k and
 // kr bounds on its translational and rotational stiffness (the element rows' sums of |K| and the
 // bond), so that the model's timestep is its own stable one; the bond's stiffness also counts on
@@ -167,8 +169,9 @@ std::string choose_liner_masses(Model& m);
 void add_liner_gridpoint_stiffness(const Model& m, std::vector<double>& k);
 void add_liner_block_stiffness(const Model& m, std::vector<double>& kt, std::vector<double>& kr);
 
-// The liners stage: element and bond forces, then the nodes' motion. Returns the index of a node
-// whose motion became non-finite, or -1.
+// The liners stage: element and bond forces (into the nodes and the rock), then, once the rock's
+// forces are all in, the nodes' motion; integrate_liners returns the index of a node whose motion
+// became non-finite, or -1.
 void liner_forces(Model& m, double dt);
 int integrate_liners(Model& m, double dt);
 
