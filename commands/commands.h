@@ -11,6 +11,7 @@ const CommandTable& command_table();
 
 // One function per command file.
 const CommandSpec& cable_command();
+const CommandSpec& liner_command();
 const CommandSpec& call_command();
 const CommandSpec& change_command();
 const CommandSpec& damp_command();

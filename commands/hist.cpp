@@ -3,6 +3,7 @@
 #include "common.h"
 #include "engine/blocks.h"
 #include "engine/cable.h"
+#include "engine/liner.h"
 #include "engine/contact.h"
 #include "engine/zones.h"
 #include "fish/intrinsics.h"
@@ -84,6 +85,14 @@ const CommandSpec& hist_command() {
         c.keyword("pp", 2, "pore pressure of the flow node nearest the point, Pa ('config flow')").vec("x,y,z").in_choice(1);
         c.keyword("aperture", 3, "hydraulic aperture of the flow node nearest the point, m (mean over its area)").vec("x,y,z").in_choice(1);
         c.keyword("flowrate", 5, "flow the fixed-pressure boundaries feed into the joints, m^3/s").in_choice(1);
+        c.keyword("liner_nx", 8, "membrane force n_x of the liner element whose centroid is nearest the point, N/m "
+                                 "(tension positive; x around the liner's axis: 'help liner')")
+            .vec("x,y,z")
+            .in_choice(1);
+        c.keyword("liner_mx", 8, "bending moment m_x of the liner element whose centroid is nearest the point, N m/m "
+                                 "(positive: the face on the void's side in tension)")
+            .vec("x,y,z")
+            .in_choice(1);
         c.keyword("contact", 4, "with a contact quantity: follow the contact with this id instead of a point")
             .integer("id", 1);
         c.keyword("write", 2, "write histories n ... to a CSV file").integer("n", 1).repeat().in_choice(1);
@@ -297,6 +306,15 @@ const CommandSpec& hist_command() {
                 if (!m.flow.configured) fail(a.find(what)->loc, "fluid flow is not configured", {"give 'config flow' first (as in 3DEC)"}, "history");
                 h.kind = what == "pp" ? HistoryKind::PorePressure : what == "aperture" ? HistoryKind::Aperture : HistoryKind::FlowRate;
                 if (what != "flowrate") h.point = a.vec(what);
+            }
+            if (what == "liner_nx" || what == "liner_mx") {
+                h.kind = what == "liner_nx" ? HistoryKind::LinerNx : HistoryKind::LinerMx;
+                h.point = a.vec(what);
+                const int e = nearest_liner_element(m, h.point);
+                if (e < 0) fail(a.find(what)->loc, "there are no liners to follow", {"make one with 'liner'"}, "history");
+                const int c = m.liners.liner_of_element(e);
+                h.cable_id = m.liners.id[c];
+                h.cable_item = e - m.liners.elem_offset[c] + 1;
             }
             h.label = history_default_label(h);
             // Its own samples start with the next one the model takes.

@@ -319,12 +319,13 @@ void handle_plot(CommandContext& ctx, const Args& a) {
     const KeywordUse* zone = a.find("zone");
     const KeywordUse* history = a.find("history");
     const KeywordUse* cable = a.find("cable");
-    const bool any_3d = block || vector || principal || contact || zone || cable;
+    const KeywordUse* liner = a.find("liner");
+    const bool any_3d = block || vector || principal || contact || zone || cable || liner;
     if (a.has("vs") && !history) fail(a.find("vs")->loc, "'vs' goes with 'history'", {}, "plot");
     if (history) {
         for (const KeywordUse& u : a.uses) {
             const std::string& k = u.spec->name;
-            if (k == "block" || k == "vector" || k == "principal" || k == "contact" || k == "zone" || k == "cable" || k == "cut" ||
+            if (k == "block" || k == "vector" || k == "principal" || k == "contact" || k == "zone" || k == "cable" || k == "liner" || k == "cut" ||
                 k == "range" || k == "view" || k == "map" || k == "scale" || k == "ids" || k == "magnify") {
                 fail(u.loc, "'" + k + "' cannot go with 'history'",
                      {"a history chart is a picture of its own: plot it with a separate 'plot' command"}, "plot");
@@ -405,6 +406,9 @@ void handle_plot(CommandContext& ctx, const Args& a) {
     const bool range_misses_zones = !all_zones.empty() && zones.empty();
     if (cable && m.cables.size() == 0) {
         fail(cable->loc, "there are no cables to plot", {"make one with 'cable x1,y1,z1 x2,y2,z2 seg n prop p'"}, "plot");
+    }
+    if (liner && m.liners.size() == 0) {
+        fail(liner->loc, "there are no liners to plot", {"lay one with 'liner range ... prop n'"}, "plot");
     }
     if (range_misses_zones && zone) fail(a.range_loc, "the range selects no zones to plot", {"widen the range"}, "plot");
     if (range_misses_zones && principal && !contact && contacts_in_range(m, a).empty()) {
@@ -496,6 +500,13 @@ void handle_plot(CommandContext& ctx, const Args& a) {
         }
         render::add_cables(scene, m, opt);
     }
+    if (liner) {
+        // Liners lie on the rock's surface: see them through the blocks and zones.
+        for (auto& layer : scene.polygons) {
+            if (layer.name == "blocks" || layer.name == "zones") layer.opacity = std::min(layer.opacity, 0.3);
+        }
+        render::add_liners(scene, m, opt);
+    }
 
     draw(ctx, a, scene, path, t0);
 }
@@ -514,6 +525,8 @@ const CommandSpec& plot_command() {
         c.keyword("principal", 2, "principal-stress bars at the zones, or on the contacts when there are no zones");
         c.keyword("cable", 3, "cables as thin tubes coloured by their axial force (N, tension positive), through "
                               "translucent blocks");
+        c.keyword("liner", 3, "liners as their triangles coloured by the membrane force n_x (N/m, tension positive; "
+                              "a lining's thrust is -n_x), through translucent blocks");
         c.keyword("contact", 2, "contact patches coloured by a quantity")
             .one_of("quantity", kContactQuantities)
             .optional("nstress");
@@ -565,10 +578,11 @@ const CommandSpec& plot_command() {
         c.keyword("yaxis", 3, "(3DEC) the chart's y axis title: accepted and ignored").rest_as_words();
         c.range("which blocks (and the contacts between them, and the zones whose centroid it contains) to draw: see 'help range'");
         c.describe(
-            "Items are 'block', 'zone', 'vector', 'principal', 'contact' and 'cable', each but 'cable' with an "
+            "Items are 'block', 'zone', 'vector', 'principal', 'contact', 'cable' and 'liner', each but 'cable' and 'liner' with an "
             "optional quantity after it; several may be given and are layered in one picture (blocks, then zones, "
             "contacts, principal stresses, vectors and cables; blocks turn translucent under contacts, arrows and "
-            "cables). 'cable' draws each cable segment as a thin tube coloured by its axial force. 'plot' alone "
+            "cables). 'cable' draws each cable segment as a thin tube coloured by its axial force; 'liner' each liner "
+            "element coloured by its membrane force n_x. 'plot' alone "
             "is 'plot block disp'. Without 'block' or 'zone', the other items are drawn over the block edges. "
             "'history n ... [vs m]' draws a line chart instead, with 'file', 'size' and 'background' as its only "
             "options. "

@@ -4,6 +4,7 @@
 #include "engine/blocks.h"
 #include "engine/clump.h"
 #include "engine/cable.h"
+#include "engine/liner.h"
 #include "engine/contact.h"
 #include "engine/cycle.h"
 #include "engine/flow.h"
@@ -219,6 +220,48 @@ void print_cables(CommandContext& ctx) {
          "  slip now, slip-p earlier; free: in no block, no grout; driven: moved at a given velocity)\n";
 }
 
+void print_liners(CommandContext& ctx) {
+    const Model& m = ctx.model;
+    const LinerSet& ls = m.liners;
+    std::ostream& o = ctx.out;
+    if (ls.size() == 0) {
+        o << "no liners\n";
+        return;
+    }
+    for (int c = 0; c < ls.size(); ++c) {
+        o << "liner " << ls.id[c] << " (material " << ls.material[c] << "): " << ls.elem_offset[c + 1] - ls.elem_offset[c]
+          << " elements, " << ls.node_offset[c + 1] - ls.node_offset[c] << " nodes, axis " << vec_text(ls.axis[c]) << "\n";
+        o << col("el", 6) << col("x", 9) << col("y", 9) << col("z", 9) << col("n_x", 11) << col("n_y", 11)
+          << col("n_xy", 11) << col("m_x", 11) << col("m_y", 11) << col("m_xy", 11) << "\n";
+        for (int e = ls.elem_offset[c]; e < ls.elem_offset[c + 1]; ++e) {
+            const LinerResultants r = liner_resultants(ls, e);
+            o << col(std::to_string(e - ls.elem_offset[c] + 1), 6) << col(n3(r.centroid.x()), 9)
+              << col(n3(r.centroid.y()), 9) << col(n3(r.centroid.z()), 9) << col(n3(r.nx), 11) << col(n3(r.ny), 11)
+              << col(n3(r.nxy), 11) << col(n3(r.mx), 11) << col(n3(r.my), 11) << col(n3(r.mxy), 11) << "\n";
+        }
+        o << col("node", 6) << col("x", 9) << col("y", 9) << col("z", 9) << col("xdis", 10) << col("ydis", 10)
+          << col("zdis", 10) << col("block", 7) << col("bond_n", 10) << col("bond_s", 10) << " state\n";
+        for (int i = ls.node_offset[c]; i < ls.node_offset[c + 1]; ++i) {
+            std::string state = "-";
+            if (ls.host_block[i] <= 0) state = "free";
+            else if (ls.state[i] & kBondOpen) state = "open";
+            else if (ls.state[i] & kBondBrokenTension) state = "broken-t";
+            else if (ls.state[i] & kBondBrokenShear) state = (ls.state[i] & kBondSlipNow) ? "slip" : "broken-s";
+            else if (ls.state[i] & kBondSlipNow) state = "slip";
+            o << col(std::to_string(i - ls.node_offset[c] + 1), 6) << col(n3(ls.pos[i].x()), 9) << col(n3(ls.pos[i].y()), 9)
+              << col(n3(ls.pos[i].z()), 9) << col(n3(ls.disp[i].x()), 10) << col(n3(ls.disp[i].y()), 10)
+              << col(n3(ls.disp[i].z()), 10) << col(ls.host_block[i] > 0 ? std::to_string(ls.host_block[i]) : "-", 7)
+              << col(n3(ls.bond_n[i]), 10) << col(n3(ls.bond_s[i].norm()), 10) << " " << state << "\n";
+        }
+    }
+    o << ls.size() << " liners (m; per element at its centroid, in its frame: x in its plane across the axis, y\n"
+         "  along it; n membrane forces N/m, tension positive (a lining's thrust is -n_x); m bending moments\n"
+         "  N m/m, positive with the face on the void's side in tension; per node: bond_n the bond's normal force\n"
+         "  on the liner, N, compression positive, bond_s its shear force, N; state: slip at the shear limit now,\n"
+         "  broken-t, broken-s broken in tension, shear (friction only since), open broken and apart, free: no\n"
+         "  rock under it)\n";
+}
+
 void print_properties(CommandContext& ctx) {
     const Model& m = ctx.model;
     std::ostream& o = ctx.out;
@@ -261,6 +304,22 @@ void print_properties(CommandContext& ctx) {
             if (!p.defined) continue;
             o << col(std::to_string(k), 5) << col(n3(p.area), 10) << col(n3(p.e), 10) << col(n3(p.ytens), 10)
               << col(n3(p.ycomp), 10) << col(n3(p.kbond), 10) << col(n3(p.sbond), 10) << col(n3(p.density), 10) << "\n";
+        }
+    }
+    const LinerSet& ls = m.liners;
+    n = 0;
+    for (size_t k = 1; k < ls.materials.size(); ++k) n += ls.materials[k].defined;
+    if (n > 0) {
+        o << "liner materials (e Pa; thick m; dens kg/m^3; kn, ks Pa/m; ncut, scoh Pa, none: no limit; sfric deg)\n";
+        o << col("mat", 5) << col("e", 10) << col("nu", 7) << col("thick", 9) << col("dens", 9) << col("kn", 10)
+          << col("ks", 10) << col("ncut", 10) << col("scoh", 10) << col("sfric", 7) << "\n";
+        for (size_t k = 1; k < ls.materials.size(); ++k) {
+            const LinerMaterial& p = ls.materials[k];
+            if (!p.defined) continue;
+            o << col(std::to_string(k), 5) << col(n3(p.e), 10) << col(n3(p.nu), 7) << col(n3(p.thick), 9)
+              << col(n3(p.density), 9) << col(n3(p.kn), 10) << col(n3(p.ks), 10)
+              << col(p.ncut >= 0 ? n3(p.ncut) : "none", 10) << col(p.scoh >= 0 ? n3(p.scoh) : "none", 10)
+              << col(n3(p.sfric), 7) << "\n";
         }
     }
 }
@@ -596,6 +655,8 @@ const CommandSpec& print_command() {
                               "slip and state of each node").in_choice(1);
         c.keyword("flow", 2, "fluid flow in the joints: the fluid and each flow node's pore pressure, aperture, "
                              "volume and inflow").in_choice(1);
+        c.keyword("liner", 3, "liners: membrane forces and bending moments of each element; position, displacement, "
+                              "bond forces and state of each node").in_choice(1);
         c.range();
         c.require_one_of(1);
         c.example("print block range z 0 10");
@@ -616,6 +677,7 @@ const CommandSpec& print_command() {
             else if (what == "energy") print_energy(ctx, a);
             else if (what == "cable") print_cables(ctx);
             else if (what == "flow") print_flow(ctx, a);
+            else if (what == "liner") print_liners(ctx);
             else print_info(ctx);
         });
         return c;

@@ -2,6 +2,7 @@
 #include "common.h"
 #include "engine/blocks.h"
 #include "engine/stages.h"
+#include "engine/liner.h"
 
 namespace odec {
 
@@ -43,6 +44,17 @@ const CommandSpec& prop_command() {
         c.keyword("cb_kbond", 4, "cable: grout shear stiffness per unit length of cable, N/m/m").real("k", 0, kMaxMagnitude);
         c.keyword("cb_sbond", 4, "cable: grout bond strength per unit length of cable, N/m (0: no limit)").real("s", 0, kMaxMagnitude);
         c.keyword("cb_dens", 4, "cable: density of the steel, kg/m^3 (the nodes' masses in dynamic mode)").real("rho", 0, kMaxMagnitude);
+        c.keyword("li_e", 4, "liner: Young's modulus of the shell, Pa").real("E", 0, kMaxMagnitude, Limit::Open);
+        c.keyword("li_nu", 5, "liner: Poisson's ratio of the shell").real("nu", -1, 0.5, Limit::Open, Limit::Open);
+        c.keyword("li_thick", 4, "liner: thickness of the shell, m").real("t", 0, kMaxMagnitude, Limit::Open);
+        c.keyword("li_dens", 4, "liner: density of the shell, kg/m^3 (its weight; the nodes' masses in dynamic mode)")
+            .real("rho", 0, kMaxMagnitude);
+        c.keyword("li_kn", 5, "liner: bond normal stiffness per unit area, Pa/m").real("kn", 0, kMaxMagnitude);
+        c.keyword("li_ks", 5, "liner: bond shear stiffness per unit area, Pa/m (0: the liner slides freely)")
+            .real("ks", 0, kMaxMagnitude);
+        c.keyword("li_ncut", 5, "liner: bond tensile strength, Pa (not given: no limit)").real("t", 0, kMaxMagnitude);
+        c.keyword("li_scoh", 5, "liner: bond shear cohesion, Pa (not given: no limit)").real("c", 0, kMaxMagnitude);
+        c.keyword("li_sfric", 5, "liner: bond friction angle, degrees").real("phi", 0, 90, Limit::Closed, Limit::Open);
         c.require_one_of(1);
         c.describe("Properties not given keep their earlier values (0 for a new material). Block "
                    "properties go with 'mat', joint properties (those starting with j) with 'jmat'. "
@@ -51,7 +63,10 @@ const CommandSpec& prop_command() {
                    "number, which 'cable ... prop n' takes; a material number may hold block and cable "
                    "properties side by side. The hydraulic apertures of a joint (azero, ares, amax, m) also go with "
                    "'jmat': the aperture of a joint for fluid flow is azero less its closure, held between ares and "
-                   "amax ('help fluid').");
+                   "amax ('help fluid'). Liner properties (those starting with li_) make the liner "
+                   "material of that number, which 'liner ... prop n' takes (see 'help liner'); li_ncut and "
+                   "li_scoh not given mean a bond that never breaks.");
+        c.example("prop mat=3 li_e=30e9 li_nu=0.2 li_thick=0.2 li_dens=2500 li_kn=1e10 li_ks=1e10 li_ncut=1e6 li_scoh=2e6 li_sfric=35");
         c.example("prop mat=2 cb_area=1.81e-4 cb_e=98.6e9 cb_yield=0.5e6 cb_kbond=112e6 cb_sbond=0.175e6");
         c.example("prop mat=1 dens=2700");
         c.example("prop jmat=1 jkn=1e10 jks=5e9 jfric=30 jcoh=0 jten=0");
@@ -65,7 +80,8 @@ const CommandSpec& prop_command() {
                 if (n == "material" || n == "jmat") continue;
                 const bool is_joint = n[0] == 'j' || n == "zdilation" || n == "azero" || n == "ares" || n == "amax";
                 if (is_joint != joint) {
-                    const char* kind = is_joint ? "joint" : n.compare(0, 3, "cb_") == 0 ? "cable" : "block";
+                    const char* kind = is_joint ? "joint" : n.compare(0, 3, "cb_") == 0 ? "cable"
+                                                          : n.compare(0, 3, "li_") == 0 ? "liner" : "block";
                     fail(u.loc, "'" + n + "' is a " + kind + " property: give it with '" +
                                     (is_joint ? "jmat" : "mat") + "=n'",
                          {}, "property");
@@ -101,12 +117,49 @@ const CommandSpec& prop_command() {
                 return;
             }
             const int n = a.integer("material");
-            bool block_props = false, cable_props = false;
+            bool block_props = false, cable_props = false, liner_props = false;
             for (const KeywordUse& u : a.uses) {
                 const std::string& kw = u.spec->name;
                 if (kw == "material") continue;
-                (kw.compare(0, 3, "cb_") == 0 ? cable_props : block_props) = true;
+                (kw.compare(0, 3, "cb_") == 0 ? cable_props : kw.compare(0, 3, "li_") == 0 ? liner_props : block_props) = true;
             }
+            // Liner properties, likewise computed and checked first, stored last.
+            LinerMaterial liner_mat;
+            if (liner_props) {
+                const LinerSet& ls = m.liners;
+                LinerMaterial& p = liner_mat;
+                p = n < static_cast<int>(ls.materials.size()) ? ls.materials[n] : LinerMaterial();
+                p.defined = true;
+                p.e = a.real_or("li_e", p.e);
+                p.nu = a.real_or("li_nu", p.nu);
+                p.thick = a.real_or("li_thick", p.thick);
+                p.density = a.real_or("li_dens", p.density);
+                p.kn = a.real_or("li_kn", p.kn);
+                p.ks = a.real_or("li_ks", p.ks);
+                p.ncut = a.real_or("li_ncut", p.ncut);
+                p.scoh = a.real_or("li_scoh", p.scoh);
+                p.sfric = a.real_or("li_sfric", p.sfric);
+                for (int c = 0; c < ls.size(); ++c) {
+                    if (ls.material[c] == n && (!(p.e > 0) || !(p.thick > 0))) {
+                        fail(a.loc, "liner " + std::to_string(ls.id[c]) + " is of material " + std::to_string(n) +
+                                        ": it needs li_e and li_thick above 0", {}, "property");
+                    }
+                }
+            }
+            auto store_liner = [&] {
+                if (!liner_props) return;
+                LinerSet& ls = m.liners;
+                ensure_index(ls.materials, n);
+                ls.materials[n] = liner_mat;
+                for (int c = 0; c < ls.size(); ++c) {
+                    if (ls.material[c] != n) continue;
+                    for (int i = ls.node_offset[c]; i < ls.node_offset[c + 1]; ++i) {
+                        ls.mass[i] = liner_mat.density * liner_mat.thick * ls.area[i];
+                    }
+                }
+                build_liner_stiffness(ls);
+                m.geometry_changed = true;
+            };
             // Cable properties: computed aside and checked first, stored last, so that a refused
             // command (here or in the block properties below) changes nothing.
             CableMaterial cable_mat;
@@ -146,6 +199,7 @@ const CommandSpec& prop_command() {
             };
             if (!block_props) {
                 store_cable();
+                store_liner();
                 return;
             }
             if (a.has("density")) {
@@ -173,6 +227,7 @@ const CommandSpec& prop_command() {
             // Zone masses, stiffnesses and the timestep follow the new values.
             m.geometry_changed = true;
             store_cable();
+            store_liner();
         });
         return c;
     }();

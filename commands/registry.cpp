@@ -15,7 +15,7 @@ const CommandTable& command_table() {
             &group_command(), &hide_command(), &show_command(), &seek_command(), &join_command(), &range_command(),
             &generate_command(),
             // properties and conditions
-            &prop_command(), &change_command(), &grav_command(), &fix_command(), &free_command(), &cable_command(), &fluid_command(),
+            &prop_command(), &change_command(), &grav_command(), &fix_command(), &free_command(), &cable_command(), &fluid_command(), &liner_command(),
             &bound_command(), &insitu_command(), &ini_command(), &table_command(), &damp_command(), &mscale_command(), &set_command(),
             // solution
             &step_command(), &solve_command(), &reset_command(),

@@ -1,5 +1,6 @@
 #include "commands.h"
 #include "engine/cable.h"
+#include "engine/liner.h"
 #include "common.h"
 #include "engine/zones.h"
 
@@ -8,7 +9,7 @@ namespace odec {
 const CommandSpec& reset_command() {
     static const CommandSpec spec = [] {
         CommandSpec c("reset", 3, "set accumulated quantities back to zero");
-        c.keyword("displacement", 3, "block, gridpoint and cable node displacements, block rotations");
+        c.keyword("displacement", 3, "block, gridpoint, cable and liner node displacements, block rotations");
         c.keyword("jdisp", 2, "joint shear displacements (the stresses are kept)");
         c.keyword("time", 2, "model time");
         c.keyword("history", 3, "the samples of every history (the histories themselves stay)");
@@ -29,6 +30,7 @@ const CommandSpec& reset_command() {
                 }
                 for (Vec3& d : m.gridpoints.disp) d.setZero();
                 reset_cable_displacements(m);
+                reset_liner_displacements(m);
             }
             if (a.has("velocity")) {
                 for (int b = 0; b < s.size(); ++b) {

@@ -41,20 +41,7 @@ Vec3 node_direction(const CableSet& cs, int c, int i) {
 // the host block's index (-1: none).
 Vec3 host_velocity(const Model& m, int i, int& index) {
     const CableSet& cs = m.cables;
-    index = cs.host_block[i] > 0 ? m.block_index(cs.host_block[i]) : -1;
-    if (index < 0) return Vec3::Zero();
-    if (cs.host_gp[i][0] >= 0) {
-        const GridpointSet& g = m.gridpoints;
-        Vec3 v = Vec3::Zero();
-        for (int k = 0; k < 4; ++k) {
-            const int q = cs.host_gp[i][k];
-            if (!g.half_kick[q]) v += cs.host_w[i][k] * g.vel[q];
-        }
-        return v;
-    }
-    const BlockSet& s = m.blocks;
-    if (s.half_kick[index] || ((s.flags[index] & kFixed) && !s.vel_bc[index])) return Vec3::Zero();
-    return s.vel[index] + s.ang_vel[index].cross(s.orientation[index] * cs.host_lever[i]);
+    return rock_tie_velocity(m, cs.host_block[i], cs.host_lever[i], cs.host_gp[i], cs.host_w[i], index);
 }
 
 // Barycentric weights of x in the tetrahedron a, b, c, d; false when it is degenerate.
@@ -74,51 +61,7 @@ bool barycentric(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, con
 // Tie node i to the rock at its position.
 void attach_node(Model& m, int i) {
     CableSet& cs = m.cables;
-    const BlockSet& s = m.blocks;
-    cs.host_block[i] = 0;
-    cs.host_lever[i].setZero();
-    cs.host_gp[i] = {-1, -1, -1, -1};
-    cs.host_w[i] = {0, 0, 0, 0};
-    const Vec3 x = cs.pos[i];
-    for (int b = 0; b < s.size(); ++b) {
-        if (s.flags[b] & kExcavated) continue;
-        const Vec3 local = s.orientation[b].conjugate() * (x - s.centroid[b]);
-        if (!contains_point(s.shape[b], local, 1e-9)) continue;
-        if (s.flags[b] & kDeformable) {
-            // The zone of this block holding the node, or the nearest by its lowest weight.
-            const ZoneSet& z = m.zones;
-            const GridpointSet& g = m.gridpoints;
-            int best = -1;
-            double best_low = -std::numeric_limits<double>::infinity();
-            std::array<double, 4> best_w{};
-            for (int q = 0; q < z.size(); ++q) {
-                if (z.block[q] != b) continue;
-                const auto& p = z.gp[q];
-                std::array<double, 4> w;
-                if (!barycentric(g.pos[p[0]], g.pos[p[1]], g.pos[p[2]], g.pos[p[3]], x, w)) continue;
-                const double low = std::min(std::min(w[0], w[1]), std::min(w[2], w[3]));
-                if (low > best_low) {
-                    best_low = low;
-                    best = q;
-                    best_w = w;
-                }
-                if (low >= 0) break;
-            }
-            if (best < 0) continue;
-            // Just outside its zones (on the block's surface, within the tolerance): the weights
-            // clipped to the zone.
-            double sum = 0;
-            for (double& w : best_w) sum += (w = std::max(w, 0.0));
-            for (double& w : best_w) w /= sum;
-            cs.host_block[i] = s.id[b];
-            cs.host_gp[i] = z.gp[best];
-            cs.host_w[i] = best_w;
-            return;
-        }
-        cs.host_block[i] = s.id[b];
-        cs.host_lever[i] = local;
-        return;
-    }
+    find_rock_tie(m, cs.pos[i], cs.host_block[i], cs.host_lever[i], cs.host_gp[i], cs.host_w[i]);
 }
 
 void refresh_stiffness(CableSet& cs) {
@@ -147,6 +90,85 @@ void set_node_mass(CableSet& cs, int i, double mass) {
 int CableSet::index(int cable_id) const {
     const auto it = std::lower_bound(id.begin(), id.end(), cable_id);
     return (it != id.end() && *it == cable_id) ? static_cast<int>(it - id.begin()) : -1;
+}
+
+Vec3 rock_tie_velocity(const Model& m, int block_id, const Vec3& lever, const std::array<int, 4>& gp,
+                       const std::array<double, 4>& w, int& index) {
+    index = block_id > 0 ? m.block_index(block_id) : -1;
+    if (index < 0) return Vec3::Zero();
+    if (gp[0] >= 0) {
+        const GridpointSet& g = m.gridpoints;
+        Vec3 v = Vec3::Zero();
+        for (int k = 0; k < 4; ++k) {
+            const int q = gp[k];
+            if (!g.half_kick[q]) v += w[k] * g.vel[q];
+        }
+        return v;
+    }
+    const BlockSet& s = m.blocks;
+    if (s.half_kick[index] || ((s.flags[index] & kFixed) && !s.vel_bc[index])) return Vec3::Zero();
+    return s.vel[index] + s.ang_vel[index].cross(s.orientation[index] * lever);
+}
+
+void find_rock_tie(const Model& m, const Vec3& x, int& block_id, Vec3& lever, std::array<int, 4>& gp_out,
+                   std::array<double, 4>& w_out) {
+    const BlockSet& s = m.blocks;
+    block_id = 0;
+    lever.setZero();
+    gp_out = {-1, -1, -1, -1};
+    w_out = {0, 0, 0, 0};
+    for (int b = 0; b < s.size(); ++b) {
+        if (s.flags[b] & kExcavated) continue;
+        const Vec3 local = s.orientation[b].conjugate() * (x - s.centroid[b]);
+        if (!contains_point(s.shape[b], local, 1e-9)) continue;
+        if (s.flags[b] & kDeformable) {
+            // The zone of this block holding the point, or the nearest by its lowest weight.
+            const ZoneSet& z = m.zones;
+            const GridpointSet& g = m.gridpoints;
+            int best = -1;
+            double best_low = -std::numeric_limits<double>::infinity();
+            std::array<double, 4> best_w{};
+            for (int q = 0; q < z.size(); ++q) {
+                if (z.block[q] != b) continue;
+                const auto& p = z.gp[q];
+                std::array<double, 4> w;
+                if (!barycentric(g.pos[p[0]], g.pos[p[1]], g.pos[p[2]], g.pos[p[3]], x, w)) continue;
+                const double low = std::min(std::min(w[0], w[1]), std::min(w[2], w[3]));
+                if (low > best_low) {
+                    best_low = low;
+                    best = q;
+                    best_w = w;
+                }
+                if (low >= 0) break;
+            }
+            if (best < 0) continue;
+            // Just outside its zones (on the block's surface, within the tolerance): the weights
+            // clipped to the zone.
+            double sum = 0;
+            for (double& w : best_w) sum += (w = std::max(w, 0.0));
+            for (double& w : best_w) w /= sum;
+            block_id = s.id[b];
+            gp_out = z.gp[best];
+            w_out = best_w;
+            return;
+        }
+        block_id = s.id[b];
+        lever = local;
+        return;
+    }
+}
+
+bool rock_tie_holds(const Model& m, int block_id, const Vec3& lever, const std::array<int, 4>& gp) {
+    const BlockSet& s = m.blocks;
+    const int b = m.block_index(block_id);
+    if (b < 0 || (s.flags[b] & kExcavated)) return false;
+    if (gp[0] < 0) return !(s.flags[b] & kDeformable) && contains_point(s.shape[b], lever, 1e-9);
+    if (!(s.flags[b] & kDeformable)) return false;
+    const ZoneSet& z = m.zones;
+    for (int q = 0; q < z.size(); ++q) {
+        if (z.block[q] == b && z.gp[q] == gp) return true;
+    }
+    return false;
 }
 
 int add_cable(Model& m, const Vec3& p1, const Vec3& p2, int n_segments, int mat, double pretension,
@@ -215,22 +237,10 @@ int add_cable(Model& m, const Vec3& p1, const Vec3& p2, int n_segments, int mat,
 
 namespace {
 
-// Whether node i's tie to the rock still stands: its rigid block still holds the material point
-// it is tied to, or its deformable block still has the zone of its four gridpoints.
+// Whether node i's tie to the rock still stands.
 bool tie_holds(const Model& m, int i) {
     const CableSet& cs = m.cables;
-    const BlockSet& s = m.blocks;
-    const int b = m.block_index(cs.host_block[i]);
-    if (b < 0 || (s.flags[b] & kExcavated)) return false;
-    if (cs.host_gp[i][0] < 0) {
-        return !(s.flags[b] & kDeformable) && contains_point(s.shape[b], cs.host_lever[i], 1e-9);
-    }
-    if (!(s.flags[b] & kDeformable)) return false;
-    const ZoneSet& z = m.zones;
-    for (int q = 0; q < z.size(); ++q) {
-        if (z.block[q] == b && z.gp[q] == cs.host_gp[i]) return true;
-    }
-    return false;
+    return rock_tie_holds(m, cs.host_block[i], cs.host_lever[i], cs.host_gp[i]);
 }
 
 } // namespace

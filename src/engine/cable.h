@@ -118,6 +118,18 @@ struct CableSet {
     int index(int cable_id) const;
 };
 
+// Ties to the rock, shared by cables and liners (liner.h). A point is tied to the first block
+// (in the order blocks were made) that holds it: a rigid block's material point (its body-frame
+// lever from the centroid), or a deformable block's zone (its four gridpoints and the point's
+// barycentric weights, clipped to the zone just outside it). block_id 0: in no rock.
+void find_rock_tie(const Model& m, const Vec3& x, int& block_id, Vec3& lever, std::array<int, 4>& gp,
+                   std::array<double, 4>& w);
+// Whether such a tie still stands (its block neither deleted, excavated nor zoned anew).
+bool rock_tie_holds(const Model& m, int block_id, const Vec3& lever, const std::array<int, 4>& gp);
+// Velocity of the tied material point at t - dt/2; `index` receives the block's index (-1: none).
+Vec3 rock_tie_velocity(const Model& m, int block_id, const Vec3& lever, const std::array<int, 4>& gp,
+                       const std::array<double, 4>& w, int& index);
+
 // Add a cable from p1 to p2 cut into n_segments, of cable material `mat` (which must be defined
 // with a positive area and modulus), with this pretension (N). Its nodes are tied to the blocks
 // holding them. Returns its index, or -1 with `why` set.

@@ -129,7 +129,7 @@ double max_unbalanced_force(const Model& m) {
         if (!(g.mass[i] > 0) || g.vel_bc[i] == 7) continue;
         fmax = std::max(fmax, free_part(g.force[i], g.vel_bc[i]).norm());
     }
-    return std::max(fmax, cable_max_unbalanced(m));
+    return std::max(std::max(fmax, cable_max_unbalanced(m)), liner_max_unbalanced(m));
 }
 
 double unbalanced_ratio(const Model& m) {
@@ -147,6 +147,7 @@ double unbalanced_ratio(const Model& m) {
         total += g.force_scale[i];
     }
     cable_unbalanced_sums(m, unbal, total);
+    liner_unbalanced_sums(m, unbal, total);
     return total > 0 ? unbal / total : 0.0;
 }
 

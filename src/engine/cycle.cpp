@@ -147,6 +147,11 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
                 break;
             }
         }
+        if (m.liners.size() > 0) {
+            // Liner forces after the cables': they add into the same gridpoints.
+            StageTimer t{prof, Stage::Liners};
+            liner_forces(m, m.dt);
+        }
         int bad;
         {
             StageTimer t{prof, Stage::Integrate};
@@ -159,6 +164,11 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
             StageTimer t{prof, Stage::Cables};
             bad_node = integrate_cables(m, m.dt);
         }
+        if (m.liners.size() > 0 && bad_node < 0) {
+            StageTimer t{prof, Stage::Liners};
+            const int i = integrate_liners(m, m.dt);
+            if (i >= 0) bad_node = -2 - i;
+        }
         m.time += m.dt;
         ++m.step;
         ++res.steps;
@@ -169,6 +179,11 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
             res.message = "the motion of block " + std::to_string(m.blocks.id[bad]) + " has run away (step " +
                           std::to_string(m.step) + "): its velocity is no longer a finite number; likely cause: " +
                           runaway_cause(m, bad);
+        } else if (bad_node <= -2) {
+            res.reason = StopReason::BlowUp;
+            res.message = "the motion of liner node " + std::to_string(-2 - bad_node + 1) + " has run away (step " +
+                          std::to_string(m.step) + "): its position is no longer a finite number";
+            bad = -2;
         } else if (bad_node >= 0) {
             res.reason = StopReason::BlowUp;
             res.message = "the motion of cable node " + std::to_string(bad_node + 1) + " has run away (step " +

@@ -230,6 +230,10 @@ std::string energy_caveat(const Model& m) {
         return "the model has cables: their strain energy, the work their grout does on the rock and what its "
                "slip and the steel's yield dissipate are not in the account, so the balance leaves them out";
     }
+    if (m.liners.size() > 0) {
+        return "the model has liners: their strain energy, the work their bond does on the rock and what its "
+               "slip dissipates are not in the account, so the balance leaves them out";
+    }
     if (!m.settings.dynamic) {
         return "static mode: the blocks and gridpoints move with scaled masses, so the kinetic energy (with the "
                "real masses) and the balance are not physical; the account is meant for dynamic analysis "

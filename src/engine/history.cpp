@@ -40,6 +40,17 @@ double history_value(const Model& m, const History& h) {
         return i < static_cast<int>(f.area.size()) && f.area[i] > 0 ? f.volume[i] / f.area[i] : 0.0;
     }
     case HistoryKind::FlowRate: return fixed_inflow(m);
+    case HistoryKind::LinerNx:
+    case HistoryKind::LinerMx: {
+        // 0 once the liner was deleted.
+        const LinerSet& ls = m.liners;
+        const int c = ls.index(h.cable_id);
+        if (c < 0) return 0.0;
+        const int e = ls.elem_offset[c] + h.cable_item - 1;
+        if (e < ls.elem_offset[c] || e >= ls.elem_offset[c + 1]) return 0.0;
+        const LinerResultants r = liner_resultants(ls, e);
+        return h.kind == HistoryKind::LinerNx ? r.nx : r.mx;
+    }
     case HistoryKind::Energy: {
         double v = 0;
         energy_term(m, h.source, v);
@@ -190,6 +201,8 @@ static const char* kind_word(HistoryKind k) {
     case HistoryKind::PorePressure: return "pp";
     case HistoryKind::Aperture: return "aperture";
     case HistoryKind::FlowRate: return "flowrate";
+    case HistoryKind::LinerNx: return "liner_nx";
+    case HistoryKind::LinerMx: return "liner_mx";
     }
     return "?";
 }
@@ -202,6 +215,10 @@ std::string history_default_label(const History& h) {
     if (h.kind == HistoryKind::CableForce || h.kind == HistoryKind::CableGrout) {
         std::snprintf(buf, sizeof buf, " cable %d %s %d (N)", h.cable_id,
                       h.kind == HistoryKind::CableForce ? "segment" : "node", h.cable_item);
+        s += buf;
+    } else if (h.kind == HistoryKind::LinerNx || h.kind == HistoryKind::LinerMx) {
+        std::snprintf(buf, sizeof buf, " liner %d element %d (%s)", h.cable_id, h.cable_item,
+                      h.kind == HistoryKind::LinerNx ? "N/m" : "N m/m");
         s += buf;
     } else if (h.zone >= 0) {
         std::snprintf(buf, sizeof buf, " (%g,%g,%g) zone %d", h.point.x(), h.point.y(), h.point.z(), h.zone + 1);

@@ -33,6 +33,8 @@ enum class HistoryKind {
     PorePressure, // pore pressure of the flow node nearest the point, Pa (flow.h)
     Aperture,   // hydraulic aperture of the flow node nearest the point (mean over its area), m
     FlowRate,   // flow the fixed-pressure boundaries feed into the joints, m^3/s
+    LinerNx,    // membrane force n_x of a liner element, N/m (tension positive; liner.h)
+    LinerMx,    // bending moment m_x of a liner element, N m/m (void-side face in tension positive)
 };
 
 struct History {
@@ -50,9 +52,11 @@ struct History {
     std::vector<int> blocks;                         // reactions: the rigid block ids summed
     std::string label;                               // column title
     std::string source;                              // Fish: the FISH name sampled; Energy: the term
-    int cable_id = 0;                                // cable quantities: the cable's id
+    int cable_id = 0;                                // cable quantities: the cable's id; liner
+                                                     // quantities: the liner's id
     int cable_item = 0;                              // its segment (CableForce) or node (CableGrout),
-                                                     // from 1 along the cable
+                                                     // from 1 along the cable; the liner's element,
+                                                     // from 1 (LinerNx, LinerMx)
     // Its samples: values[i] was taken at HistorySet::sample_steps[first + i]. A history made
     // while the model already had samples starts with the next one (first > 0); the samples
     // before it are none of its own.

@@ -5,6 +5,7 @@
 
 #include "engine/cable.h"
 #include "engine/flow.h"
+#include "engine/liner.h"
 #include "engine/contact.h"
 #include "engine/model.h"
 #include "engine/parallel.h"
@@ -171,6 +172,7 @@ void scale_block_masses(Model& m, bool from_contact_update) {
         }
     }
     add_cable_block_stiffness(m, kt, kr);
+    add_liner_block_stiffness(m, kt, kr);
     assign_block_masses(m, kt, kr);
 }
 
@@ -213,6 +215,9 @@ std::string choose_timestep_and_masses(Model& m, double rigid_dt, double zone_dt
     // Cables (cable.h): their nodes' own stable step with real masses.
     const double cable_dt = cable_critical_timestep(m);
     if (cable_dt > 0 && (!(real_dt > 0) || cable_dt < real_dt)) real_dt = cable_dt;
+    // Liners (liner.h): their nodes' own stable step with real masses (dynamic mode).
+    const double liner_dt = m.settings.dynamic ? liner_critical_timestep(m) : 0.0;
+    if (liner_dt > 0 && (!(real_dt > 0) || liner_dt < real_dt)) real_dt = liner_dt;
     r.real_dt = real_dt;
     double dt = 0;
     if (r.is_static) {
@@ -244,6 +249,8 @@ std::string choose_timestep_and_masses(Model& m, double rigid_dt, double zone_dt
         scale_block_masses(m, false);
         const std::string cp = choose_cable_masses(m, 0.0);
         if (!cp.empty()) return cp;
+        const std::string lp = choose_liner_masses(m);
+        if (!lp.empty()) return lp;
     } else {
         real_masses(m);
         dt = m.settings.dt_fixed > 0 ? m.settings.dt_fixed : real_dt;
@@ -259,6 +266,8 @@ std::string choose_timestep_and_masses(Model& m, double rigid_dt, double zone_dt
         const std::string cp =
             choose_cable_masses(m, m.settings.dt_fixed <= 0 && m.settings.mscale_dt >= dt ? m.settings.mscale_dt : 0.0);
         if (!cp.empty()) return cp;
+        const std::string lp = choose_liner_masses(m);
+        if (!lp.empty()) return lp;
     }
     r.dt = m.dt;
     const MassScalingReport& old = m.mass_scaling;

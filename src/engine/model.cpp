@@ -15,6 +15,7 @@ const char* stage_name(Stage s) {
     case Stage::Checks: return "checks";
     case Stage::Cables: return "cables";
     case Stage::Flow: return "flow";
+    case Stage::Liners: return "liners";
     case Stage::Count: break;
     }
     return "?";

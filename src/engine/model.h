@@ -26,6 +26,7 @@
 #include "engine/flow.h"
 #include "engine/history.h"
 #include "engine/insitu.h"
+#include "engine/liner.h"
 #include "engine/polyhedron.h"
 #include "engine/table.h"
 #include "engine/zones.h"
@@ -148,7 +149,7 @@ struct BlockSet {
 };
 
 // Cycle stages, timed into Profile.
-enum class Stage { ApplyLoads, DetectContacts, UpdateContacts, Zones, Integrate, Record, Checks, Cables, Flow, Count };
+enum class Stage { ApplyLoads, DetectContacts, UpdateContacts, Zones, Integrate, Record, Checks, Cables, Flow, Liners, Count };
 const char* stage_name(Stage s);
 
 struct Profile {
@@ -220,6 +221,7 @@ struct Model {
     GridpointSet gridpoints;                    // their corners
     CableSet cables;                            // cables and rock bolts (cable.h)
     FlowSet flow;                               // fluid flow in the joints (flow.h)
+    LinerSet liners;                            // liners and shotcrete (liner.h)
     StressBoundary stress_boundary;             // faces loaded by `bound stress`
     std::vector<InsituRecord> insitu;           // `insitu` fields, in order, for zones made later
     HistorySet histories;

@@ -126,6 +126,8 @@ std::string prepare_cycle_once(Model& m) {
         if (!cp.empty()) return cp;
         const std::string fp = flow_problem(m);
         if (!fp.empty()) return fp;
+        const std::string lp = liners_problem(m);
+        if (!lp.empty()) return lp;
     }
     if (m.geometry_changed) {
         refresh_world_vertices(m);
@@ -133,9 +135,11 @@ std::string prepare_cycle_once(Model& m) {
         update_gridpoint_masses(m);
         // Cable nodes are tied to whatever rock holds them now.
         attach_cable_nodes(m);
+        attach_liner_nodes(m);
         const std::string overlap = overlap_problem(m);
         if (!overlap.empty()) return overlap;
     }
+    refresh_liner_stiffness(m.liners); // not saved: rebuilt after 'restore'
     // A joint material may be assigned before its properties are given ('change jmat'), but not
     // cycled without them: such a joint would hold nothing.
     if (const int c = contact_without_joint_properties(m, false); c >= 0) {
@@ -159,6 +163,13 @@ std::string prepare_cycle_once(Model& m) {
                    " s ('set dt') is larger than the stable limit of the cables, about " + num_text(cable_dt) +
                    " s with the steel's mass (cb_dens): the motion would run away. Use 'set dt auto' or a "
                    "timestep below " + num_text(cable_dt) + " s";
+        }
+        const double liner_dt = liner_critical_timestep(m);
+        if (liner_dt > 0 && m.settings.dt_fixed > liner_dt) {
+            return "the forced timestep " + num_text(m.settings.dt_fixed) +
+                   " s ('set dt') is larger than the stable limit of the liners, about " + num_text(liner_dt) +
+                   " s with the liner's mass (li_dens): the motion would run away. Use 'set dt auto' or a "
+                   "timestep below " + num_text(liner_dt) + " s";
         }
         int worst = -1;
         const double limit = stable_timestep_limit(m, &worst);

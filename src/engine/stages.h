@@ -87,11 +87,12 @@ struct PrepareUndo {
     std::vector<Vec3> vel, ang_vel, gp_vel;
     MassScalingReport report;
     CableSet cables; // their ties to the rock and their masses
+    LinerSet liners;
 
     explicit PrepareUndo(const Model& m)
         : dt(m.dt), geometry_changed(m.geometry_changed), block_mass(m.blocks.inertial_mass),
           block_moment(m.blocks.inertial_moment), gp_mass(m.gridpoints.inertial_mass), vel(m.blocks.vel),
-          ang_vel(m.blocks.ang_vel), gp_vel(m.gridpoints.vel), report(m.mass_scaling), cables(m.cables) {
+          ang_vel(m.blocks.ang_vel), gp_vel(m.gridpoints.vel), report(m.mass_scaling), cables(m.cables), liners(m.liners) {
         if (m.geometry_changed) {
             saved = true;
             contacts = m.contacts;
@@ -117,6 +118,7 @@ struct PrepareUndo {
         }
         m.mass_scaling = report;
         m.cables = std::move(cables);
+        m.liners = std::move(liners);
     }
 };
 std::string prepare_cycle_once(Model& m);
@@ -197,6 +199,7 @@ struct EnergyWatch {
         }
         // The elastic energy of the cables (a pretension) may be given to the blocks.
         initial += cable_strain_energy(m);
+        initial += liner_strain_energy(m);
         boundary_work = 0;
         applied_work = 0;
         peak_work = 0;

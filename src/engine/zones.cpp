@@ -1,6 +1,7 @@
 #include "engine/zones.h"
 
 #include "engine/cable.h"
+#include "engine/liner.h"
 
 #include "engine/contact.h"
 
@@ -227,6 +228,26 @@ void remove_zones(Model& m, const std::vector<int>& blocks) {
         }
         h.gridpoints = std::move(kept);
     }
+    // Cable and liner nodes tied to the zones follow their gridpoints to their new places; one
+    // whose zone went with the blocks is untied, and tied afresh before the next step.
+    auto retie = [&](std::vector<int>& host_block, std::vector<std::array<int, 4>>& host_gp,
+                     std::vector<std::array<double, 4>>& host_w) {
+        for (size_t i = 0; i < host_gp.size(); ++i) {
+            if (host_gp[i][0] < 0) continue;
+            bool kept = true;
+            for (int& c : host_gp[i]) {
+                c = c < static_cast<int>(new_index.size()) ? new_index[c] : -1;
+                kept = kept && c >= 0;
+            }
+            if (!kept) {
+                host_block[i] = 0;
+                host_gp[i] = {-1, -1, -1, -1};
+                host_w[i] = {0, 0, 0, 0};
+            }
+        }
+    };
+    retie(m.cables.host_block, m.cables.host_gp, m.cables.host_w);
+    retie(m.liners.host_block, m.liners.host_gp, m.liners.host_w);
     // A gridpoint's block is one whose zones still use it.
     for (int i = 0; i < z.size(); ++i) {
         for (int c : z.gp[i]) {
@@ -383,6 +404,7 @@ std::vector<double> gridpoint_stiffness(const Model& m, double joint_factor) {
     for (size_t i = 0; i < joint.size() && i < k.size(); ++i) k[i] += joint_factor * joint[i];
     // The grout of cables tied to the zones (cable.h).
     add_cable_gridpoint_stiffness(m, k);
+    add_liner_gridpoint_stiffness(m, k);
     return k;
 }
 

@@ -7,6 +7,7 @@
 #include "engine/blocks.h"
 #include "engine/cable.h"
 #include "engine/clump.h"
+#include "engine/liner.h"
 #include "engine/contact.h"
 #include "engine/flow.h"
 #include "engine/cycle.h"
@@ -493,6 +494,93 @@ Value f_cable_block(Runtime& rt, A a, int, L loc) {
     return Value::integer(model(rt).cables.host_block[i]);
 }
 
+// -- liners ------------------------------------------------------------------------------------
+// A liner by its id (argument 0) and, when `kind` is "element" or "node", one of its elements or
+// nodes (argument 1, from 1): its index in the liner arrays.
+int liner_arg(Runtime& rt, A a, const char* fn, L loc, int& item, const char* kind) {
+    const LinerSet& ls = model(rt).liners;
+    const long long id = int_arg(a, 0, fn, loc);
+    const int c = id > 0 && id <= 2000000000 ? ls.index(static_cast<int>(id)) : -1;
+    if (c < 0) fish_fail(loc, std::string("'") + fn + "': there is no liner " + std::to_string(id), {"'print liner' lists them"});
+    item = -1;
+    if (kind) {
+        const bool el = kind[0] == 'e';
+        const int first = el ? ls.elem_offset[c] : ls.node_offset[c];
+        const int n = (el ? ls.elem_offset[c + 1] : ls.node_offset[c + 1]) - first;
+        const long long k = int_arg(a, 1, fn, loc);
+        if (k < 1 || k > n) {
+            fish_fail(loc, std::string("'") + fn + "': liner " + std::to_string(id) + " has " + std::to_string(n) + " " +
+                               kind + "s, numbered from 1");
+        }
+        item = static_cast<int>(k - 1) + first;
+    }
+    return c;
+}
+Value f_li_num(Runtime& rt, A, int, L) { return Value::integer(model(rt).liners.size()); }
+Value f_li_id(Runtime& rt, A a, int, L loc) {
+    const LinerSet& ls = model(rt).liners;
+    const long long k = int_arg(a, 0, "li_id", loc);
+    if (k < 1 || k > ls.size()) fish_fail(loc, "'li_id': there are " + std::to_string(ls.size()) + " liners, numbered from 1 in order");
+    return Value::integer(ls.id[static_cast<size_t>(k - 1)]);
+}
+Value f_li_nel(Runtime& rt, A a, int, L loc) {
+    int i;
+    const int c = liner_arg(rt, a, "li_nel", loc, i, nullptr);
+    const LinerSet& ls = model(rt).liners;
+    return Value::integer(ls.elem_offset[c + 1] - ls.elem_offset[c]);
+}
+Value f_li_nnode(Runtime& rt, A a, int, L loc) {
+    int i;
+    const int c = liner_arg(rt, a, "li_nnode", loc, i, nullptr);
+    const LinerSet& ls = model(rt).liners;
+    return Value::integer(ls.node_offset[c + 1] - ls.node_offset[c]);
+}
+Value liner_resultant(Runtime& rt, A a, L loc, const char* fn, int which) {
+    int e;
+    liner_arg(rt, a, fn, loc, e, "element");
+    const LinerResultants r = liner_resultants(model(rt).liners, e);
+    const double v[6] = {r.nx, r.ny, r.nxy, r.mx, r.my, r.mxy};
+    return num(v[which]);
+}
+Value f_li_nx(Runtime& rt, A a, int, L loc) { return liner_resultant(rt, a, loc, "li_nx", 0); }
+Value f_li_ny(Runtime& rt, A a, int, L loc) { return liner_resultant(rt, a, loc, "li_ny", 1); }
+Value f_li_nxy(Runtime& rt, A a, int, L loc) { return liner_resultant(rt, a, loc, "li_nxy", 2); }
+Value f_li_mx(Runtime& rt, A a, int, L loc) { return liner_resultant(rt, a, loc, "li_mx", 3); }
+Value f_li_my(Runtime& rt, A a, int, L loc) { return liner_resultant(rt, a, loc, "li_my", 4); }
+Value f_li_mxy(Runtime& rt, A a, int, L loc) { return liner_resultant(rt, a, loc, "li_mxy", 5); }
+Value f_li_centroid(Runtime& rt, A a, int, L loc) {
+    int e;
+    liner_arg(rt, a, "li_centroid", loc, e, "element");
+    return vec(liner_resultants(model(rt).liners, e).centroid);
+}
+Value f_li_pos(Runtime& rt, A a, int, L loc) {
+    int i;
+    liner_arg(rt, a, "li_pos", loc, i, "node");
+    return vec(model(rt).liners.pos[i]);
+}
+Value f_li_disp(Runtime& rt, A a, int, L loc) {
+    int i;
+    liner_arg(rt, a, "li_disp", loc, i, "node");
+    return vec(model(rt).liners.disp[i]);
+}
+Value f_li_bond_n(Runtime& rt, A a, int, L loc) {
+    int i;
+    liner_arg(rt, a, "li_bond_n", loc, i, "node");
+    return num(model(rt).liners.bond_n[i]);
+}
+Value f_li_bond_s(Runtime& rt, A a, int, L loc) {
+    int i;
+    liner_arg(rt, a, "li_bond_s", loc, i, "node");
+    return num(model(rt).liners.bond_s[i].norm());
+}
+Value f_li_bstate(Runtime& rt, A a, int, L loc) {
+    int i;
+    liner_arg(rt, a, "li_bstate", loc, i, "node");
+    const LinerSet& ls = model(rt).liners;
+    if (ls.host_block[i] <= 0) return Value::integer(-1);
+    return Value::integer(ls.state[i] & (kBondSlipNow | kBondBrokenTension | kBondBrokenShear | kBondOpen));
+}
+
 } // namespace
 
 const std::vector<Intrinsic>& model_intrinsics() {
@@ -592,6 +680,22 @@ const std::vector<Intrinsic>& model_intrinsics() {
         {"cable_pos", 2, 2, "id,k", "position of node k of cable id (vector), m", "cable", f_cable_pos, nullptr},
         {"cable_disp", 2, 2, "id,k", "displacement of node k since it was made or 'reset disp' (vector), m", "cable", f_cable_disp, nullptr},
         {"cable_block", 2, 2, "id,k", "id of the block node k is grouted into (0: none)", "cable", f_cable_block, nullptr},
+        {"li_num", 0, 0, "", "the number of liners", "liner", f_li_num, nullptr},
+        {"li_id", 1, 1, "k", "the id of the k-th liner (from 1, in order)", "liner", f_li_id, nullptr},
+        {"li_nel", 1, 1, "id", "the number of elements of liner id", "liner", f_li_nel, nullptr},
+        {"li_nnode", 1, 1, "id", "the number of nodes of liner id", "liner", f_li_nnode, nullptr},
+        {"li_nx", 2, 2, "id,k", "membrane force n_x of element k of liner id, N/m (tension positive; x across the liner's axis)", "liner", f_li_nx, nullptr},
+        {"li_ny", 2, 2, "id,k", "membrane force n_y of element k, N/m (tension positive; y along the axis)", "liner", f_li_ny, nullptr},
+        {"li_nxy", 2, 2, "id,k", "membrane shear force n_xy of element k, N/m", "liner", f_li_nxy, nullptr},
+        {"li_mx", 2, 2, "id,k", "bending moment m_x of element k, N m/m (positive: the face on the void's side in tension)", "liner", f_li_mx, nullptr},
+        {"li_my", 2, 2, "id,k", "bending moment m_y of element k, N m/m (same sign convention)", "liner", f_li_my, nullptr},
+        {"li_mxy", 2, 2, "id,k", "twisting moment m_xy of element k, N m/m", "liner", f_li_mxy, nullptr},
+        {"li_centroid", 2, 2, "id,k", "centroid of element k of liner id (vector), m", "liner", f_li_centroid, nullptr},
+        {"li_pos", 2, 2, "id,k", "position of node k of liner id (vector), m", "liner", f_li_pos, nullptr},
+        {"li_disp", 2, 2, "id,k", "displacement of node k since the liner was made or 'reset disp' (vector), m", "liner", f_li_disp, nullptr},
+        {"li_bond_n", 2, 2, "id,k", "normal force of the bond on node k, N (compression positive)", "liner", f_li_bond_n, nullptr},
+        {"li_bond_s", 2, 2, "id,k", "magnitude of the bond's shear force on node k, N", "liner", f_li_bond_s, nullptr},
+        {"li_bstate", 2, 2, "id,k", "bond at node k: bits 1 slipping, 2 broken in tension, 4 broken in shear, 8 open (0 intact); -1 no rock under it", "liner", f_li_bstate, nullptr},
         {"gp_head", 0, 0, "", "the first gridpoint of the model (0 when none)", "gridpoint", f_gp_head, nullptr},
         {"gp_next", 1, 1, "g", "the next gridpoint: of the same block after b_gp, of the model after gp_head", "gridpoint", f_gp_next, nullptr},
         {"gp_id", 1, 1, "g", "the gridpoint's number, as print gp shows it", "gridpoint", f_gp_id, nullptr},

@@ -138,6 +138,22 @@ auto fields(IO& io, M& x) -> If<M, CableSet> {
     io(x.axial); io(x.rest_length); io(x.seg_state); io(x.materials);
 }
 
+// Format 12: liners (liner.h). Element stiffnesses are derived (rebuilt from pos0).
+template <class IO, class M>
+auto fields(IO& io, M& x) -> If<M, LinerMaterial> {
+    io(x.defined); io(x.e); io(x.nu); io(x.thick); io(x.density); io(x.kn); io(x.ks); io(x.ncut); io(x.scoh);
+    io(x.sfric);
+}
+
+template <class IO, class M>
+auto fields(IO& io, M& x) -> If<M, LinerSet> {
+    io(x.id); io(x.material); io(x.axis); io(x.node_offset); io(x.elem_offset); io(x.next_id);
+    io(x.pos0); io(x.pos); io(x.vel); io(x.spin); io(x.u); io(x.rot); io(x.disp); io(x.force); io(x.moment);
+    io(x.force_scale); io(x.area); io(x.normal); io(x.mass); io(x.inertial_mass); io(x.inertial_moment);
+    io(x.host_block); io(x.host_lever); io(x.host_gp); io(x.host_w); io(x.bond_n); io(x.bond_s); io(x.state);
+    io(x.elem); io(x.materials);
+}
+
 template <class IO, class M>
 auto fields(IO& io, M& x) -> If<M, JointPlane> {
     io(x.set); io(x.joined); io(x.jmat);
@@ -188,7 +204,8 @@ auto fields(IO& io, M& x) -> If<M, Table> {
 template <class IO, class M>
 auto fields(IO& io, M& x) -> If<M, History> {
     // The last kind each format knows: format 3 added zone stresses and reactions.
-    const HistoryKind last = io.format >= 13  ? HistoryKind::FlowRate
+    const HistoryKind last = io.format >= 14  ? HistoryKind::LinerMx
+                             : io.format >= 13  ? HistoryKind::FlowRate
                              : io.format >= 11  ? HistoryKind::CableGrout
                              : io.format >= 8 ? HistoryKind::Energy
                              : io.format >= 5 ? HistoryKind::Fish
@@ -274,10 +291,10 @@ auto fields(IO& io, M& x) -> If<M, EnergyAccount> {
 
 template <class IO, class M>
 auto fields(IO& io, M& x) -> If<M, Profile> {
-    // Format 3 added the zone stage, format 6 the checks, format 11 the cables, 13 the flow; older files time
-    // the others, in the same order.
+    // Format 3 added the zone stage, format 6 the checks, format 11 the cables, 13 the flow, 14
+    // the liners; older files time the others, in the same order.
     const int expected = static_cast<int>(Stage::Count) - (io.format >= 3 ? 0 : 1) - (io.format >= 6 ? 0 : 1) -
-                         (io.format >= 11 ? 0 : 1) - (io.format >= 13 ? 0 : 1);
+                         (io.format >= 11 ? 0 : 1) - (io.format >= 13 ? 0 : 1) - (io.format >= 14 ? 0 : 1);
     int n_stages = expected;
     io(n_stages);
     io.check(n_stages == expected, "the profile has " + std::to_string(n_stages) + " stages, save format " +
@@ -287,6 +304,7 @@ auto fields(IO& io, M& x) -> If<M, Profile> {
         if (io.format < 6 && k == static_cast<int>(Stage::Checks)) continue;
         if (io.format < 11 && k == static_cast<int>(Stage::Cables)) continue;
         if (io.format < 13 && k == static_cast<int>(Stage::Flow)) continue;
+        if (io.format < 14 && k == static_cast<int>(Stage::Liners)) continue;
         io(x.seconds[k]);
     }
     io(x.steps);
@@ -468,6 +486,7 @@ void model_sections(IO& io, M& m) {
     if (io.format >= 8) io.section("ENRG", [&] { io(m.energy); });
     if (io.format >= 11) io.section("CABL", [&] { io(m.cables); });
     if (io.format >= 13) io.section("FLOW", [&] { io(m.flow); });
+    if (io.format >= 14) io.section("LINR", [&] { io(m.liners); });
 }
 
 // ---- writing ----
@@ -1022,6 +1041,74 @@ std::string check_cables_consistent(const Model& m) {
     return "";
 }
 
+// Liners: every array its length, every index in range, every number finite.
+std::string check_liners_consistent(const Model& m) {
+    const LinerSet& ls = m.liners;
+    const size_t nl = ls.id.size();
+    if (ls.material.size() != nl || ls.axis.size() != nl) return "the liner arrays differ in length";
+    if (nl == 0 ? (!ls.node_offset.empty() || !ls.elem_offset.empty())
+                : (ls.node_offset.size() != nl + 1 || ls.elem_offset.size() != nl + 1)) {
+        return "the liner offsets do not match the liners";
+    }
+    const size_t nn = ls.pos.size(), ne = ls.elem.size();
+    if (nl > 0 && (ls.node_offset[0] != 0 || static_cast<size_t>(ls.node_offset[nl]) != nn || ls.elem_offset[0] != 0 ||
+                   static_cast<size_t>(ls.elem_offset[nl]) != ne)) {
+        return "the liner offsets do not match the nodes and elements";
+    }
+    for (size_t c = 0; c < nl; ++c) {
+        if (ls.node_offset[c + 1] - ls.node_offset[c] < 3 || ls.elem_offset[c + 1] - ls.elem_offset[c] < 1) {
+            return "a liner has no element";
+        }
+        if (ls.id[c] < 1 || ls.id[c] >= ls.next_id || (c > 0 && ls.id[c] <= ls.id[c - 1])) return "the liner ids are not increasing";
+        if (ls.material[c] < 1 || static_cast<size_t>(ls.material[c]) >= ls.materials.size() ||
+            !ls.materials[ls.material[c]].defined || !(ls.materials[ls.material[c]].e > 0) ||
+            !(ls.materials[ls.material[c]].thick > 0)) {
+            return "liner " + std::to_string(ls.id[c]) + " has a material that does not exist";
+        }
+        if (!ls.axis[c].allFinite() || !(ls.axis[c].norm() > 0)) return "a liner axis is not a finite direction";
+        for (int e = ls.elem_offset[c]; e < ls.elem_offset[c + 1]; ++e) {
+            for (int i : ls.elem[e]) {
+                if (i < ls.node_offset[c] || i >= ls.node_offset[c + 1]) return "a liner element refers to a node not its own";
+            }
+            const auto& n = ls.elem[e];
+            if (n[0] == n[1] || n[1] == n[2] || n[0] == n[2] ||
+                !((ls.pos0[n[1]] - ls.pos0[n[0]]).cross(ls.pos0[n[2]] - ls.pos0[n[0]]).norm() > 0)) {
+                return "a liner element is degenerate";
+            }
+        }
+    }
+    if (ls.pos0.size() != nn || ls.vel.size() != nn || ls.spin.size() != nn || ls.u.size() != nn || ls.rot.size() != nn ||
+        ls.disp.size() != nn || ls.force.size() != nn || ls.moment.size() != nn || ls.force_scale.size() != nn ||
+        ls.area.size() != nn || ls.normal.size() != nn || ls.mass.size() != nn || ls.inertial_mass.size() != nn ||
+        ls.inertial_moment.size() != nn || ls.host_block.size() != nn || ls.host_lever.size() != nn ||
+        ls.host_gp.size() != nn || ls.host_w.size() != nn || ls.bond_n.size() != nn || ls.bond_s.size() != nn ||
+        ls.state.size() != nn) {
+        return "the liner node arrays differ in length";
+    }
+    for (size_t i = 0; i < nn; ++i) {
+        if (ls.host_block[i] < 0) return "a liner node refers to a negative block id";
+        for (int g : ls.host_gp[i]) {
+            if (g < -1 || g >= m.gridpoints.size()) return "a liner node refers to a gridpoint that does not exist";
+        }
+        bool ok = ls.pos0[i].allFinite() && ls.pos[i].allFinite() && ls.vel[i].allFinite() && ls.spin[i].allFinite() &&
+                  ls.u[i].allFinite() && ls.rot[i].allFinite() && ls.disp[i].allFinite() && ls.force[i].allFinite() &&
+                  ls.moment[i].allFinite() && ls.host_lever[i].allFinite() && ls.bond_s[i].allFinite() &&
+                  ls.normal[i].allFinite() && std::isfinite(ls.bond_n[i]) && ls.area[i] > 0 && ls.mass[i] >= 0 &&
+                  ls.inertial_mass[i] >= 0 && ls.inertial_moment[i] >= 0 && ls.force_scale[i] >= 0 &&
+                  std::isfinite(ls.area[i] + ls.mass[i] + ls.inertial_mass[i] + ls.inertial_moment[i] + ls.force_scale[i]);
+        for (double w : ls.host_w[i]) ok = ok && std::isfinite(w);
+        if (!ok) return "a number of liner node " + std::to_string(i + 1) + " is not finite or out of range";
+    }
+    for (const LinerMaterial& p : ls.materials) {
+        if (!(p.e >= 0 && p.thick >= 0 && p.density >= 0 && p.kn >= 0 && p.ks >= 0 && p.sfric >= 0 && p.sfric < 90 &&
+              p.nu > -1 && p.nu < 0.5) ||
+            !std::isfinite(p.e + p.nu + p.thick + p.density + p.kn + p.ks + p.ncut + p.scoh + p.sfric)) {
+            return "a liner material has a number that is out of range or not finite";
+        }
+    }
+    return "";
+}
+
 std::string check_consistent(const Model& m) {
     const BlockSet& s = m.blocks;
     const size_t n = s.id.size();
@@ -1127,6 +1214,8 @@ std::string check_consistent(const Model& m) {
             }
         }
     }
+    const std::string liners = check_liners_consistent(m);
+    if (!liners.empty()) return liners;
     const HistorySet& h = m.histories;
     for (const History& item : h.items) {
         if (item.first < 0 || static_cast<size_t>(item.first) > h.sample_steps.size() ||

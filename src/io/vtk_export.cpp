@@ -590,6 +590,66 @@ bool write_cables_vtp(const Model& m, const std::string& path, std::string& erro
     return write_atomically(path, out, error);
 }
 
+bool write_liners_vtp(const Model& m, const std::string& path, std::string& error) {
+    const LinerSet& ls = m.liners;
+    const int nn = ls.n_nodes();
+    std::vector<double> node_no, host, bond_n, bond_s, bstate;
+    for (int c = 0; c < ls.size(); ++c) {
+        for (int i = ls.node_offset[c]; i < ls.node_offset[c + 1]; ++i) {
+            node_no.push_back(i - ls.node_offset[c] + 1);
+            host.push_back(ls.host_block[i]);
+            bond_n.push_back(ls.bond_n[i]);
+            bond_s.push_back(ls.bond_s[i].norm());
+            bstate.push_back(ls.host_block[i] <= 0 ? -1 : ls.state[i]);
+        }
+    }
+    std::vector<VtkArray> point_data;
+    point_data.push_back(scalar_array("node", node_no, true));
+    point_data.push_back(vector_array("displacement", ls.disp));
+    point_data.push_back(scalar_array("block_id", host, true));
+    point_data.push_back(scalar_array("bond_normal_force", bond_n, false));
+    point_data.push_back(scalar_array("bond_shear_force", bond_s, false));
+    point_data.push_back(scalar_array("bond_state", bstate, true));
+    std::vector<double> nx, ny, nxy, mx, my, mxy, liner_id, el_no;
+    std::vector<long> conn, offs;
+    for (int c = 0; c < ls.size(); ++c) {
+        for (int e = ls.elem_offset[c]; e < ls.elem_offset[c + 1]; ++e) {
+            const LinerResultants r = liner_resultants(ls, e);
+            nx.push_back(r.nx); ny.push_back(r.ny); nxy.push_back(r.nxy);
+            mx.push_back(r.mx); my.push_back(r.my); mxy.push_back(r.mxy);
+            liner_id.push_back(ls.id[c]);
+            el_no.push_back(e - ls.elem_offset[c] + 1);
+            for (int i : ls.elem[e]) conn.push_back(i);
+            offs.push_back(static_cast<long>(conn.size()));
+        }
+    }
+    std::vector<VtkArray> cell_data;
+    cell_data.push_back(scalar_array("n_x", nx, false));
+    cell_data.push_back(scalar_array("n_y", ny, false));
+    cell_data.push_back(scalar_array("n_xy", nxy, false));
+    cell_data.push_back(scalar_array("m_x", mx, false));
+    cell_data.push_back(scalar_array("m_y", my, false));
+    cell_data.push_back(scalar_array("m_xy", mxy, false));
+    cell_data.push_back(scalar_array("liner_id", liner_id, true));
+    cell_data.push_back(scalar_array("element", el_no, true));
+    std::string out;
+    out += "<?xml version=\"1.0\"?>\n";
+    out += "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n";
+    out += "  <PolyData>\n";
+    put_field_data(out, m);
+    out += "    <Piece NumberOfPoints=\"" + std::to_string(nn) +
+           "\" NumberOfVerts=\"0\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"" + std::to_string(nx.size()) +
+           "\">\n";
+    put_data_section(out, "PointData", point_data);
+    put_data_section(out, "CellData", cell_data);
+    put_points(out, ls.pos);
+    out += "      <Polys>\n";
+    put_int_array(out, "Int64", "connectivity", conn);
+    put_int_array(out, "Int64", "offsets", offs);
+    out += "      </Polys>\n    </Piece>\n  </PolyData>\n</VTKFile>\n";
+    return write_atomically(path, out, error);
+}
+
 bool export_vtk(const Model& m, const ContactView* contacts, const std::string& name,
                 std::vector<std::string>& written, std::string& error) {
     written.clear();
@@ -625,6 +685,11 @@ bool export_vtk(const Model& m, const ContactView* contacts, const std::string& 
         const std::string path = stem + "-cables-" + step + ".vtp";
         if (!write_cables_vtp(m, path, error)) return false;
         parts.push_back({path, 4});
+    }
+    if (m.liners.size() > 0) {
+        const std::string path = stem + "-liners-" + step + ".vtp";
+        if (!write_liners_vtp(m, path, error)) return false;
+        parts.push_back({path, 5});
     }
     if (contacts) {
         const std::string path = stem + "-contacts-" + step + ".vtp";

@@ -16,6 +16,13 @@
 //                               (0: no grout), grout_force (N, on the cable along it),
 //                               grout_slip (m) and grout_state (0 elastic, 1 slipping,
 //                               2 earlier, -1 no grout)
+//   name-liners-<n>.vtp         liners (when there are any): a triangle per element with n_x,
+//                               n_y, n_xy (N/m, tension positive), m_x, m_y, m_xy (N m/m, the
+//                               void-side face in tension positive), in each element's frame
+//                               (liner.h), liner_id and element; point data per node: node,
+//                               displacement (m), block_id (0: no rock), bond_normal_force (N,
+//                               compression positive), bond_shear_force (N) and bond_state
+//                               (bits 1 slipping, 2 broken in tension, 4 in shear, 8 open; -1 no rock)
 //   name.pvd                    the collection: entries of earlier exports are kept and this
 //                               step's are added (or replaced), so ParaView plays the steps.
 #pragma once
@@ -90,6 +97,8 @@ std::vector<Vec3> contact_outline(const ContactRows& rows, const ContactRows& su
 
 // The cables as lines (see the file list above).
 bool write_cables_vtp(const Model& m, const std::string& path, std::string& error);
+// The liners as triangles (see the file list above).
+bool write_liners_vtp(const Model& m, const std::string& path, std::string& error);
 
 // The whole export. `name` may carry a directory and an extension (.vtu, .vtp, .pvd, .vtk:
 // dropped). `contacts` may be null (no contact files). On success `written` lists the

@@ -13,8 +13,9 @@ struct Missing {
 const Missing kMissing[] = {
     {"gridpoint", "the 'gridpoint' command is not available: gridpoints of deformable blocks are held with 'fix' "
                   "and 'bound ...vel', loaded with 'bound', listed with 'print gp' and recorded with 'hist'"},
-    {"structure", "structural elements other than cables ('structure' beams, piles, liners) are not available "
-                  "yet; fully grouted cables and rock bolts are made with 'cable' (see 'help cable')"},
+    {"structure", "the 'structure' command is not available: fully grouted cables and rock bolts are made with "
+                  "'cable' (see 'help cable'), liners and shotcrete with 'liner' (see 'help liner'); beams and "
+                  "piles are not available yet"},
 };
 
 } // namespace

@@ -559,6 +559,31 @@ int add_cables(Scene& scene, const Model& m, const PlotOptions& opt) {
     return n;
 }
 
+int add_liners(Scene& scene, const Model& m, const PlotOptions& opt) {
+    const LinerSet& ls = m.liners;
+    if (ls.n_elements() == 0) return 0;
+    auto at = [&](int i) { return Vec3(ls.pos[i] + (opt.magnify - 1.0) * ls.disp[i]); };
+    PolygonLayer layer;
+    layer.name = "liners";
+    layer.edges = true;
+    layer.closed = false;
+    for (int e = 0; e < ls.n_elements(); ++e) {
+        const int base = static_cast<int>(layer.points.size());
+        for (int i : ls.elem[e]) layer.points.push_back(at(i));
+        for (int k = 0; k < 3; ++k) layer.indices.push_back(base + k);
+        if (layer.offsets.empty()) layer.offsets.push_back(0);
+        layer.offsets.push_back(static_cast<int>(layer.indices.size()));
+        layer.cell_scalars.push_back(liner_resultants(ls, e).nx);
+    }
+    QuantityInfo info;
+    info.title = "liner n_x, tension +";
+    info.units = "N/m";
+    info.is_signed = true;
+    layer.scale = detail::continuous_scale(info, layer.cell_scalars, opt);
+    scene.polygons.push_back(std::move(layer));
+    return ls.n_elements();
+}
+
 void add_block_outline(Scene& scene, const Model& m, const PlotOptions& opt) {
     LineLayer lines;
     lines.colour = {0.55, 0.55, 0.55};
@@ -847,6 +872,8 @@ std::string history_axis_title(HistoryKind k) {
     case HistoryKind::PorePressure: return "pore pressure (Pa)";
     case HistoryKind::Aperture: return "hydraulic aperture (m)";
     case HistoryKind::FlowRate: return "flow rate (m3/s)";
+    case HistoryKind::LinerNx: return "liner n_x, tension + (N/m)";
+    case HistoryKind::LinerMx: return "liner m_x, void side in tension + (N m/m)";
     }
     return "value";
 }

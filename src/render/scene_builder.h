@@ -105,6 +105,11 @@ void add_block_outline(Scene& scene, const Model& m, const PlotOptions& opt);
 // magnify times their displacement). Returns the number of segments drawn.
 int add_cables(Scene& scene, const Model& m, const PlotOptions& opt);
 
+// Liners as their triangles, coloured by each element's membrane force n_x (N/m, tension
+// positive; liner.h), at the nodes' positions (with opt.magnify as cables). Returns the number of
+// elements drawn.
+int add_liners(Scene& scene, const Model& m, const PlotOptions& opt);
+
 // Arrows of block displacement or velocity at the centroids. Coloured by magnitude with a
 // legend unless the scene already has a coloured layer (then dark, so the two do not
 // compete); block layers already in the scene are made translucent so the arrows show.

@@ -335,9 +335,9 @@ std::string without_clumps(std::string file, const std::vector<int>& clumps) {
     };
     shrink(blks + 4);
     shrink(payload_length_at);
-    // Format 13 (after the clumps) added fluid flow: its section, the last before the checksum;
-    // the flow stage's time, the last of the profile; the three apertures that end each joint
-    // material (a flag and eleven numbers each).
+    // Formats 13 and 14 (after the clumps) added fluid flow and liners: their sections, the last
+    // before the checksum; their stages' times, the last two of the profile; the three apertures
+    // that end each joint material (a flag and eleven numbers each).
     auto cut = [&](size_t where, size_t bytes, std::initializer_list<size_t> lengths_at) {
         file.erase(where, bytes);
         for (size_t at_length : lengths_at) {
@@ -358,8 +358,8 @@ std::string without_clumps(std::string file, const std::vector<int>& clumps) {
     std::int32_t stages = 0;
     std::memcpy(&stages, &file[prof + 12], 4);
     if (stages != static_cast<int>(odec::Stage::Count)) return "";
-    cut(prof + 16 + 8 * (stages - 1), 8, {prof + 4, payload_length_at});
-    --stages;
+    cut(prof + 16 + 8 * (stages - 2), 16, {prof + 4, payload_length_at});
+    stages -= 2;
     std::memcpy(&file[prof + 12], &stages, 4);
     const std::uint32_t format = 11;
     std::memcpy(&file[12], &format, 4);

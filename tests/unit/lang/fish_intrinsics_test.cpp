@@ -316,6 +316,31 @@ std::vector<Case> flow_cases() {
     };
 }
 
+// A liner on the top of a unit cube zoned with 'gen edge 1' (4 elements, 5 nodes), held at its
+// base, under gravity; the bond has no shear stiffness, so nothing loads the liner in its plane.
+// Solved: the bond carries the liner's whole weight, rho t g = 5000 N; the liner, supported
+// all over, bends little (a plate of 1 m spanning would carry some 600 N m/m).
+std::vector<Case> liner_cases() {
+    return {
+        {"li_num", "li_num", 1, 0, nullptr},
+        {"li_id", "li_id(1)", 1, 0, nullptr},
+        {"li_nel", "li_nel(1)", 4, 0, nullptr},
+        {"li_nnode", "li_nnode(1)", 5, 0, nullptr},
+        {"li_bond_n", "bsum", 5000, 1e-3, nullptr},
+        {"li_bond_s", "li_bond_s(1,1)", 0, 0, nullptr},
+        {"li_bstate", "li_bstate(1,1)", 0, 0, nullptr},
+        {"li_nx", "li_nx(1,1)", 0, 1e-6, nullptr},
+        {"li_ny", "li_ny(1,2)", 0, 1e-6, nullptr},
+        {"li_nxy", "li_nxy(1,4)", 0, 1e-6, nullptr},
+        {"li_mx", "abs(li_mx(1,1)) < 10", 1, 0, nullptr},
+        {"li_my", "abs(li_my(1,3)) < 10", 1, 0, nullptr},
+        {"li_mxy", "abs(li_mxy(1,2)) < 10", 1, 0, nullptr},
+        {"li_centroid", "zcomp(li_centroid(1,1))", 1, 1e-5, nullptr},
+        {"li_pos", "zcomp(li_pos(1,5))", 1, 1e-5, nullptr},
+        {"li_disp", "zcomp(li_disp(1,1)) < 0", 1, 0, nullptr},
+    };
+}
+
 // Intrinsics tested by scripts of their own below (files, arrays, out, error, memory offsets).
 const std::vector<std::string> kScripted = {"open", "write", "read", "close", "array_size", "out",
                                             "lose_array", "error", "imem", "fmem"};
@@ -460,6 +485,16 @@ TEST(FishIntrinsics, Flow) {
     run_cases(s, "", flow_cases());
 }
 
+TEST(FishIntrinsics, Liners) {
+    Session s;
+    ASSERT_TRUE(s.run("poly brick 0 1 0 1 0 1\nprop mat=1 dens=2500 ymod=10e9 prat=0.25\ngen edge 1\n"
+                      "bound xvel 0 yvel 0 zvel 0 range z -0.01 0.01\n"
+                      "prop mat=2 li_e=30e9 li_nu=0.2 li_thick=0.2 li_dens=2500 li_kn=1e10 li_ks=0\n"
+                      "liner range z 0.99 1.01 prop 2\ngrav 0 0 -10\nsolve ratio 1e-9"))
+        << s.error();
+    run_cases(s, "  bsum = 0\n  loop k (1, li_nnode(1))\n    bsum = bsum + li_bond_n(1, k)\n  endloop\n", liner_cases());
+}
+
 TEST(FishIntrinsics, MemoryOffsetsOfTheClassicCodesSayWhatToWrite) {
     Session s;
     ASSERT_TRUE(s.run(kRestingBlock)) << s.error();
@@ -513,7 +548,7 @@ TEST(FishIntrinsics, SetGivesFishVariablesValues) {
 TEST(FishIntrinsics, EveryIntrinsicHasACase) {
     std::set<std::string> covered(kScripted.begin(), kScripted.end());
     for (const auto& table : {math_cases(), block_cases(), block_write_cases(), block_turn_cases(), zone_cases(),
-                              zone_step_cases(), cable_cases(), flow_cases()}) {
+                              zone_step_cases(), cable_cases(), flow_cases(), liner_cases()}) {
         for (const Case& c : table) covered.insert(c.intrinsic);
     }
     // The energy account's, each read against its term by Energy.CommandsAndFish (energy_test.cpp).

@@ -465,16 +465,17 @@ TEST_F(Save, Format6AppliedForceRestoresAsALoadAtTheCentroid) {
     file.erase(damp - 8, 8);
     shrink(sets + 4, 8);
     shrink(payload_length_at, 8);
-    // Format 11 added the cables stage of the profile and format 13 the flow stage, the last two of
-    // its stage times (the cables and the flow themselves are sections after ENRG, gone with it;
-    // the hydraulic apertures of format 13 are in joint materials, which this model has none of).
+    // Format 11 added the cables stage of the profile, format 13 the flow stage and format 14 the
+    // liners stage, the last three of its stage times (the cables, the flow and the liners
+    // themselves are sections after ENRG, gone with it; the hydraulic apertures of format 13 are
+    // in joint materials, which this model has none of).
     const size_t prof = file.find("PROF", payload_length_at + 8);
     ASSERT_TRUE(prof != std::string::npos && prof < blks);
     const int stages = 7;
     std::memcpy(&file[prof + 12], &stages, 4);
-    file.erase(prof + 12 + 4 + 7 * 8, 16);
-    shrink(prof + 4, 16);
-    shrink(payload_length_at, 16);
+    file.erase(prof + 12 + 4 + 7 * 8, 24);
+    shrink(prof + 4, 24);
+    shrink(payload_length_at, 24);
     format = 6;
     std::memcpy(&file[12], &format, 4);
     std::uint64_t h = 0xcbf29ce484222325ull;
@@ -733,15 +734,19 @@ constexpr size_t count_fields() {
 TEST(SaveLayout, EveryFieldIsSaved) {
     using namespace odec;
     const char* fix = "a field was added: save and restore it in src/io/save.cpp, then update this count";
-    // Model: 26 saved fields and the report of the last choice of masses (mass_scaling, said
+    // Model: 27 saved fields and the report of the last choice of masses (mass_scaling, said
     // by the commands once and chosen again before the next step).
-    EXPECT_EQ(count_fields<Model>(), 28u) << fix;
+    EXPECT_EQ(count_fields<Model>(), 29u) << fix;
     // FlowSet: 15 saved fields (settings, fluid, the nodes' positions, pressures, fixities and volumes
     // at the last step) and 17 derived ones (the nodes' sub-contacts, apertures, volumes, links and
     // flows, and the pressure forces: made again from the contacts; how often they were made).
     EXPECT_EQ(count_fields<FlowSet>(), 32u) << fix;
     EXPECT_EQ(count_fields<CableSet>(), 25u) << fix;
     EXPECT_EQ(count_fields<CableMaterial>(), 8u) << fix;
+    // LinerSet: 30 saved fields and 3 derived (the element stiffnesses and the nodes' bounds,
+    // rebuilt from pos0 and the materials).
+    EXPECT_EQ(count_fields<LinerSet>(), 33u) << fix;
+    EXPECT_EQ(count_fields<LinerMaterial>(), 10u) << fix;
     // EnergyAccount: 18 saved fields and whether the cycle has the model (false between commands).
     EXPECT_EQ(count_fields<EnergyAccount>(), 19u) << fix;
     EXPECT_EQ(count_fields<BlockSet>(), 35u) << fix; // format 12: the clumps
@@ -767,7 +772,7 @@ TEST(SaveLayout, EveryFieldIsSaved) {
     EXPECT_EQ(count_fields<TableSet>(), 1u) << fix;
     EXPECT_EQ(count_fields<Damping>(), 5u) << fix;
     EXPECT_EQ(count_fields<Settings>(), 10u) << fix;
-    EXPECT_EQ(count_fields<Profile>(), 10u) << fix; // 9 stage times and the step count
+    EXPECT_EQ(count_fields<Profile>(), 11u) << fix; // 10 stage times and the step count
     EXPECT_EQ(count_fields<InsituRecord>(), 2u) << fix;
     EXPECT_EQ(count_fields<StressField>(), 4u) << fix;
     EXPECT_EQ(count_fields<Range>(), 1u) << fix;

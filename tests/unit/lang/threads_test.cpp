@@ -89,6 +89,18 @@ TEST(Threads, CableInZonesSameBitsWithOneTwoAndFourThreads) {
               });
 }
 
+TEST(Threads, LinerOnZonesSameBitsWithOneTwoAndFourThreads) {
+    same_bits("poly brick 0 1 0 1 0 1\nprop mat=1 dens=2500 k=6.7e9 g=4e9\ngen edge 0.045\n"
+              "bound zvel 0 range z -0.001 0.001\ngrav 0 0 -10\n"
+              "prop mat=2 li_e=30e9 li_nu=0.2 li_thick=0.1 li_dens=2500 li_kn=1e10 li_ks=1e10 li_ncut=1e3 li_scoh=1e4 li_sfric=30\n"
+              "liner range z 0.999 1.001 prop 2\n"
+              "hist ncyc 5\nhist liner_nx 0.5,0.5,1\nhist liner_mx 0.3,0.3,1\nhist zdis 0.5,0.5,1",
+              60, {1, 2, 4}, [](const odec::Model& m) {
+                  EXPECT_GT(m.zones.size(), odec::kParallelMinZones);
+                  EXPECT_EQ(m.liners.size(), 1);
+              });
+}
+
 // Rigid blocks: a 22 m cube cut into 10,648 blocks by three joint sets (about 30,000 contacts,
 // above the size the contact loop needs to be split), settling under gravity in static mode
 // (whose block masses the contact update sums too), 30 steps, with the energy account.
