@@ -144,16 +144,7 @@ void bound_pore_pressure(CommandContext& ctx, const Args& a) {
         if (!ctx.interp.quiet) ctx.out << nodes.size() << " flow node" << (nodes.size() == 1 ? "" : "s") << " released\n";
         return;
     }
-    PressureSpec spec;
-    if (a.has("wtable")) {
-        m.flow.has_wtable = true;
-        m.flow.wtable = a.real("wtable");
-        spec.wtable = true;
-    } else {
-        spec.p = a.real("pp");
-        if (a.has("pgrad")) spec.grad = a.vec("pgrad");
-    }
-    const int n = set_flow_pressure(m, nodes, spec, true);
+    const int n = set_flow_pressure(m, nodes, pressure_spec(m, a), true);
     if (!ctx.interp.quiet) ctx.out << n << " flow node" << (n == 1 ? "" : "s") << " with a fixed pore pressure\n";
 }
 

@@ -7,11 +7,27 @@
 #include <vector>
 
 #include "engine/clump.h"
+#include "engine/flow.h"
 #include "engine/model.h"
 #include "engine/range.h"
 #include "lang/interpreter.h"
 
 namespace odec {
+
+// The pore pressures 'pp p [pgrad g]' or 'wtable z' ask for ('bound', 'insitu'). A water table
+// becomes the model's too: flow nodes made later start at its hydrostatic pressure.
+inline PressureSpec pressure_spec(Model& m, const Args& a) {
+    PressureSpec spec;
+    if (a.has("wtable")) {
+        m.flow.has_wtable = true;
+        m.flow.wtable = a.real("wtable");
+        spec.wtable = true;
+    } else {
+        spec.p = a.real("pp");
+        if (a.has("pgrad")) spec.grad = a.vec("pgrad");
+    }
+    return spec;
+}
 
 // Blocks selected by the command's range phrase (all blocks when none was given).
 inline std::vector<int> blocks_in_range(const CommandContext& ctx, const Args& args) {

@@ -88,16 +88,7 @@ const CommandSpec& insitu_command() {
                                                       : "the range selects no free flow node (no joint there, or all fixed)",
                          {"flow nodes stand at the sub-contacts of the joints: 'print flow' lists them"}, "insitu");
                 }
-                PressureSpec spec;
-                if (a.has("wtable")) {
-                    m.flow.has_wtable = true;
-                    m.flow.wtable = a.real("wtable");
-                    spec.wtable = true;
-                } else {
-                    spec.p = a.real("pp");
-                    if (a.has("pgrad")) spec.grad = a.vec("pgrad");
-                }
-                const int n = set_flow_pressure(m, nodes, spec, false);
+                const int n = set_flow_pressure(m, nodes, pressure_spec(m, a), false);
                 if (!ctx.interp.quiet) ctx.out << n << " flow node" << (n == 1 ? "" : "s") << " set\n";
                 return;
             }

@@ -91,7 +91,6 @@ void flow_sync(Model& m) {
         static_cast<int>(f.volume.size()) == f.n_nodes()) {
         return;
     }
-    const BlockSet& s = m.blocks;
     const int ns = cs.n_subs();
     // The points, and which contacts carry flow.
     std::vector<Vec3> pts(ns, Vec3::Zero());
@@ -99,8 +98,7 @@ void flow_sync(Model& m) {
     for (int c = 0; c < cs.size(); ++c) {
         if (!flow_contact(m, c)) continue;
         for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
-            const int owner = cs.sub_side[k] == 1 ? cs.block_b[c] : cs.block_a[c];
-            pts[k] = s.centroid[owner] + s.orientation[owner] * cs.sub_local[k];
+            pts[k] = sub_point(m, c, k);
             live[k] = 1;
         }
     }
@@ -412,8 +410,7 @@ std::string flow_step(Model& m, double dt) {
         for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
             const int node = f.sub_node[k];
             if (node < 0 || !(f.pp[node] > 0) || !(cs.sub_area[k] > 0)) continue;
-            const int owner = cs.sub_side[k] == 1 ? b : a;
-            const Vec3 x = s.centroid[owner] + s.orientation[owner] * cs.sub_local[k];
+            const Vec3 x = sub_point(m, c, k);
             const Vec3 fb = f.pp[node] * cs.sub_area[k] * n;
             const Vec3 mb = (x - s.centroid[b]).cross(fb), ma = -(x - s.centroid[a]).cross(fb);
             s.force[b] += fb;
