@@ -34,8 +34,9 @@ const CommandSpec& fluid_command() {
                    "the joint springs carry sn' = jkn x closure, Coulomb's limit is c + sn' tan(phi). 'print flow' "
                    "lists the nodes, 'print contact' the mean pressure and aperture of each joint; 'hist pp x,y,z', "
                    "'hist aperture x,y,z', 'hist flowrate' record them; FISH has fl_pp, fl_aperture, fl_flow, fl_nnode; 'plot contact pp' "
-                   "and 'plot contact aperture' colour the joints; 'export vtk' writes pore_pressure and aperture with the contacts. Joints of deformable blocks "
-                   "carry no flow: a model with deformable blocks cannot cycle with flow on. Not in the energy "
+                   "and 'plot contact aperture' colour the joints; 'export vtk' writes pore_pressure and aperture with the contacts. In deformable blocks the "
+                   "flow nodes are the gridpoints on the joints, linked through the surface triangles that lie along "
+                   "them, and the pressure pushes on those gridpoints. Not in the energy "
                    "account. A fluid property given without 'config flow' is an error.");
         c.example("config flow");
         c.example("fluid density 1000 viscosity 1e-3 bulk 2e9");

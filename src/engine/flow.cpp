@@ -12,17 +12,28 @@
 #include "engine/contact.h"
 #include "engine/model.h"
 #include "engine/range.h"
+#include "engine/zones.h"
 
 namespace odec {
 
 namespace {
 
-// Whether contact c is one flow runs in: between two rigid blocks, neither excavated.
+// Whether contact c is one flow runs in: neither of its blocks excavated.
 bool flow_contact(const Model& m, int c) {
     const BlockSet& s = m.blocks;
     const int a = m.contacts.block_a[c], b = m.contacts.block_b[c];
-    return !((s.flags[a] | s.flags[b]) & (kExcavated | kDeformable));
+    return !((s.flags[a] | s.flags[b]) & kExcavated);
 }
+
+// Whether contact c has a deformable block: its sub-contacts are gridpoints (contact_gridpoint.h).
+bool gridpoint_contact(const Model& m, int c) {
+    const BlockSet& s = m.blocks;
+    return ((s.flags[m.contacts.block_a[c]] | s.flags[m.contacts.block_b[c]]) & kDeformable) != 0;
+}
+
+// Smallest cosine between a surface triangle's outward normal and the contact normal for the
+// triangle to carry flow links: the faces that lie along the joint.
+constexpr double kLinkFacing = 0.5;
 
 struct CellKey {
     std::int64_t x, y, z;
@@ -167,11 +178,48 @@ void flow_sync(Model& m) {
         double w;
     };
     std::vector<Edge> edges;
+    // The linear finite-element weights of the triangle of points v in the plane of normal n, scaled
+    // by `scale`, added to the edges.
+    std::unordered_map<std::int64_t, int> edge_at; // (i, j) -> its place in edges
+    auto add = [&](int i, int j, double w) {
+        if (i > j) std::swap(i, j);
+        const std::int64_t key = (static_cast<std::int64_t>(i) << 32) | static_cast<std::uint32_t>(j);
+        auto [it, fresh] = edge_at.emplace(key, static_cast<int>(edges.size()));
+        if (fresh) edges.push_back({i, j, w});
+        else edges[it->second].w += w;
+    };
+    auto triangle = [&](const int v[3], const Vec3& n, double scale) {
+        // Twice the area, in the plane.
+        const Vec3 e1 = pts[v[1]] - pts[v[0]], e2 = pts[v[2]] - pts[v[0]];
+        const double area2 = (e1.cross(e2)).dot(n);
+        if (!(std::abs(area2) > 1e-14 * (e1.squaredNorm() + e2.squaredNorm()))) return;
+        for (int q = 0; q < 3; ++q) {
+            // The corner q; the edge opposite it joins the other two.
+            const Vec3 u = pts[v[(q + 1) % 3]] - pts[v[q]], w = pts[v[(q + 2) % 3]] - pts[v[q]];
+            const double cot = u.dot(w) / std::abs(u.cross(w).dot(n));
+            add(v[(q + 1) % 3], v[(q + 2) % 3], 0.5 * scale * cot);
+        }
+    };
+    auto emit = [&] {
+        edge_at.clear();
+        for (const Edge& e : edges) {
+            const int na = f.sub_node[e.i], nb = f.sub_node[e.j];
+            if (na == nb || !(e.w > 0)) continue;
+            f.link_a.push_back(na);
+            f.link_b.push_back(nb);
+            f.link_sa.push_back(e.i);
+            f.link_sb.push_back(e.j);
+            f.link_w.push_back(e.w);
+        }
+    };
+    const BlockSet& bs = m.blocks;
+    const GridpointSet& g = m.gridpoints;
     for (int c = 0; c < cs.size(); ++c) {
         if (!flow_contact(m, c)) continue;
         const int k0 = cs.sub_offset[c], k1 = cs.sub_offset[c + 1];
         if (k1 - k0 < 3) continue;
         const Vec3 n = cs.normal[c];
+        if (gridpoint_contact(m, c)) continue; // linked below, block by block
         Vec3 ctr = Vec3::Zero();
         for (int k = k0; k < k1; ++k) ctr += pts[k];
         ctr /= (k1 - k0);
@@ -188,39 +236,68 @@ void flow_sync(Model& m) {
             return ax < ay || (ax == ay && x < y);
         });
         edges.clear();
-        auto add = [&](int i, int j, double w) {
-            if (i > j) std::swap(i, j);
-            for (Edge& e : edges) {
-                if (e.i == i && e.j == j) {
-                    e.w += w;
-                    return;
-                }
-            }
-            edges.push_back({i, j, w});
-        };
         const int r = static_cast<int>(ring.size());
         for (int t = 1; t + 1 < r; ++t) {
             const int v[3] = {ring[0], ring[t], ring[t + 1]};
-            // Twice the area, in the plane.
-            const Vec3 e1 = pts[v[1]] - pts[v[0]], e2 = pts[v[2]] - pts[v[0]];
-            const double area2 = (e1.cross(e2)).dot(n);
-            if (!(std::abs(area2) > 1e-14 * (e1.squaredNorm() + e2.squaredNorm()))) continue;
-            for (int q = 0; q < 3; ++q) {
-                // The corner q; the edge opposite it joins the other two.
-                const Vec3 u = pts[v[(q + 1) % 3]] - pts[v[q]], w = pts[v[(q + 2) % 3]] - pts[v[q]];
-                const double cot = u.dot(w) / std::abs(u.cross(w).dot(n));
-                add(v[(q + 1) % 3], v[(q + 2) % 3], 0.5 * cot);
+            triangle(v, n, 1.0);
+        }
+        emit();
+    }
+    // Deformable blocks: the surface triangles whose three corners are flow points of the block's
+    // gridpoints (in any of its contacts, so that water passes between the joints the block's face
+    // meets), facing the joint. Between two deformable blocks each side's gridpoints carry half the
+    // area, so each side's links carry half the conductance (a triangle whose corners lie on joints
+    // of both kinds takes the mean of its corners' shares).
+    struct GpFlow {
+        int sub = -1;        // its sub-contact of the largest area
+        double scale = 1;    // 1, or 0.5 against a deformable block
+        Vec3 normal;         // that contact's normal, pointing away from the block
+    };
+    std::unordered_map<int, GpFlow> gp_flow;
+    std::vector<std::vector<int>> subs_of_block(bs.size());
+    for (int c = 0; c < cs.size(); ++c) {
+        if (!flow_contact(m, c) || !gridpoint_contact(m, c)) continue;
+        for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
+            const int side = cs.sub_side[k];
+            if (side == 3) subs_of_block[cs.block_a[c]].push_back(k);
+            else if (side == 4) subs_of_block[cs.block_b[c]].push_back(k);
+        }
+    }
+    const bool have_surface = static_cast<int>(cs.surface_offset.size()) == bs.size() + 1;
+    for (int blk = 0; blk < bs.size() && have_surface; ++blk) {
+        if (subs_of_block[blk].size() < 3) continue;
+        gp_flow.clear();
+        for (int k : subs_of_block[blk]) {
+            const int c = cs.sub_owner(k);
+            const bool of_a = cs.sub_side[k] == 3;
+            GpFlow& e = gp_flow[cs.sub_vertex(k)];
+            if (e.sub >= 0 && !(cs.sub_area[k] > cs.sub_area[e.sub])) continue;
+            const int other = of_a ? cs.block_b[c] : cs.block_a[c];
+            e.sub = k;
+            e.scale = (bs.flags[other] & kDeformable) ? 0.5 : 1.0;
+            e.normal = of_a ? cs.normal[c] : Vec3(-cs.normal[c]);
+        }
+        edges.clear();
+        for (int t = cs.surface_offset[blk]; t < cs.surface_offset[blk + 1]; ++t) {
+            const auto& q = cs.surface_tri[t];
+            const GpFlow* corner[3];
+            bool all = true;
+            for (int i = 0; i < 3 && all; ++i) {
+                auto it = gp_flow.find(q[i]);
+                all = it != gp_flow.end();
+                if (all) corner[i] = &it->second;
             }
+            if (!all) continue;
+            const Vec3 nrm = (g.pos[q[1]] - g.pos[q[0]]).cross(g.pos[q[2]] - g.pos[q[0]]);
+            const double len = nrm.norm();
+            if (!(len > 0)) continue;
+            bool facing = false;
+            for (int i = 0; i < 3; ++i) facing = facing || nrm.dot(corner[i]->normal) >= kLinkFacing * len;
+            if (!facing) continue;
+            const int v[3] = {corner[0]->sub, corner[1]->sub, corner[2]->sub};
+            triangle(v, nrm / len, (corner[0]->scale + corner[1]->scale + corner[2]->scale) / 3.0);
         }
-        for (const Edge& e : edges) {
-            const int na = f.sub_node[e.i], nb = f.sub_node[e.j];
-            if (na == nb || !(e.w > 0)) continue;
-            f.link_a.push_back(na);
-            f.link_b.push_back(nb);
-            f.link_sa.push_back(e.i);
-            f.link_sb.push_back(e.j);
-            f.link_w.push_back(e.w);
-        }
+        emit();
     }
     f.link_q.assign(f.n_links(), 0.0);
     f.inflow.assign(nn, 0.0);
@@ -302,13 +379,6 @@ double flow_stable_timestep(Model& m) {
 std::string flow_problem(const Model& m) {
     const FlowSet& f = m.flow;
     if (!f.on) return "";
-    const BlockSet& s = m.blocks;
-    for (int b = 0; b < s.size(); ++b) {
-        if ((s.flags[b] & kDeformable) && !(s.flags[b] & kExcavated)) {
-            return "fluid flow runs in the joints of rigid blocks only, and block " + std::to_string(s.id[b]) +
-                   " is deformable ('set flow off' to cycle without flow)";
-        }
-    }
     bool any = false;
     for (const JointMaterial& j : m.joint_materials) any = any || (j.defined && (j.azero > 0 || j.ares > 0));
     if (!any) {
@@ -401,12 +471,44 @@ std::string flow_step(Model& m, double dt) {
     }
     // The pressure pushes the two blocks of every sub-contact apart.
     BlockSet& s = m.blocks;
+    GridpointSet& g = m.gridpoints;
     const ContactSet& cs = m.contacts;
     f.block_force.assign(s.size(), Vec3::Zero());
     f.block_moment.assign(s.size(), Vec3::Zero());
     for (int c = 0; c < cs.size(); ++c) {
         const int a = cs.block_a[c], b = cs.block_b[c];
         const Vec3 n = cs.normal[c];
+        if (gridpoint_contact(m, c)) {
+            // On the gridpoint, and the opposite force on its partner point: the corners of the
+            // triangle it meets by their weights, or the rigid block there with its moment (as the
+            // joint's own force, joint_law.cpp).
+            for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
+                const int node = f.sub_node[k];
+                if (node < 0 || !(f.pp[node] > 0) || !(cs.sub_area[k] > 0)) continue;
+                const bool of_a = cs.sub_side[k] == 3;
+                const int gp = cs.sub_vertex(k), o = of_a ? b : a;
+                const Vec3 fg = (of_a ? -1.0 : 1.0) * f.pp[node] * cs.sub_area[k] * n; // on the gridpoint
+                const double fn = fg.norm();
+                g.force[gp] += fg;
+                g.force_scale[gp] += fn;
+                const std::array<int, 3> tri = cs.sub_triangle(k);
+                if (tri[0] >= 0) {
+                    const Vec3& w = cs.sub_local[k];
+                    for (int i = 0; i < 3; ++i) {
+                        g.force[tri[i]] -= w[i] * fg;
+                        g.force_scale[tri[i]] += w[i] * fn;
+                    }
+                } else {
+                    const Vec3 lever = s.orientation[o] * cs.sub_local[k];
+                    s.force[o] -= fg;
+                    s.moment[o] -= lever.cross(fg);
+                    s.force_scale[o] += fn;
+                    f.block_force[o] -= fg;
+                    f.block_moment[o] -= lever.cross(fg);
+                }
+            }
+            continue;
+        }
         for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
             const int node = f.sub_node[k];
             if (node < 0 || !(f.pp[node] > 0) || !(cs.sub_area[k] > 0)) continue;
