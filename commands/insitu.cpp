@@ -57,7 +57,11 @@ const CommandSpec& insitu_command() {
                    "'pp p' (with 'pgrad g': p + g . x) or 'wtable z' (rho |g| (z - elevation) below a water table at "
                    "elevation z, 0 above it) set the pore pressure of the joints' flow nodes the range selects "
                    "('config flow', 'help fluid'); nodes with a fixed pressure ('bound pp') keep theirs. The water "
-                   "table is kept: nodes made later (new contacts) start at its pressure. They go without 'stress'.");
+                   "table is kept: nodes made later (new contacts) start at its pressure. They go without 'stress'. "
+                   "The rock's total stress stays: a joint already loaded ('insitu stress', or a settled model) "
+                   "hands the change of pressure to its springs (effective stress sn - p, capped by the joint's "
+                   "strength), and 'insitu stress' given with water in the joints loads the springs with the "
+                   "field's normal stress less the water's pressure, so a model with water starts at rest too.");
         c.example("insitu stress -15e6 -15e6 -30e6 0 0 0");
         c.example("insitu stress 0 0 0 0 0 0 zgrad 1.3e4 1.3e4 2.6e4 0 0 0");
         c.example("insitu wtable 30");
@@ -88,8 +92,17 @@ const CommandSpec& insitu_command() {
                                                       : "the range selects no free flow node (no joint there, or all fixed)",
                          {"flow nodes stand at the sub-contacts of the joints: 'print flow' lists them"}, "insitu");
                 }
+                const std::vector<double> old_pp = m.flow.pp;
                 const int n = set_flow_pressure(m, nodes, pressure_spec(m, a), false);
-                if (!ctx.interp.quiet) ctx.out << n << " flow node" << (n == 1 ? "" : "s") << " set\n";
+                const int shifted = shift_joint_water(m, old_pp);
+                if (!ctx.interp.quiet) {
+                    ctx.out << n << " flow node" << (n == 1 ? "" : "s") << " set";
+                    if (shifted > 0) {
+                        ctx.out << "; the joints' springs carry the change at " << shifted << " sub-contact"
+                                << (shifted == 1 ? "" : "s") << " (the total stress stays)";
+                    }
+                    ctx.out << "\n";
+                }
                 return;
             }
             if (!a.has("stress") && !a.has("xgrad") && !a.has("ygrad") && !a.has("zgrad")) {

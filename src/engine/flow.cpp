@@ -18,11 +18,12 @@ namespace odec {
 
 namespace {
 
-// Whether contact c is one flow runs in: neither of its blocks excavated.
+// Whether contact c is one flow runs in: neither of its blocks excavated, and a joint, not a cut
+// joined into one mass (a glued contact: 'poly tunnel' rings and radial cuts, joined blocks).
 bool flow_contact(const Model& m, int c) {
     const BlockSet& s = m.blocks;
     const int a = m.contacts.block_a[c], b = m.contacts.block_b[c];
-    return !((s.flags[a] | s.flags[b]) & kExcavated);
+    return !((s.flags[a] | s.flags[b]) & kExcavated) && !m.contacts.joined[c];
 }
 
 // Whether contact c has a deformable block: its sub-contacts are gridpoints (contact_gridpoint.h).
@@ -34,6 +35,9 @@ bool gridpoint_contact(const Model& m, int c) {
 // Smallest cosine between a surface triangle's outward normal and the contact normal for the
 // triangle to carry flow links: the faces that lie along the joint.
 constexpr double kLinkFacing = 0.5;
+// Smallest cosine between a surface triangle and a joint for the water in the joint to wet it (as
+// 'insitu' loads only faces flat to the joint, within 20 degrees).
+constexpr double kWetFlat = 0.9396926207859084;
 
 struct CellKey {
     std::int64_t x, y, z;
@@ -81,6 +85,48 @@ struct PointGrid {
     }
     void add(int i) { cells[key((*pts)[i])].push_back(i); }
 };
+
+// The area of block b's face whose outward normal is nearest n, m^2.
+double facing_face_area(const Model& m, int b, const Vec3& n) {
+    const Polyhedron& p = m.blocks.shape[b];
+    double best = -2, area = 0;
+    for (int f = 0; f < p.n_faces(); ++f) {
+        const double c = (m.blocks.orientation[b] * p.face_normal(f)).dot(n);
+        if (c > best) {
+            best = c;
+            area = p.face_area(f);
+        }
+    }
+    return area;
+}
+
+
+bool is_follower(const FlowSet& f, int i) {
+    return static_cast<int>(f.follow_offset.size()) > i + 1 && f.follow_offset[i + 1] > f.follow_offset[i];
+}
+
+// What the nodes that follow others hold (inflow, volume, conductance) goes to the nodes they
+// follow, by the weights.
+void gather(const FlowSet& f, std::vector<double>& x) {
+    const int nn = static_cast<int>(x.size());
+    if (static_cast<int>(f.follow_offset.size()) != nn + 1) return;
+    for (int i = 0; i < nn; ++i) {
+        for (int e = f.follow_offset[i]; e < f.follow_offset[i + 1]; ++e) x[f.follow_node[e]] += f.follow_w[e] * x[i];
+        if (f.follow_offset[i + 1] > f.follow_offset[i]) x[i] = 0;
+    }
+}
+
+// The nodes that follow others take the pressure there.
+void follow(FlowSet& f) {
+    const int nn = f.n_nodes();
+    if (static_cast<int>(f.follow_offset.size()) != nn + 1) return;
+    for (int i = 0; i < nn; ++i) {
+        if (f.fixed[i] || f.follow_offset[i + 1] == f.follow_offset[i]) continue;
+        double p = 0;
+        for (int e = f.follow_offset[i]; e < f.follow_offset[i + 1]; ++e) p += f.follow_w[e] * f.pp[f.follow_node[e]];
+        f.pp[i] = std::max(0.0, p);
+    }
+}
 
 } // namespace
 
@@ -243,17 +289,150 @@ void flow_sync(Model& m) {
         }
         emit();
     }
+    // The two faces of a joint between zoned blocks hold one film of water, but their meshes need
+    // not match. One face carries the film's network, the other follows it: each of its gridpoints
+    // takes the pressure of the point it meets on the leading face (the corners of that triangle by
+    // their weights) and gives those corners its inflow and its volume by the same weights (as its
+    // force goes to them). The face that follows is the one more of whose gridpoints meet triangles
+    // lying wholly in the joint (the larger face, around a smaller one: the smaller face's mesh ends
+    // where the joint ends); b on a tie. A node follows one triangle, the first in contact order,
+    // and only if its pressure is its own to give up (not fixed).
+    std::vector<std::vector<std::pair<int, double>>> follows(nn);
+    std::vector<std::int8_t> follower_side(cs.size(), 0); // 3 or 4 for joints between zoned blocks
+    {
+        std::unordered_map<int, int> sub_of_gp[2];
+        for (int c = 0; c < cs.size(); ++c) {
+            if (!flow_contact(m, c)) continue;
+            const int a = cs.block_a[c], b = cs.block_b[c];
+            if (!((bs.flags[a] & kDeformable) && (bs.flags[b] & kDeformable))) continue;
+            sub_of_gp[0].clear();
+            sub_of_gp[1].clear();
+            for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
+                if (cs.sub_side[k] == 3 || cs.sub_side[k] == 4) sub_of_gp[cs.sub_side[k] - 3].emplace(cs.sub_vertex(k), k);
+            }
+            // The nodes sub-contact k would follow, or false.
+            // The nodes sub-contact k would follow: the corners of the triangle it meets that are
+            // in the joint, their weights scaled to sum to 1 (-1 for a corner off it). Returns how
+            // many are in the joint.
+            auto leaders = [&](int k, std::pair<int, double> by[3]) {
+                const std::array<int, 3> tri = cs.sub_triangle(k);
+                if (tri[0] < 0) return 0;
+                const auto& other = sub_of_gp[cs.sub_side[k] == 3 ? 1 : 0];
+                int in = 0;
+                double sum = 0;
+                for (int i = 0; i < 3; ++i) {
+                    auto it = other.find(tri[i]);
+                    by[i] = {-1, 0.0};
+                    if (it == other.end()) continue;
+                    by[i] = {f.sub_node[it->second], cs.sub_local[k][i]};
+                    sum += by[i].second;
+                    ++in;
+                }
+                if (!(sum > 0)) return 0;
+                for (int i = 0; i < 3; ++i) by[i].second /= sum;
+                return in;
+            };
+            long can[2] = {0, 0}, all[2] = {0, 0};
+            std::pair<int, double> by[3];
+            for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
+                const int side = cs.sub_side[k] - 3;
+                if (side < 0 || side > 1) continue;
+                ++all[side];
+                can[side] += leaders(k, by) == 3;
+            }
+            if (all[0] == 0 || all[1] == 0) continue;
+            // The larger face follows: the smaller one's mesh ends where the joint ends, and one
+            // face of a block that meets several blocks leads or follows in all of its joints.
+            // Faces alike: the one more of whose gridpoints meet triangles wholly in the joint.
+            const double fa = facing_face_area(m, a, cs.normal[c]), fb = facing_face_area(m, b, -cs.normal[c]);
+            int side;
+            if (std::abs(fa - fb) > 1e-6 * std::max(fa, fb)) side = fa > fb ? 3 : 4;
+            else side = can[0] * all[1] > can[1] * all[0] ? 3 : 4;
+            follower_side[c] = static_cast<std::int8_t>(side);
+            for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
+                if (cs.sub_side[k] != side) continue;
+                const int node = f.sub_node[k];
+                if (node < 0 || f.fixed[node] || !follows[node].empty()) continue;
+                if (leaders(k, by) == 0) continue;
+                bool ok = true;
+                for (const auto& e : by) ok = ok && e.first != node;
+                if (!ok) continue;
+                for (const auto& e : by) {
+                    if (e.first >= 0 && e.second != 0) follows[node].push_back(e);
+                }
+            }
+        }
+    }
+    // A node may follow nodes that follow others (the gridpoints along the edge where a block's
+    // face meets the next block): each follows, in the end, nodes that lead, with the weights
+    // multiplied along the way. A node whose chain comes back to itself leads instead.
+    {
+        std::vector<std::int8_t> state(nn, 0); // 0 not seen, 1 being resolved, 2 done
+        auto resolve = [&](auto&& self, int n) -> void {
+            if (state[n] == 2) return;
+            if (follows[n].empty()) {
+                state[n] = 2;
+                return;
+            }
+            state[n] = 1;
+            std::vector<std::pair<int, double>> mine = follows[n];
+            std::vector<std::pair<int, double>> out;
+            for (const auto& e : mine) {
+                if (state[e.first] == 1) {
+                    out.clear();
+                    follows[n].clear();
+                    state[n] = 2;
+                    return;
+                }
+                self(self, e.first);
+                if (follows[e.first].empty()) {
+                    out.push_back(e);
+                } else {
+                    for (const auto& l : follows[e.first]) out.push_back({l.first, e.second * l.second});
+                }
+            }
+            // One entry per node followed, in the order first met.
+            std::vector<std::pair<int, double>> unique;
+            for (const auto& e : out) {
+                bool found = false;
+                for (auto& u : unique) {
+                    if (u.first == e.first) {
+                        u.second += e.second;
+                        found = true;
+                        break;
+                    }
+                }
+                if (!found) unique.push_back(e);
+            }
+            bool self_loop = false;
+            for (const auto& u : unique) self_loop = self_loop || u.first == n;
+            if (self_loop) unique.clear();
+            follows[n] = std::move(unique);
+            state[n] = 2;
+        };
+        for (int i = 0; i < nn; ++i) resolve(resolve, i);
+    }
+    f.follow_offset.assign(nn + 1, 0);
+    f.follow_node.clear();
+    f.follow_w.clear();
+    for (int i = 0; i < nn; ++i) {
+        for (const auto& e : follows[i]) {
+            f.follow_node.push_back(e.first);
+            f.follow_w.push_back(e.second);
+        }
+        f.follow_offset[i + 1] = static_cast<int>(f.follow_node.size());
+    }
     // Deformable blocks: the surface triangles whose three corners are flow points of the block's
     // gridpoints (in any of its contacts, so that water passes between the joints the block's face
-    // meets), facing the joint. Between two deformable blocks each side's gridpoints carry half the
-    // area, so each side's links carry half the conductance (a triangle whose corners lie on joints
-    // of both kinds takes the mean of its corners' shares).
-    struct GpFlow {
-        int sub = -1;        // its sub-contact of the largest area
-        double scale = 1;    // 1, or 0.5 against a deformable block
-        Vec3 normal;         // that contact's normal, pointing away from the block
+    // meets), facing the joint. Each corner stands for its sub-contact in the joint the triangle
+    // faces best, and counts with its share of the film's conductance there: 1 on a rigid block or
+    // on a face that leads, 0 on a face that follows; a triangle takes the mean of its corners'.
+    struct GpSub {
+        int sub;
+        double scale;
+        Vec3 normal; // its contact's normal, pointing away from the block
     };
-    std::unordered_map<int, GpFlow> gp_flow;
+    std::unordered_map<int, std::vector<GpSub>> gp_subs;
     std::vector<std::vector<int>> subs_of_block(bs.size());
     for (int c = 0; c < cs.size(); ++c) {
         if (!flow_contact(m, c) || !gridpoint_contact(m, c)) continue;
@@ -264,38 +443,94 @@ void flow_sync(Model& m) {
         }
     }
     const bool have_surface = static_cast<int>(cs.surface_offset.size()) == bs.size() + 1;
+    std::vector<double> wet_area(ns, 0.0);
+    // Whether the surface a gridpoint meets across its joint lies flat to the joint there.
+    std::vector<char> partner_flat(ns, 0);
+    for (int c = 0; c < cs.size(); ++c) {
+        if (!flow_contact(m, c) || !gridpoint_contact(m, c)) continue;
+        for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
+            if (cs.sub_side[k] < 3) continue;
+            const bool of_a = cs.sub_side[k] == 3;
+            const Vec3 toward = of_a ? Vec3(-cs.normal[c]) : cs.normal[c]; // the partner's outward normal
+            const std::array<int, 3> tri = cs.sub_triangle(k);
+            if (tri[0] >= 0) {
+                const Vec3 nt = (g.pos[tri[1]] - g.pos[tri[0]]).cross(g.pos[tri[2]] - g.pos[tri[0]]);
+                partner_flat[k] = nt.dot(toward) >= kWetFlat * nt.norm();
+                continue;
+            }
+            const int o = of_a ? cs.block_b[c] : cs.block_a[c];
+            const Polyhedron& shape = bs.shape[o];
+            const Vec3 xp = bs.centroid[o] + bs.orientation[o] * cs.sub_local[k];
+            for (int fc = 0; fc < shape.n_faces() && !partner_flat[k]; ++fc) {
+                const Vec3 nf = bs.orientation[o] * shape.face_normal(fc);
+                if (nf.dot(toward) < kWetFlat) continue;
+                const Vec3 v0 = bs.centroid[o] + bs.orientation[o] * shape.vertices[shape.face_vertex(fc, 0)];
+                partner_flat[k] = std::abs(nf.dot(xp - v0)) <= ctol;
+            }
+        }
+    }
     for (int blk = 0; blk < bs.size() && have_surface; ++blk) {
         if (subs_of_block[blk].size() < 3) continue;
-        gp_flow.clear();
+        gp_subs.clear();
         for (int k : subs_of_block[blk]) {
             const int c = cs.sub_owner(k);
             const bool of_a = cs.sub_side[k] == 3;
-            GpFlow& e = gp_flow[cs.sub_vertex(k)];
-            if (e.sub >= 0 && !(cs.sub_area[k] > cs.sub_area[e.sub])) continue;
             const int other = of_a ? cs.block_b[c] : cs.block_a[c];
-            e.sub = k;
-            e.scale = (bs.flags[other] & kDeformable) ? 0.5 : 1.0;
-            e.normal = of_a ? cs.normal[c] : Vec3(-cs.normal[c]);
+            const double scale = (bs.flags[other] & kDeformable) && follower_side[c] == cs.sub_side[k] ? 0.0 : 1.0;
+            gp_subs[cs.sub_vertex(k)].push_back({k, scale, of_a ? cs.normal[c] : Vec3(-cs.normal[c])});
         }
         edges.clear();
         for (int t = cs.surface_offset[blk]; t < cs.surface_offset[blk + 1]; ++t) {
             const auto& q = cs.surface_tri[t];
-            const GpFlow* corner[3];
-            bool all = true;
-            for (int i = 0; i < 3 && all; ++i) {
-                auto it = gp_flow.find(q[i]);
-                all = it != gp_flow.end();
-                if (all) corner[i] = &it->second;
-            }
-            if (!all) continue;
             const Vec3 nrm = (g.pos[q[1]] - g.pos[q[0]]).cross(g.pos[q[2]] - g.pos[q[0]]);
             const double len = nrm.norm();
             if (!(len > 0)) continue;
-            bool facing = false;
-            for (int i = 0; i < 3; ++i) facing = facing || nrm.dot(corner[i]->normal) >= kLinkFacing * len;
-            if (!facing) continue;
+            // The wetted area of each corner's sub-contacts: its third of the triangle, shared in
+            // proportion to their areas by those whose joint the triangle lies flat to and whose
+            // partner surface lies flat to it too (a face across the joint, not the edge or corner
+            // of a block met across a joint crossing: the water of a joint pushes once).
+            for (int i = 0; i < 3; ++i) {
+                auto it = gp_subs.find(q[i]);
+                if (it == gp_subs.end()) continue;
+                // With none such (a gridpoint on the joint crossing, whose partner point lies on
+                // the other block's edge), those whose joint the triangle lies flat to.
+                double total = 0;
+                bool need_flat = true;
+                for (int pass = 0; pass < 2 && !(total > 0); ++pass) {
+                    need_flat = pass == 0;
+                    for (const GpSub& e : it->second) {
+                        if (nrm.dot(e.normal) >= kWetFlat * len && (!need_flat || partner_flat[e.sub])) total += cs.sub_area[e.sub];
+                    }
+                }
+                if (!(total > 0)) continue;
+                for (const GpSub& e : it->second) {
+                    const double cosine = nrm.dot(e.normal) / len;
+                    if (cosine < kWetFlat || (need_flat && !partner_flat[e.sub])) continue;
+                    wet_area[e.sub] += 0.5 * len * cosine / 3.0 * cs.sub_area[e.sub] / total;
+                }
+            }
+            const GpSub* corner[3];
+            bool all = true;
+            for (int i = 0; i < 3 && all; ++i) {
+                auto it = gp_subs.find(q[i]);
+                all = it != gp_subs.end();
+                if (!all) break;
+                // The sub-contact whose joint the triangle faces best (the first among equals).
+                corner[i] = nullptr;
+                double best = -2;
+                for (const GpSub& e : it->second) {
+                    const double cosine = nrm.dot(e.normal) / len;
+                    if (cosine > best) {
+                        best = cosine;
+                        corner[i] = &e;
+                    }
+                }
+                all = best >= kLinkFacing;
+            }
+            if (!all) continue;
             const int v[3] = {corner[0]->sub, corner[1]->sub, corner[2]->sub};
-            triangle(v, nrm / len, (corner[0]->scale + corner[1]->scale + corner[2]->scale) / 3.0);
+            const double scale = (corner[0]->scale + corner[1]->scale + corner[2]->scale) / 3.0;
+            if (scale > 0) triangle(v, nrm / len, scale);
         }
         emit();
     }
@@ -305,6 +540,18 @@ void flow_sync(Model& m) {
     if (!same) f.last_volume.clear();
     f.area.assign(nn, 0.0);
     f.sub_aperture.assign(ns, 0.0);
+    // The share of each sub-contact's area the water wets: all of it between rigid blocks; for a
+    // gridpoint, its area on surface triangles flat to the joint (halved against a zoned block, as
+    // its area is), so that where blocks meet along an edge or at a corner (a joint crossing) the
+    // water does not push a second time on faces its own joints already wet.
+    f.sub_wet.assign(ns, 1.0);
+    for (int k = 0; k < ns; ++k) {
+        if (cs.sub_side[k] < 3 || f.sub_node[k] < 0) continue;
+        const int c = cs.sub_owner(k);
+        const int other = cs.sub_side[k] == 3 ? cs.block_b[c] : cs.block_a[c];
+        const double wet = wet_area[k] * ((bs.flags[other] & kDeformable) ? 0.5 : 1.0);
+        f.sub_wet[k] = cs.sub_area[k] > 0 ? std::min(1.0, wet / cs.sub_area[k]) : 0.0;
+    }
     f.revision = cs.revision;
     f.n_subs_seen = ns;
     ++f.rebuilds;
@@ -329,10 +576,11 @@ void flow_apertures(Model& m) {
             }
             a = std::max(a, 0.0);
             f.sub_aperture[k] = a;
-            f.volume[node] += a * cs.sub_area[k];
-            f.area[node] += cs.sub_area[k];
+            f.volume[node] += a * cs.sub_area[k] * f.sub_wet[k];
+            f.area[node] += cs.sub_area[k] * f.sub_wet[k];
         }
     }
+    gather(f, f.volume);
 }
 
 void flow_ready(Model& m) {
@@ -366,6 +614,7 @@ double flow_stable_timestep(Model& m) {
         sumc[f.link_a[l]] += c;
         sumc[f.link_b[l]] += c;
     }
+    gather(f, sumc);
     double dt = 0;
     for (int i = 0; i < nn; ++i) {
         if (f.fixed[i] || !(sumc[i] > 0) || !(f.volume[i] > 0)) continue;
@@ -401,6 +650,8 @@ std::string flow_step(Model& m, double dt) {
         sumc[f.link_a[l]] += cond[l];
         sumc[f.link_b[l]] += cond[l];
     }
+    gather(f, sumc);
+    follow(f);
     // The pressure a hydrostatic column adds between two points: rho g . x.
     for (int i = 0; i < nn; ++i) head[i] = f.density * m.gravity.dot(f.pos[i]);
     auto flows = [&] {
@@ -414,6 +665,7 @@ std::string flow_step(Model& m, double dt) {
             f.inflow[a] -= q;
             f.inflow[b] += q;
         }
+        gather(f, f.inflow);
     };
     if (f.mode == FlowMode::Steady) {
         constexpr double kRelax = 0.8;
@@ -430,6 +682,7 @@ std::string flow_step(Model& m, double dt) {
                 if (f.fixed[i] || !(sumc[i] > 0)) continue;
                 f.pp[i] = std::max(0.0, f.pp[i] + (f.volume[i] > 0 ? kRelax : 1.0) * f.inflow[i] / sumc[i]);
             }
+            follow(f);
             ++f.steps;
         }
     } else {
@@ -464,6 +717,7 @@ std::string flow_step(Model& m, double dt) {
                 if (f.volume[i] > 0) f.pp[i] = std::max(0.0, f.pp[i] + f.bulk * h / f.volume[i] * f.inflow[i]);
                 else f.pp[i] = std::max(0.0, f.pp[i] + f.inflow[i] / sumc[i]);
             }
+            follow(f);
             ++f.steps;
         }
         f.time += dt;
@@ -487,7 +741,7 @@ std::string flow_step(Model& m, double dt) {
                 if (node < 0 || !(f.pp[node] > 0) || !(cs.sub_area[k] > 0)) continue;
                 const bool of_a = cs.sub_side[k] == 3;
                 const int gp = cs.sub_vertex(k), o = of_a ? b : a;
-                const Vec3 fg = (of_a ? -1.0 : 1.0) * f.pp[node] * cs.sub_area[k] * n; // on the gridpoint
+                const Vec3 fg = (of_a ? -1.0 : 1.0) * f.pp[node] * cs.sub_area[k] * f.sub_wet[k] * n; // on the gridpoint
                 const double fn = fg.norm();
                 g.force[gp] += fg;
                 g.force_scale[gp] += fn;

@@ -2,7 +2,7 @@
 // sub-contacts, the pore pressure pushing on both faces of each joint, and the joint law on
 // effective normal stress.
 //
-// Flow nodes. Every sub-contact of a contact between rigid blocks is a flow point; points of any
+// Flow nodes. Every sub-contact of a joint is a flow point; points of any
 // contacts that stand at one place (within a thousandth of the contact tolerance) are one node, so
 // water passes from one joint to the next across block edges. A node holds a pressure p (Pa, >= 0:
 // a joint holds no suction) and a volume V = sum over its sub-contacts of aperture x area share.
@@ -36,7 +36,7 @@
 //              node's volume as the joint opens or closes counts (a closing joint squeezes its
 //              water: dp = Kw (q dt - dV) / V).
 //
-// Forces. At every sub-contact the node's pressure times the sub-contact's area pushes the two
+// Forces. At every sub-contact the node's pressure times the sub-contact's wetted area pushes the two
 // blocks apart along the contact normal (p A n on block b, -p A n on block a, at the sub-contact),
 // beside the joint's own spring force. The joint's springs carry the effective stress: the joint law
 // (joint_law.cpp) computes sn' = jkn x closure and Coulomb's limit c + sn' tan(phi) on it, so a joint
@@ -45,8 +45,17 @@
 // State. A node's pressure and whether it is fixed are kept with its position (saved); when contact
 // detection changes the sub-contacts, the nodes are made again and each new node takes the state of
 // the old node nearest it within half the contact tolerance (none: a water table gives it the
-// hydrostatic pressure, else 0). Only joints between rigid blocks carry flow: a model with
-// deformable blocks cannot cycle with flow on (said before the first step).
+// hydrostatic pressure, else 0).
+//
+// Zoned (deformable) blocks. Their sub-contacts are gridpoints (contact_gridpoint.h). Links come
+// from the block's surface triangles whose corners are flow points and that lie along the joint,
+// block by block (so water passes between the joints one face meets). Between two zoned faces one
+// leads and the other follows (the larger face follows): a following node takes the pressure of the
+// point it meets on the leading face and gives that triangle's corners its inflow and volume, by the
+// weights. A gridpoint's wetted share (sub_wet) is its area on triangles flat to the joint whose
+// partner surface is flat too, shared between joints flat to the same triangle, so that contacts
+// grazing a face across a joint crossing do not push the water a second time. Glued contacts
+// (joined cuts) carry no flow.
 #pragma once
 
 #include <cstdint>
@@ -89,9 +98,17 @@ struct FlowSet {
     int n_subs_seen = -1;
     std::vector<int> sub_node;     // (n_subs) node of each sub-contact (-1: none, deformable)
     std::vector<double> sub_aperture; // (n_subs) m, hydraulic aperture
+    std::vector<double> sub_wet;   // (n_subs) share of the sub-contact's area the water wets (1 between
+                                   //   rigid blocks; a gridpoint's area on faces flat to the joint)
     std::vector<double> volume;    // (n_nodes) m^3
     std::vector<double> inflow;    // (n_nodes) m^3/s, net inflow of the last sub-step
     std::vector<double> area;      // (n_nodes) m^2, sum of the sub-contact areas
+    // Nodes that take their pressure from others (a gridpoint of one zoned block facing a zoned
+    // block's face: the corners of the triangle it meets, by their weights). CSR by node; empty
+    // rows for the nodes that are their own.
+    std::vector<int> follow_offset;   // (n_nodes + 1)
+    std::vector<int> follow_node;     // the nodes followed
+    std::vector<double> follow_w;     // their weights (summing to 1)
     std::vector<int> link_a, link_b;   // (n_links) the two nodes
     std::vector<int> link_sa, link_sb; // (n_links) the two sub-contacts (for the aperture)
     std::vector<double> link_w;        // (n_links) width / length of the channel (>= 0)

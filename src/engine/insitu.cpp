@@ -8,6 +8,7 @@
 #include "engine/common_plane.h"
 #include "engine/contact.h"
 #include "engine/contact_gridpoint.h"
+#include "engine/flow.h"
 #include "engine/model.h"
 
 namespace odec {
@@ -210,7 +211,7 @@ int load_sub(ContactSet& cs, int k, const Vec3& n, const Vec3& traction_on_b, do
     }
     cs.sub_sn[k] = sn;
     cs.sub_ss[k] = ss;
-    cs.sub_un[k] = sn / kn; // the closure that carries it (the normal stress is total)
+    cs.sub_un[k] = sn / kn; // the closure that carries it (the springs' stress: effective)
     cs.sub_udil[k] = 0;
     cs.sub_us[k].setZero();
     cs.sub_flags[k] = flags;
@@ -272,6 +273,9 @@ void load_contacts(Model& m, const Range& r, const StressField& f, const std::ve
     const double eps = 1e-3 * tol;
     const double deg = M_PI / 180.0;
     std::vector<double> weight;
+    // The joints' water pressures, when there is water (flow.h).
+    const bool water = m.flow.configured && m.flow.on;
+    if (water) flow_sync(m);
     for (int c = 0; c < cs.size(); ++c) {
         const int a = cs.block_a[c], b = cs.block_b[c];
         if ((s.flags[a] | s.flags[b]) & kExcavated) continue;
@@ -420,8 +424,13 @@ void load_contacts(Model& m, const Range& r, const StressField& f, const std::ve
                 continue;
             }
             // Block b lies on the +n side: the rock pulls on it through the plane with the
-            // traction sigma (-n); the joint puts area (sn n + ss) on it.
-            const Vec3 traction = -(tensor(f.at(at[k - k0])) * n) * w;
+            // traction sigma (-n); the joint puts area (sn n + ss) on it. Water in the joint
+            // carries its pressure: the springs the rest (the effective stress).
+            Vec3 traction = -(tensor(f.at(at[k - k0])) * n) * w;
+            if (water) {
+                const int node = m.flow.sub_node[k];
+                if (node >= 0) traction -= m.flow.pp[node] * m.flow.sub_wet[k] * n;
+            }
             result[k] = static_cast<std::uint8_t>(load_sub(cs, k, n, traction, j.kn, joined, st));
         }
     }
@@ -445,6 +454,40 @@ InsituCount counts(const std::vector<std::uint8_t>& zone_set, const std::vector<
 }
 
 } // namespace
+
+int shift_joint_water(Model& m, const std::vector<double>& old_pp) {
+    ContactSet& cs = m.contacts;
+    const FlowSet& f = m.flow;
+    if (static_cast<int>(old_pp.size()) != f.n_nodes() || static_cast<int>(f.sub_node.size()) != cs.n_subs()) return 0;
+    const double deg = M_PI / 180.0;
+    int shifted = 0;
+    for (int c = 0; c < cs.size(); ++c) {
+        const int jm = cs.jmat[c];
+        if (!(jm > 0 && jm < static_cast<int>(m.joint_materials.size()) && m.joint_materials[jm].defined &&
+              m.joint_materials[jm].kn > 0)) {
+            continue;
+        }
+        const JointMaterial& j = m.joint_materials[jm];
+        Strength st;
+        st.tan_phi = std::tan(j.friction * deg);
+        st.coh = j.cohesion;
+        st.ten = j.tension;
+        st.model2 = cs.jcons[c] == 2;
+        st.tan_res = st.model2 ? std::tan(j.res_friction * deg) : st.tan_phi;
+        const Vec3 n = cs.normal[c];
+        for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
+            const int node = f.sub_node[k];
+            if (node < 0 || (cs.sub_flags[k] & kSubOpen) || !(cs.sub_sn[k] > 0)) continue;
+            const double dp = (f.pp[node] - old_pp[node]) * f.sub_wet[k];
+            if (dp == 0) continue;
+            // The total stress stays: the springs carry what the water no longer does.
+            const Vec3 traction = (cs.sub_sn[k] - dp) * n + cs.sub_ss[k];
+            load_sub(cs, k, n, traction, j.kn, cs.joined[c] != 0, st);
+            ++shifted;
+        }
+    }
+    return shifted;
+}
 
 InsituCount set_insitu_contact_stress(Model& m, const Range& r, const StressField& f, const std::vector<char>& only) {
     std::vector<std::uint8_t> result, touched;

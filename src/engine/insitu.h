@@ -5,7 +5,9 @@
 // Zones take the field at their centroid. A joint takes, at each sub-contact, the traction
 // the field puts on the joint plane (sigma n, n the contact normal), split into the normal
 // stress (compression positive) and the shear stress on block b, and the closure that
-// carries the normal stress (sn / kn: the joint law's normal stress is total). Where the
+// carries the normal stress (sn / kn). With water in the joints ('config flow') the springs
+// carry the effective stress: the field's normal stress less the pore pressure of the
+// sub-contact's flow node, which pushes on the faces itself (flow.h). Where the
 // field's shear exceeds the joint's Coulomb strength, or its tension the joint's tensile
 // strength, the sub-contact is capped as the joint law would cap it (and fails, when it had
 // cohesion or tension to lose); a joined joint has no limits.
@@ -81,6 +83,11 @@ InsituCount apply_kept_insitu(Model& m, const std::vector<int>& blocks);
 
 // The contact part alone (r selects contacts as above; `only`, when not empty, flags the
 // blocks one of which a contact must have).
+// 'insitu pp | wtable' changed the joints' water pressures from old_pp (per flow node): the
+// rock's total stress stays, so every loaded sub-contact's springs take the change (sn' - dp,
+// capped by the joint's strength as 'insitu' caps it; a joint whose water now carries all of
+// the stress opens). Returns how many sub-contacts changed.
+int shift_joint_water(Model& m, const std::vector<double>& old_pp);
 InsituCount set_insitu_contact_stress(Model& m, const Range& r, const StressField& f,
                                       const std::vector<char>& only = {});
 
