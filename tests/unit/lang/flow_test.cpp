@@ -14,6 +14,7 @@
 
 #include "engine/blocks.h"
 #include "engine/flow.h"
+#include "engine/zones.h"
 #include "fish/runtime.h"
 #include "test_util.h"
 
@@ -467,4 +468,43 @@ TEST(Flow, DeformableFacesHoldOneFilm) {
     std::printf("[verification] flow: zoned faces that do not match, %d following nodes, largest pressure error %.3f %% of dp\n",
                 followers, 100 * worst);
     EXPECT_LT(worst, 0.01);
+}
+
+// A model with water in its joints starts at rest: 'insitu stress' with water loads the joint
+// springs with the effective stress, and 'insitu wtable' after 'insitu stress' hands the change of
+// pressure to the springs (the total stress stays), zoned or rigid.
+TEST(Flow, InsituWithWaterStartsAtRest) {
+    const std::string zoned =
+        "config flow\npoly brick 0 2 0 2 -2 0\npoly brick 0 2 0 2 0 2\n"
+        "prop mat=1 dens=2500 k=5e9 g=3e9\nprop jmat=1 jkn=1e10 jks=1e10 jfric=30 azero=1e-4 ares=1e-5\n"
+        "gen edge 0.5\ngrav 0 0 -10\n";
+    const std::string field = "insitu stress 0 0 -1e6 0 0 0 zgrad 0 0 25000 0 0 0\n";
+    const std::string water = "insitu wtable 5\n";
+    const std::string bounds = "bound stress 0 0 -1e6 0 0 0 zgrad 0 0 25000 0 0 0 range z 1.99 2.01\nfix range z -2.01 -1.99\n";
+    for (int order = 0; order < 2; ++order) {
+        Session s;
+        ASSERT_TRUE(s.run(zoned + (order == 0 ? field + water : water + field) + bounds + "step 100")) << s.error();
+        double v = 0, f = 0;
+        for (const Eigen::Vector3d& x : s.model.gridpoints.vel) v = std::max(v, x.norm());
+        const odec::GridpointSet& g = s.model.gridpoints;
+        for (int i = 0; i < g.size(); ++i) {
+            if (!g.vel_bc[i]) f = std::max(f, g.force[i].norm()); // the held base carries its reactions
+        }
+        EXPECT_LT(v, 1e-9) << "order " << order;
+        EXPECT_LT(f, 1e-3) << "order " << order;
+        // The joint's springs carry 1 MPa less the 50 kPa of the water 5 m above.
+        EXPECT_NEAR(odec::contact_info(s.model, 0).normal_stress, 1e6 - 5e4, 1e-6 * 1e6);
+        EXPECT_NEAR(odec::contact_flow(s.model, 0).pp, 5e4, 1e-9 * 5e4);
+    }
+    {
+        // A rigid block on a rigid base: 50 kPa of weight on its joint, 30 kPa of it water.
+        Session s;
+        ASSERT_TRUE(s.run("config flow\npoly brick 0 2 0 2 -2 0\npoly brick 0 2 0 2 0 2\nprop mat=1 dens=2500\n"
+                          "prop jmat=1 jkn=1e10 jks=1e10 jfric=30 azero=1e-4 ares=1e-5\ngrav 0 0 -10\nfix range z -2 0\n"
+                          "insitu stress 0 0 -5e4 0 0 0\ninsitu wtable 3\nstep 100"))
+            << s.error();
+        const int b = s.model.block_index(2);
+        EXPECT_LT(s.model.blocks.vel[b].norm(), 1e-12);
+        EXPECT_NEAR(odec::contact_info(s.model, 0).normal_stress, 2e4, 1e-6 * 5e4);
+    }
 }
