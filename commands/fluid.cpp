@@ -10,7 +10,7 @@ const CommandSpec& fluid_command() {
         c.keyword("density", 3, "fluid density, kg/m^3 (default 1000)").real("rho", 0, kMaxMagnitude, Limit::Open);
         c.keyword("viscosity", 3, "dynamic viscosity, Pa s (default 1e-3)").real("mu", 0, kMaxMagnitude, Limit::Open);
         c.keyword("bulk", 2, "fluid bulk modulus, Pa (default 2e9)").real("Kw", 0, kMaxMagnitude, Limit::Open);
-        c.describe("Fluid flows along the joints between rigid blocks once 'config flow' is given (as in 3DEC). "
+        c.describe("Fluid flows along the joints between rigid blocks once 'config flow' is given (3DEC's 'config fluid'). "
                    "Flow nodes stand at the sub-contacts of the joints; nodes of different joints at one place are "
                    "one node, so water passes from joint to joint across block edges. Between two nodes of a joint "
                    "the flow follows the cubic law of a parallel-plate channel: per unit width q = a^3 / (12 mu) "
@@ -42,7 +42,7 @@ const CommandSpec& fluid_command() {
         c.handle([](CommandContext& ctx, const Args& a) {
             Model& m = ctx.model;
             if (!m.flow.configured) {
-                fail(a.loc, "fluid flow is not configured", {"give 'config flow' first (as in 3DEC)"}, "fluid");
+                fail(a.loc, "fluid flow is not configured", {"give 'config flow' first (3DEC writes 'config fluid')"}, "fluid");
             }
             if (a.uses.empty()) fail(a.loc, "'fluid' needs a property: density, viscosity or bulk", {}, "fluid");
             m.flow.density = a.real_or("density", m.flow.density);
