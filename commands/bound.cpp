@@ -116,7 +116,7 @@ std::string ids_text(const Model& m, const std::vector<int>& blocks) {
 void bound_pore_pressure(CommandContext& ctx, const Args& a) {
     Model& m = ctx.model;
     const KeywordUse* first = a.find("pp") ? a.find("pp") : a.find("wtable") ? a.find("wtable") : a.find("pgrad") ? a.find("pgrad") : a.find("pfree");
-    if (!m.flow.configured) fail(first->loc, "fluid flow is not configured", {"give 'config flow' first (as in 3DEC)"}, "boundary");
+    if (!m.flow.configured) fail(first->loc, "fluid flow is not configured", {"give 'config flow' first (3DEC writes 'config fluid')"}, "boundary");
     for (const KeywordUse& u : a.uses) {
         const std::string& n = u.spec->name;
         if (n != "pp" && n != "pgrad" && n != "wtable" && n != "pfree" && n != "range") {

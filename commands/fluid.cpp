@@ -10,7 +10,7 @@ const CommandSpec& fluid_command() {
         c.keyword("density", 3, "fluid density, kg/m^3 (default 1000)").real("rho", 0, kMaxMagnitude, Limit::Open);
         c.keyword("viscosity", 3, "dynamic viscosity, Pa s (default 1e-3)").real("mu", 0, kMaxMagnitude, Limit::Open);
         c.keyword("bulk", 2, "fluid bulk modulus, Pa (default 2e9)").real("Kw", 0, kMaxMagnitude, Limit::Open);
-        c.describe("Fluid flows along the joints between rigid blocks once 'config flow' is given (as in 3DEC). "
+        c.describe("Fluid flows along the joints between blocks, rigid or zoned, once 'config flow' is given (3DEC's 'config fluid'). "
                    "Flow nodes stand at the sub-contacts of the joints; nodes of different joints at one place are "
                    "one node, so water passes from joint to joint across block edges. Between two nodes of a joint "
                    "the flow follows the cubic law of a parallel-plate channel: per unit width q = a^3 / (12 mu) "
@@ -34,16 +34,18 @@ const CommandSpec& fluid_command() {
                    "the joint springs carry sn' = jkn x closure, Coulomb's limit is c + sn' tan(phi). 'print flow' "
                    "lists the nodes, 'print contact' the mean pressure and aperture of each joint; 'hist pp x,y,z', "
                    "'hist aperture x,y,z', 'hist flowrate' record them; FISH has fl_pp, fl_aperture, fl_flow, fl_nnode; 'plot contact pp' "
-                   "and 'plot contact aperture' colour the joints; 'export vtk' writes pore_pressure and aperture with the contacts. In deformable blocks the "
+                   "and 'plot contact aperture' colour the joints; 'export vtk' writes pore_pressure and aperture with the contacts. In zoned blocks the "
                    "flow nodes are the gridpoints on the joints, linked through the surface triangles that lie along "
-                   "them, and the pressure pushes on those gridpoints. Not in the energy "
+                   "them, and the pressure pushes on those gridpoints over their faces flat to the joint; of two "
+                   "zoned faces the larger follows the smaller's network (manual/fluid-flow.md). Joined cuts carry no "
+                   "water. Not in the energy "
                    "account. A fluid property given without 'config flow' is an error.");
         c.example("config flow");
         c.example("fluid density 1000 viscosity 1e-3 bulk 2e9");
         c.handle([](CommandContext& ctx, const Args& a) {
             Model& m = ctx.model;
             if (!m.flow.configured) {
-                fail(a.loc, "fluid flow is not configured", {"give 'config flow' first (as in 3DEC)"}, "fluid");
+                fail(a.loc, "fluid flow is not configured", {"give 'config flow' first (3DEC writes 'config fluid')"}, "fluid");
             }
             if (a.uses.empty()) fail(a.loc, "'fluid' needs a property: density, viscosity or bulk", {}, "fluid");
             m.flow.density = a.real_or("density", m.flow.density);

@@ -303,7 +303,7 @@ const CommandSpec& hist_command() {
                 h.cable_item = force ? k - m.cables.first_segment(c) + 1 : k - m.cables.node_offset[c] + 1;
             }
             if (what == "pp" || what == "aperture" || what == "flowrate") {
-                if (!m.flow.configured) fail(a.find(what)->loc, "fluid flow is not configured", {"give 'config flow' first (as in 3DEC)"}, "history");
+                if (!m.flow.configured) fail(a.find(what)->loc, "fluid flow is not configured", {"give 'config flow' first (3DEC writes 'config fluid')"}, "history");
                 h.kind = what == "pp" ? HistoryKind::PorePressure : what == "aperture" ? HistoryKind::Aperture : HistoryKind::FlowRate;
                 if (what != "flowrate") h.point = a.vec(what);
             }

@@ -69,7 +69,7 @@ const CommandSpec& insitu_command() {
             Model& m = ctx.model;
             if (a.has("pp") || a.has("pgrad") || a.has("wtable")) {
                 const KeywordUse* first = a.find("pp") ? a.find("pp") : a.find("wtable") ? a.find("wtable") : a.find("pgrad");
-                if (!m.flow.configured) fail(first->loc, "fluid flow is not configured", {"give 'config flow' first (as in 3DEC)"}, "insitu");
+                if (!m.flow.configured) fail(first->loc, "fluid flow is not configured", {"give 'config flow' first (3DEC writes 'config fluid')"}, "insitu");
                 for (const KeywordUse& u : a.uses) {
                     const std::string& n = u.spec->name;
                     if (n != "pp" && n != "pgrad" && n != "wtable" && n != "range") {

@@ -16,8 +16,10 @@ const CommandSpec& set_command() {
             .real("tol", 0);
         c.keyword("flow", 4, "fluid flow in the joints ('config flow' first): 'on' or 'off'; 'steady' (pressures "
                              "head for the steady field, each node at its own step) or 'transient' (they follow "
-                             "the model's time)")
-            .one_of("what", {"on", "off", "steady", "transient"});
+                             "the model's time); one of each pair may be given together, as UDEC writes them "
+                             "('set flow steady off'); UDEC's 'clear' is refused")
+            .one_of("what", {"on", "off", "steady", "transient", "clear"})
+            .repeat();
         c.keyword("substeps", 4, "steady flow: flow sub-steps per mechanical step").integer("n", 1, 100000).defaults("1");
         c.keyword("echo", 2, "echo script commands with their file and line").one_of("state", {"on", "off"}).defaults("on");
         c.keyword("log", 3, "copy the commands and what they print into the log file").one_of("state", {"on", "off"}).defaults("off");
@@ -95,7 +97,26 @@ const CommandSpec& set_command() {
             }
             for (const char* k : {"flow", "substeps"}) {
                 if (a.has(k) && !m.flow.configured) {
-                    fail(a.find(k)->loc, "fluid flow is not configured", {"give 'config flow' first (as in 3DEC)"}, "set");
+                    fail(a.find(k)->loc, "fluid flow is not configured", {"give 'config flow' first (3DEC writes 'config fluid')"}, "set");
+                }
+            }
+            if (const KeywordUse* f = a.find("flow")) {
+                // 'set flow steady off' (UDEC): one word of each pair, checked before anything changes.
+                const Value* state = nullptr;
+                const Value* mode = nullptr;
+                for (const Value& v : f->values) {
+                    if (v.text == "clear") {
+                        fail(v.loc, "'set flow clear' (UDEC) has no counterpart in odec",
+                             {"odec's flow state is the flow nodes' pressures and fixities: set the pressures again "
+                              "with 'insitu pp p' or 'insitu wtable z', release fixed ones with 'bound pfree'"},
+                             "set");
+                    }
+                    const Value*& slot = (v.text == "on" || v.text == "off") ? state : mode;
+                    if (slot) {
+                        fail(v.loc, "'" + v.text + "' after '" + slot->text + "': 'set flow' takes one of 'on'/'off' and "
+                                    "one of 'steady'/'transient'", {}, "set");
+                    }
+                    slot = &v;
                 }
             }
             if (a.has("small") && a.has("large")) fail(a.find("small")->loc, "'small' and 'large' exclude each other", {}, "set");
@@ -180,13 +201,15 @@ const CommandSpec& set_command() {
             if (a.has("echo")) ctx.interp.echo = a.text("echo") == "on";
             if (a.has("gravity")) m.gravity = a.vec("gravity");
             if (a.has("ncyc")) m.histories.ncyc = a.integer("ncyc");
-            if (a.has("flow")) {
-                const std::string w = a.text("flow");
-                if (w == "on" || w == "off") {
-                    m.flow.on = w == "on";
-                    m.geometry_changed = true; // held blocks have contacts only with flow on
+            if (const KeywordUse* f = a.find("flow")) {
+                for (const Value& v : f->values) {
+                    const std::string& w = v.text;
+                    if (w == "on" || w == "off") {
+                        m.flow.on = w == "on";
+                        m.geometry_changed = true; // held blocks have contacts only with flow on
+                    }
+                    else m.flow.mode = w == "steady" ? FlowMode::Steady : FlowMode::Transient;
                 }
-                else m.flow.mode = w == "steady" ? FlowMode::Steady : FlowMode::Transient;
                 m.flow.last_volume.clear();
             }
             if (a.has("substeps")) m.flow.substeps = a.integer("substeps");

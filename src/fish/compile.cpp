@@ -52,8 +52,12 @@ struct MemoryOffset final : Expr {
         auto it = instead.find(l);
         if (it != instead.end()) {
             notes.push_back("for " + name + " write " + it->second);
-        } else if (l == "$kcq" || l == "$kcap") {
-            notes.push_back("odec models no fluid flow: joint flow rates and apertures have no value here");
+        } else if (l == "$kcap") {
+            notes.push_back("for " + name + " (a contact's hydraulic aperture) write fl_aperture(c_x(c), c_y(c), c_z(c)): "
+                            "the aperture of the flow node nearest the contact's centroid, m");
+        } else if (l == "$kcq") {
+            notes.push_back("odec keeps no flow rate per contact: fl_flow is what the fixed-pressure boundaries feed "
+                            "into the joints, m^3/s ('hist flowrate' records it), fl_pp(x,y,z) a node's pressure");
         } else {
             notes.push_back("read the quantity through its intrinsic: 'help fish' lists them");
         }

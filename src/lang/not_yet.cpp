@@ -16,6 +16,10 @@ const Missing kMissing[] = {
     {"structure", "the 'structure' command is not available: fully grouted cables and rock bolts are made with "
                   "'cable' (see 'help cable'), liners and shotcrete with 'liner' (see 'help liner'); beams and "
                   "piles are not available yet"},
+    {"water", "the 'water' command is not available: 3DEC's water table without flow (hydrostatic pore pressure "
+              "in zones and joints) has no counterpart; odec keeps pore pressures in the joints' flow nodes only: "
+              "'config flow', 'fluid density rho', then 'insitu wtable z' (or 'bound wtable z range ...' to hold "
+              "it), see 'help fluid'"},
 };
 
 } // namespace

@@ -508,3 +508,103 @@ TEST(Flow, InsituWithWaterStartsAtRest) {
         EXPECT_NEAR(odec::contact_info(s.model, 0).normal_stress, 2e4, 1e-6 * 5e4);
     }
 }
+
+namespace {
+
+// Two models hold the same flow state: every saved setting and every node's position, pressure,
+// fixity and last volume, bit for bit (a save file would also hold the run's timings), with the
+// same steps taken and the blocks where they are.
+void expect_same_flow(const odec::Model& a, const odec::Model& b, const std::string& what) {
+    const odec::FlowSet& f = a.flow;
+    const odec::FlowSet& g = b.flow;
+    EXPECT_EQ(f.configured, g.configured) << what;
+    EXPECT_EQ(f.on, g.on) << what;
+    EXPECT_EQ(f.mode, g.mode) << what;
+    EXPECT_EQ(f.substeps, g.substeps) << what;
+    EXPECT_EQ(f.density, g.density) << what;
+    EXPECT_EQ(f.viscosity, g.viscosity) << what;
+    EXPECT_EQ(f.bulk, g.bulk) << what;
+    EXPECT_EQ(f.has_wtable, g.has_wtable) << what;
+    EXPECT_EQ(f.wtable, g.wtable) << what;
+    EXPECT_EQ(f.time, g.time) << what;
+    EXPECT_EQ(f.steps, g.steps) << what;
+    EXPECT_EQ(f.pos, g.pos) << what;
+    EXPECT_EQ(f.pp, g.pp) << what;
+    EXPECT_EQ(f.fixed, g.fixed) << what;
+    EXPECT_EQ(f.last_volume, g.last_volume) << what;
+    EXPECT_EQ(a.step, b.step) << what;
+    EXPECT_EQ(a.blocks.disp, b.blocks.disp) << what;
+}
+
+} // namespace
+
+// 3DEC's 'config fluid' is odec's 'config flow': the parallel-plate problem set up with either
+// ends in the same state (pressures, fixities, volumes, settings), bit for bit.
+TEST(FlowNames, ConfigFluidIsConfigFlow) {
+    Session a, b;
+    ASSERT_TRUE(a.run(script_text("flow-parallel-plate.dat"))) << a.error();
+    ASSERT_TRUE(b.run(with(script_text("flow-parallel-plate.dat"), "config flow", "config fluid"))) << b.error();
+    EXPECT_TRUE(b.model.flow.configured);
+    EXPECT_TRUE(b.model.flow.on);
+    ASSERT_GT(b.model.flow.n_nodes(), 0);
+    expect_same_flow(a.model, b.model, "config fluid");
+    // Abbreviated as 3DEC allows, and beside 'dyn' on one line.
+    Session c;
+    ASSERT_TRUE(c.run("config dyn flu")) << c.error();
+    EXPECT_TRUE(c.model.flow.configured);
+    EXPECT_TRUE(c.model.settings.dyn_configured);
+}
+
+// UDEC writes the flow's settings as one 'set flow' with several words ('set flow steady off'):
+// the same state as one word at a time; 'clear' and a word that contradicts another are refused
+// where they stand, the model unchanged.
+TEST(FlowNames, SetFlowTakesSeveralWordsAsUdecWritesThem) {
+    const std::string setup = "config flow\npoly brick 0 1 0 1 0 1\npoly brick 0 1 0 1 1 2\n"
+                              "prop mat=1 dens=2000\nprop jmat=1 jkn=1e9 jks=1e9 azero=1e-4\n";
+    for (const auto& [together, apart] :
+         {std::pair<std::string, std::string>{"set flow transient off", "set flow transient\nset flow off"},
+          {"set flow off steady", "set flow off\nset flow steady"},
+          {"set flow on transient", "set flow transient\nset flow on"}}) {
+        Session a, b;
+        ASSERT_TRUE(a.run(setup + apart)) << a.error();
+        ASSERT_TRUE(b.run(setup + together)) << b.error();
+        EXPECT_EQ(a.model.flow.on, b.model.flow.on) << together;
+        EXPECT_EQ(a.model.flow.mode, b.model.flow.mode) << together;
+        expect_same_flow(a.model, b.model, together);
+    }
+    Session s;
+    ASSERT_TRUE(s.run(setup + "set flow transient")) << s.error();
+    EXPECT_FALSE(s.run("set flow clear steady off"));
+    EXPECT_NE(s.error().find("t.dat:1:10: error: 'set flow clear' (UDEC) has no counterpart in odec"), std::string::npos)
+        << s.error();
+    EXPECT_NE(s.error().find("insitu pp"), std::string::npos) << s.error();
+    EXPECT_EQ(s.model.flow.mode, odec::FlowMode::Transient);
+    EXPECT_TRUE(s.model.flow.on);
+    EXPECT_FALSE(s.run("set flow steady off on"));
+    EXPECT_NE(s.error().find("t.dat:1:21: error: 'on' after 'off'"), std::string::npos) << s.error();
+    EXPECT_FALSE(s.run("set flow steady transient"));
+    EXPECT_NE(s.error().find("'transient' after 'steady'"), std::string::npos) << s.error();
+    EXPECT_EQ(s.model.flow.mode, odec::FlowMode::Transient);
+    EXPECT_TRUE(s.model.flow.on);
+    // The words stop at the next keyword of 'set'.
+    ASSERT_TRUE(s.run("set flow steady substeps 7")) << s.error();
+    EXPECT_EQ(s.model.flow.mode, odec::FlowMode::Steady);
+    EXPECT_EQ(s.model.flow.substeps, 7);
+}
+
+// What odec cannot do as 3DEC and UDEC do is refused where it stands, with what to write instead:
+// 3DEC's WATER (a water table without flow) and UDEC's contact offsets $KCQ and $KCAP.
+TEST(FlowNames, WaterAndFlowOffsetsAreRefusedWithWhatToWrite) {
+    Session s;
+    ASSERT_TRUE(s.run("config flow\npoly brick 0 1 0 1 0 1"));
+    EXPECT_FALSE(s.run("grav 0 0 -9.81\nwater density 1200"));
+    EXPECT_NE(s.error().find("t.dat:2:1: error: the 'water' command is not available"), std::string::npos) << s.error();
+    EXPECT_NE(s.error().find("insitu wtable z"), std::string::npos) << s.error();
+    EXPECT_FALSE(s.model.flow.has_wtable);
+    EXPECT_EQ(s.model.flow.density, 1000); // the default, not set by the refused line
+    EXPECT_FALSE(s.run("def f\n  c = contact_head\n  x = fmem(c + $KCAP)\nend\n@f"));
+    EXPECT_NE(s.error().find("'$KCAP' is a memory offset"), std::string::npos) << s.error();
+    EXPECT_NE(s.error().find("fl_aperture(c_x(c), c_y(c), c_z(c))"), std::string::npos) << s.error();
+    EXPECT_FALSE(s.run("def g\n  c = contact_head\n  x = fmem(c + $KCQ)\nend\n@g"));
+    EXPECT_NE(s.error().find("no flow rate per contact: fl_flow"), std::string::npos) << s.error();
+}
