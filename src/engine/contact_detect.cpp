@@ -437,6 +437,12 @@ void push_sub(ContactSet& to, int side, std::int64_t key, double area, const Vec
 
 // Where an old contact's state is while a pass rewrites the set (Rewrite): its entries at c,
 // its sub-contacts at [k0, k1). c = -1: no old contact.
+// Cosine of the turn of a contact's plane between two of its refreshes beyond which the contact
+// changed what it is (an edge against an edge become a face on a face, say), 10 degrees: a
+// block that rocks or rolls turns its contacts' planes by a fraction of a degree between
+// refreshes (ctol/10 of motion).
+constexpr double kTurned = 0.984807753012208;
+
 struct OldRef {
     int c = -1, k0 = 0, k1 = 0;
 };
@@ -636,6 +642,10 @@ struct Detector {
     // shows. A point that slides with the overlap (`moving`) keeps no closure of its own.
     void push_history(int k, double closure, bool moving, const Vec3& normal) {
         if (k >= 0) {
+            // A contact whose plane turned (kTurned) changed what it is (an edge against an edge
+            // become a face on a face): the closure its points gathered across the old plane
+            // is not a closure across the new one; they take what the geometry shows.
+            if (plane_turned) moving = true;
             next.sub_un.push_back(moving ? closure : cs.sub_un[k]);
             next.sub_udil.push_back(moving ? 0.0 : cs.sub_udil[k]);
             next.sub_sn.push_back(cs.sub_sn[k]);
@@ -664,6 +674,10 @@ struct Detector {
         next.sub_ss.push_back(retangent(cs.sub_ss[k], normal));
         next.sub_flags.push_back(static_cast<std::uint8_t>((cs.sub_flags[k] & kSubFailed) | kSubFresh));
     }
+
+    // Whether the contact being built turned its plane by more than kTurned since it was last
+    // built (push_history).
+    bool plane_turned = false;
 
     // The old sub-contact of old contact `old` (blocks a, b) nearest the world point x, or -1.
     // Slivers of the old polygon (under 1e-3 of its largest share: two corners all but
@@ -739,6 +753,7 @@ struct Detector {
         const Vec3* warm = oc >= 0 ? &cs.normal[oc] : nullptr;
         const CommonPlane cp = common_plane(va, vb, warm, oc >= 0 ? tol : 0.0, 0.1 * tol);
         if (require_close && cp.gap > tol) return false;
+        plane_turned = oc >= 0 && cs.normal[oc].dot(cp.normal) < kTurned;
         face_area_a.assign(m.blocks.shape[a].n_faces(), 0.0);
         face_area_b.assign(m.blocks.shape[b].n_faces(), 0.0);
         gridpoint_subcontacts(m, a, b, cp, tol, gsubs, face_area_a, face_area_b);
@@ -763,6 +778,7 @@ struct Detector {
         const Vec3* warm = oc >= 0 ? &cs.normal[oc] : nullptr;
         const CommonPlane cp = common_plane(va, vb, warm, oc >= 0 ? tol : 0.0, 0.1 * tol);
         if (require_close && cp.gap > tol) return false;
+        plane_turned = false;
         if (oc >= 0 && cs.joined[oc] && old.k1 > old.k0) {
             // A glued joint is a bond between the material points it was glued over: it keeps
             // its sub-contacts, their places on their blocks and their areas, and only turns
@@ -777,6 +793,7 @@ struct Detector {
             next.sub_offset.push_back(next.n_subs());
             return true;
         }
+        plane_turned = oc >= 0 && cs.normal[oc].dot(cp.normal) < kTurned;
         const Frame fr = make_frame(cp);
         present_faces(va, fr, 0, tol, pieces_a, nodal_a);
         present_faces(vb, fr, 1, tol, pieces_b, nodal_b);
