@@ -905,14 +905,16 @@ struct Detector {
             }
         }
         if (subs.empty()) {
-            // A corner that still presses by its own closure, where the geometry finds no
-            // overlap at all, is kept as it is: the closure is a step behind the geometry, and
-            // on stiff joints a toe that bounces by a fraction of a micrometre is found just
-            // clear of the base now and then. Dropped, its contact would touch nowhere and be
-            // looked at again only once the toe had sunk a thousandth of ctol in unseen (a kick).
-            // It opens by its own motion, and a later refresh drops it then.
+            // A corner that still presses by its own closure, or has lifted by less than a
+            // millionth of ctol, where the geometry finds no overlap at all, is kept as it is:
+            // the closure is a step behind the geometry, and on stiff joints a toe that bounces
+            // by a fraction of a micrometre is found just clear of the base now and then.
+            // Dropped, its contact would touch nowhere, as blocks that meet along an edge do,
+            // and be looked at again only once the toe had sunk a thousandth of ctol in unseen
+            // (a kick). Kept, its own closure finds it landing again; a refresh drops it once it
+            // has lifted clear.
             for (int j = old.k0; j < old.k1; ++j) {
-                if (cs.sub_side[j] > 1 || !(cs.sub_un[j] + cs.sub_udil[j] > 0)) continue;
+                if (cs.sub_side[j] > 1 || !(cs.sub_un[j] + cs.sub_udil[j] > -1e-6 * tol)) continue;
                 push_sub(next, cs.sub_side[j], cs.sub_key[j], cs.sub_area[j], cs.sub_local[j]);
                 push_history(j, cs.sub_un[j], false, cp.normal);
             }
