@@ -327,9 +327,9 @@ struct NewSub {
 };
 
 // Sub-contacts at the vertices of the contact polygon: each piece of a's footprint
-// clipped by each piece of b's. A vertex shared by several pieces is one sub-contact.
-void polygon_subcontacts(const Frame& fr, const std::vector<Piece>& pa, const std::vector<Piece>& pb, double eps,
-                         double min_area, std::vector<NewSub>& out, std::vector<double>& face_area_a,
+// clipped by each piece of b's. A vertex shared by several pieces is one sub-contact. tol: ctol.
+void polygon_subcontacts(const Frame& fr, const std::vector<Piece>& pa, const std::vector<Piece>& pb, double tol,
+                         double eps, double min_area, std::vector<NewSub>& out, std::vector<double>& face_area_a,
                          std::vector<double>& face_area_b, const std::vector<double>& nodal_a,
                          const std::vector<double>& nodal_b) {
     const int nv_a = static_cast<int>(nodal_a.size()), nv_b = static_cast<int>(nodal_b.size());
@@ -346,7 +346,6 @@ void polygon_subcontacts(const Frame& fr, const std::vector<Piece>& pa, const st
     thread_local std::vector<std::array<double, 4>> edges; // the overlaps' edges (u0, v0, u1, v1)
     edges.clear();
     double flat_area = 0;
-    const double tol = 1e9 * eps; // eps is 1e-9 ctol
     auto near_edge = [&](double u, double v) {
         for (const auto& e : edges) {
             const double du = e[2] - e[0], dv = e[3] - e[1], len2 = du * du + dv * dv;
@@ -730,8 +729,9 @@ struct Detector {
     // shows; its shear displacement and stress, dilation and whether the joint has failed are
     // those of old sub-contact k nearest it (the joint's state is continuous along it; starting
     // from nothing would drop what the shear springs held whenever the polygon's corners change;
-    // build says when an old one hands its state on). One that the geometry shows open (its joint would open at its first step) takes no shear
-    // stress: its spring would drop it at once, and that energy was never put in.
+    // build says when an old one hands its state on). One that the geometry shows open (its
+    // joint would open at its first step) takes no shear stress: its spring would drop it at
+    // once, and that energy was never put in.
     void push_inherited(int k, double closure, const Vec3& normal) {
         next.sub_un.push_back(closure);
         next.sub_udil.push_back(cs.sub_udil[k]);
@@ -867,7 +867,7 @@ struct Detector {
         face_area_a.assign(m.blocks.shape[a].n_faces(), 0.0);
         face_area_b.assign(m.blocks.shape[b].n_faces(), 0.0);
         const double min_area = 1e-12 * tol * tol;
-        polygon_subcontacts(fr, pieces_a, pieces_b, 1e-9 * tol, min_area, subs, face_area_a, face_area_b, nodal_a,
+        polygon_subcontacts(fr, pieces_a, pieces_b, tol, 1e-9 * tol, min_area, subs, face_area_a, face_area_b, nodal_a,
                             nodal_b);
 
         const BlockSet& s = m.blocks;
