@@ -10,7 +10,8 @@
 // The contact is carried by sub-contacts at the vertices of the contact polygon: the
 // vertices of either block's faces that lie on the other block's face, and the points
 // where an edge of one crosses an edge of the other. Each owns the share of the contact
-// area nearest it (a third of each adjacent triangle) and remembers its own joint history
+// area nearest it (a third of each adjacent triangle; a corner pressing into a face tilted
+// to it, its own share of its faces) and remembers its own joint history
 // (normal closure, shear displacement and stress, whether it has failed), so a joint can
 // be half slipping, half stuck, or partly open. Forces act at these points, which span
 // the whole contact area, so a block can lean its load out to the very edge of its base,

@@ -41,16 +41,23 @@
 // same passes and the same bits.
 //
 // Sub-contacts. Seen along the common-plane normal, each block presents the faces that
-// face the plane, cut down to the part within ctol of the plane (so that a face tilting
-// away fades out instead of vanishing: edge-face and vertex-face contacts get a small
-// area that grows continuously into the face-face one as the blocks align). The contact
+// face the plane, a face tilted to it cut down to the part within ctol of the plane (so that
+// a face tilting away fades out instead of vanishing: edge-face and vertex-face contacts get
+// a small area that grows continuously into the face-face one as the blocks align), a face
+// on the plane (within ctol of it from end to end) whole. The contact
 // polygon is where the two footprints overlap (piece by piece, each a convex clip). Its
 // vertices are the sub-contacts: vertices of either block lying over the other's face,
 // and crossings of an edge of one with an edge of the other (partial overlaps at edges
 // are cut exactly). Each takes the median-dual share of the polygon's area, half of each
 // of its two fan triangles from the centre (a third of each adjacent triangle of the
-// polygon's own). Forces at the polygon's vertices span the whole contact, so a block can
-// carry its load out to its edge before it tips, as a rigid block must.
+// polygon's own), on the faces themselves rather than as seen along the normal. Where a face
+// tilted to the plane is involved, the corners that press in carry their own share of their
+// faces instead (present_faces). Forces at the polygon's vertices span the whole contact, so a
+// block can carry its load out to its edge before it tips, as a rigid block must.
+// The energy the springs hold, A (kn un^2 + |ss|^2 / ks) / 2, changes with a sub-contact's area
+// A: so the areas are made not to jump at a refresh while the springs are loaded (a corner's
+// own area does not follow the block's tilt; a face that comes to lie on the plane gives its
+// corners the shares they had; slivers beside a face on the plane add no area).
 // Every polygon vertex carries a key (which block vertex, or which two edges cross there),
 // so a sub-contact that existed before keeps its history; a new one starts with the
 // overlap the geometry shows at its point.
@@ -202,6 +209,7 @@ struct Piece {
     double area = 0;      // projected area
     double h0 = 0, hu = 0, hv = 0; // face height above the common plane: h0 + hu u + hv v
     bool flat = false;    // the whole face lies within the band: it is on the plane
+    double c = 1;         // cosine of the face's angle to the plane
     double height(double u, double v) const { return h0 + hu * u + hv * v; }
 };
 
@@ -232,6 +240,8 @@ void present_faces(const BlockView& s, const Frame& fr, int side, double tol, st
                    std::vector<double>& nodal) {
     out.clear();
     nodal.assign(s.n_vertices(), 0.0);
+    thread_local std::vector<double> weight;
+    weight.assign(s.n_vertices(), 0.0);
     const double sign = side == 0 ? 1.0 : -1.0;
     const Polyhedron& p = *s.topo;
     const int nv = p.n_vertices();
@@ -252,26 +262,39 @@ void present_faces(const BlockView& s, const Frame& fr, int side, double tol, st
             hlo = std::min(hlo, face.h[k]);
             hhi = std::max(hhi, face.h[k]);
         }
-        // Each vertex's own share of this face as seen along the normal (the median-dual
-        // share of a fan from the face's centre): its area when it presses into a face
-        // tilted to it, as a node's area is its part of its own block's surface. A face on
-        // the plane carries its own area through the contact polygon, so only tilted faces
-        // add to it.
+        // Each vertex's own area, for when it presses into a face tilted to it: its share of
+        // its faces tilted to the plane that face it (the median-dual share of a fan from the
+        // face's centre, on the face itself, not as seen along the normal), averaged with
+        // weights c^8, so that the face that lies closest to the plane all but sets it. So it
+        // hardly changes as the block turns: a corner of a block on its edge has the share of
+        // its base whether the block leans 6 or 20 degrees, the same as the share the contact
+        // polygon gives it once the base lies on the plane. An area that changed while the
+        // spring held a load would change the energy the spring holds without work. Where the
+        // block leans about 45 degrees onto a corner, the faces share the weight. A face on the
+        // plane carries its own area through the contact polygon, so only tilted faces count.
         if (hhi - hlo > tol) {
-            double cu = 0, cv = 0;
-            for (int k = 0; k < m; ++k) { cu += face.u[k]; cv += face.v[k]; }
-            cu /= m;
-            cv /= m;
+            Vec3 cen = Vec3::Zero();
+            for (int k = 0; k < m; ++k) cen += s.v[p.face_vertex(f, k)];
+            cen /= m;
+            const double c2 = c * c, c4 = c2 * c2, w = c4 * c4;
             for (int k = 0; k < m; ++k) {
-                const int j = (k + 1) % m, i = (k + m - 1) % m;
-                const double t_next = 0.5 * std::abs((face.u[k] - cu) * (face.v[j] - cv) - (face.u[j] - cu) * (face.v[k] - cv));
-                const double t_prev = 0.5 * std::abs((face.u[i] - cu) * (face.v[k] - cv) - (face.u[k] - cu) * (face.v[i] - cv));
-                nodal[p.face_vertex(f, k)] += 0.5 * (t_next + t_prev);
+                const Vec3& xi = s.v[p.face_vertex(f, (k + m - 1) % m)];
+                const Vec3& xk = s.v[p.face_vertex(f, k)];
+                const Vec3& xj = s.v[p.face_vertex(f, (k + 1) % m)];
+                const double share = 0.25 * ((xk - cen).cross(xj - cen).norm() + (xi - cen).cross(xk - cen).norm());
+                const int vk = p.face_vertex(f, k);
+                nodal[vk] += w * share;
+                weight[vk] += w;
             }
         }
         out.emplace_back();
         Piece& pc = out.back();
-        clip_band(face, sign, tol, band_label(side, f), pc.poly);
+        // A face on the plane (within tol of it from end to end) is presented whole: cut
+        // where it hovers above the band, its corners would take shares of a part of it, and
+        // keep them when it lands (between refreshes), unlike the shares of the same face
+        // landed. A face tilted to the plane fades out with the band.
+        if (hhi - hlo <= tol && (side == 0 ? hhi + tol : tol - hlo) > 0) pc.poly = face;
+        else clip_band(face, sign, tol, band_label(side, f), pc.poly);
         const double a = signed_area(pc.poly);
         if (pc.poly.n < 3 || a == 0) {
             out.pop_back();
@@ -286,6 +309,10 @@ void present_faces(const BlockView& s, const Frame& fr, int side, double tol, st
         pc.h0 = face.h[0] + (nf.dot(fr.e1) * face.u[0] + nf.dot(fr.e2) * face.v[0]) / nn;
         pc.hu = -nf.dot(fr.e1) / nn;
         pc.hv = -nf.dot(fr.e2) / nn;
+        pc.c = c;
+    }
+    for (int i = 0; i < nv; ++i) {
+        if (weight[i] > 0) nodal[i] /= weight[i];
     }
 }
 
@@ -295,24 +322,54 @@ struct NewSub {
     Vec3 x;        // world point
     double closure;
     bool nodal;    // a block vertex pressing into a tilted face: its area is its own
+    bool flat;     // found where two faces lie on the plane
     bool operator<(const NewSub& o) const { return key < o.key; }
 };
 
 // Sub-contacts at the vertices of the contact polygon: each piece of a's footprint
-// clipped by each piece of b's. A vertex shared by several pieces is one sub-contact.
-void polygon_subcontacts(const Frame& fr, const std::vector<Piece>& pa, const std::vector<Piece>& pb, double eps,
-                         double min_area, std::vector<NewSub>& out, std::vector<double>& face_area_a,
+// clipped by each piece of b's. A vertex shared by several pieces is one sub-contact. tol: ctol.
+void polygon_subcontacts(const Frame& fr, const std::vector<Piece>& pa, const std::vector<Piece>& pb, double tol,
+                         double eps, double min_area, std::vector<NewSub>& out, std::vector<double>& face_area_a,
                          std::vector<double>& face_area_b, const std::vector<double>& nodal_a,
                          const std::vector<double>& nodal_b) {
     const int nv_a = static_cast<int>(nodal_a.size()), nv_b = static_cast<int>(nodal_b.size());
     out.clear();
     Poly q, tmp;
+    // Faces on the plane first. Where two faces lie on the plane and overlap over an area of at
+    // least ctol^2, the blocks meet face to face, and a face tilted beside one of them can reach
+    // into the other block in a sliver along the edge of their overlap, as thin as the overlap is
+    // deep: such a sliver (every corner of it within a hundredth of ctol of that edge) is left
+    // out, so that a corner of the face on the plane carries its share alone (not its own area
+    // as well, on top of the share of the point beside it), and the areas do not jump as slivers
+    // come and go. Where faces on the plane overlap only in a strip (blocks meeting along an
+    // edge), the corners pressing in through the faces beside them carry the contact.
+    thread_local std::vector<std::array<double, 4>> edges; // the overlaps' edges (u0, v0, u1, v1)
+    edges.clear();
+    double flat_area = 0;
+    auto near_edge = [&](double u, double v) {
+        for (const auto& e : edges) {
+            const double du = e[2] - e[0], dv = e[3] - e[1], len2 = du * du + dv * dv;
+            const double t = len2 > 0 ? std::clamp(((u - e[0]) * du + (v - e[1]) * dv) / len2, 0.0, 1.0) : 0.0;
+            const double x = u - e[0] - t * du, y = v - e[1] - t * dv;
+            if (x * x + y * y <= 1e-4 * tol * tol) return true;
+        }
+        return false;
+    };
+    for (int pass = 0; pass < 2; ++pass) {
     for (const Piece& A : pa) {
         for (const Piece& B : pb) {
+            const bool tilted = !(A.flat && B.flat);
+            if (tilted != (pass == 1)) continue;
             clip_convex(A.poly, B.poly, B.orient, eps, q, tmp);
             if (q.n < 3) continue;
             for (int i = 0; i < q.n; ++i) q.vkey[i] = as_vertex(q.vkey[i], nv_a, nv_b);
-            const bool tilted = !(A.flat && B.flat);
+            if (!tilted) {
+                flat_area += std::abs(signed_area(q));
+                for (int i = 0; i < q.n; ++i) {
+                    const int j = (i + 1) % q.n;
+                    edges.push_back({q.u[i], q.v[i], q.u[j], q.v[j]});
+                }
+            }
             bool has_corner = false;
             if (tilted) {
                 // A face tilted to the plane touches the other only where the two solids
@@ -323,10 +380,13 @@ void polygon_subcontacts(const Frame& fr, const std::vector<Piece>& pa, const st
                           touch_label(A.face, B.face), tmp);
                 std::swap(q, tmp);
                 if (q.n < 3) continue;
+                bool sliver = flat_area >= tol * tol;
                 for (int i = 0; i < q.n; ++i) {
                     q.vkey[i] = as_vertex(q.vkey[i], nv_a, nv_b);
                     has_corner |= key_side(q.vkey[i]) < 2;
+                    sliver = sliver && near_edge(q.u[i], q.v[i]);
                 }
+                if (sliver) continue;
             }
             double cu = 0, cv = 0;
             for (int i = 0; i < q.n; ++i) { cu += q.u[i]; cv += q.v[i]; }
@@ -351,6 +411,12 @@ void polygon_subcontacts(const Frame& fr, const std::vector<Piece>& pa, const st
                 const bool nodal = tilted && side < 2;
                 if (tilted && has_corner && !nodal) continue;
                 double area = share;
+                if (!tilted) {
+                    // Both faces on the plane: the share on the faces themselves, not as seen
+                    // along the normal (a block that rocks on its base keeps its areas as it
+                    // turns): on a's face for a's corner, on b's for b's, between for a crossing.
+                    area /= side == 0 ? A.c : side == 1 ? B.c : std::sqrt(A.c * B.c);
+                }
                 if (nodal) {
                     const int vertex = corner_vertex(q.vkey[i]);
                     const std::vector<double>& own = side == 0 ? nodal_a : nodal_b;
@@ -362,6 +428,7 @@ void polygon_subcontacts(const Frame& fr, const std::vector<Piece>& pa, const st
                 ns.key = q.vkey[i];
                 ns.area = area;
                 ns.nodal = nodal;
+                ns.flat = !tilted;
                 ns.x = fr.p + q.u[i] * fr.e1 + q.v[i] * fr.e2 + 0.5 * (ha + hb) * fr.n;
                 ns.closure = ha - hb; // a's surface above b's: overlap
                 out.push_back(ns);
@@ -371,13 +438,19 @@ void polygon_subcontacts(const Frame& fr, const std::vector<Piece>& pa, const st
             face_area_b[B.face] += total;
         }
     }
+    }
     // One sub-contact per key, in key order (the order history is matched in).
     std::stable_sort(out.begin(), out.end());
     int w = 0;
     for (int r = 0; r < static_cast<int>(out.size()); ++r) {
         if (w > 0 && out[w - 1].key == out[r].key) {
-            // A vertex's own area counts once, however many face pairs it is found in.
-            if (out[w - 1].nodal || out[r].nodal) {
+            // Where faces lie on the plane, the point carries their shares alone: a corner
+            // of a face on the plane is also found pressing into the other block through the
+            // faces beside it (a sliver as thin as the overlap), which adds no area. A vertex's
+            // own area counts once, however many face pairs it is found in.
+            if (out[w - 1].flat != out[r].flat) {
+                if (out[r].flat) out[w - 1] = out[r];
+            } else if (out[w - 1].nodal || out[r].nodal) {
                 out[w - 1].area = std::max(out[w - 1].area, out[r].area);
                 out[w - 1].nodal = true;
             } else {
@@ -665,13 +738,24 @@ struct Detector {
     // A sub-contact new to a contact that was already carried: its closure is what the geometry
     // shows; its shear displacement and stress, dilation and whether the joint has failed are
     // those of old sub-contact k nearest it (the joint's state is continuous along it; starting
-    // from nothing would drop what the shear springs held whenever the polygon's corners change).
+    // from nothing would drop what the shear springs held whenever the polygon's corners change;
+    // build says when an old one hands its state on). One that the geometry shows open (its
+    // joint would open at its first step) takes no shear stress: its spring would drop it at
+    // once, and that energy was never put in.
     void push_inherited(int k, double closure, const Vec3& normal) {
         next.sub_un.push_back(closure);
         next.sub_udil.push_back(cs.sub_udil[k]);
         next.sub_sn.push_back(0);
         next.sub_us.push_back(retangent(cs.sub_us[k], normal));
-        next.sub_ss.push_back(retangent(cs.sub_ss[k], normal));
+        const int jm = next.jmat.back();
+        double kn = 0, ten = 0;
+        if (jm > 0 && jm < static_cast<int>(m.joint_materials.size()) && m.joint_materials[jm].defined) {
+            kn = m.joint_materials[jm].kn;
+            ten = (cs.sub_flags[k] & kSubFailed) ? 0.0 : m.joint_materials[jm].tension;
+        }
+        const double sn = kn * (closure + cs.sub_udil[k]);
+        const bool opens = !next.joined.back() && (sn < -ten || (sn <= 0 && ten <= 0));
+        next.sub_ss.push_back(opens ? Vec3(Vec3::Zero()) : retangent(cs.sub_ss[k], normal));
         next.sub_flags.push_back(static_cast<std::uint8_t>((cs.sub_flags[k] & kSubFailed) | kSubFresh));
     }
 
@@ -800,13 +884,25 @@ struct Detector {
         face_area_a.assign(m.blocks.shape[a].n_faces(), 0.0);
         face_area_b.assign(m.blocks.shape[b].n_faces(), 0.0);
         const double min_area = 1e-12 * tol * tol;
-        polygon_subcontacts(fr, pieces_a, pieces_b, 1e-9 * tol, min_area, subs, face_area_a, face_area_b, nodal_a,
+        polygon_subcontacts(fr, pieces_a, pieces_b, tol, 1e-9 * tol, min_area, subs, face_area_a, face_area_b, nodal_a,
                             nodal_b);
 
         const BlockSet& s = m.blocks;
         const Mat3 rot[2] = {s.orientation[a].toRotationMatrix(), s.orientation[b].toRotationMatrix()};
         push_header(a, b, oc, va, vb, cp);
 
+        // Old sub-contact j hands its state on to a new one near it when the new one takes over
+        // some of the area it held: it is gone (a corner that became a crossing of edges), or
+        // its own area shrank (the polygon was shared out anew). One that keeps its area, as
+        // a toe does when the other corner of its edge lands, hands nothing on: the new one
+        // touches where nothing did, and a copy of the toe's shear stress would be energy the
+        // springs never took up (that the joint would then dissipate as the copy slips).
+        auto hands_on = [&](int j) {
+            const std::int64_t key = cs.sub_key[j];
+            const auto it = std::lower_bound(subs.begin(), subs.end(), key,
+                                             [](const NewSub& x, std::int64_t kk) { return x.key < kk; });
+            return it == subs.end() || it->key != key || it->area < cs.sub_area[j] * (1 - 1e-9);
+        };
         // Merge with the old sub-contacts: both lists are in key order.
         int k = old.k0;
         const int k_end = old.k1;
@@ -821,8 +917,23 @@ struct Detector {
                 push_history(k, ns.closure, moving, cp.normal);
             } else {
                 const int j = moving || old.c < 0 ? -1 : nearest_old(old, a, b, ns.x);
-                if (j >= 0) push_inherited(j, ns.closure, cp.normal);
+                if (j >= 0 && hands_on(j)) push_inherited(j, ns.closure, cp.normal);
                 else push_history(-1, ns.closure, moving, cp.normal);
+            }
+        }
+        if (subs.empty()) {
+            // A corner that still presses by its own closure, or has lifted by less than a
+            // millionth of ctol, where the geometry finds no overlap at all, is kept as it is:
+            // the closure is a step behind the geometry, and on stiff joints a toe that bounces
+            // by a fraction of a micrometre is found just clear of the base now and then.
+            // Dropped, its contact would touch nowhere, as blocks that meet along an edge do,
+            // and be looked at again only once the toe had sunk a thousandth of ctol in unseen
+            // (a kick). Kept, its own closure finds it landing again; a refresh drops it once it
+            // has lifted clear.
+            for (int j = old.k0; j < old.k1; ++j) {
+                if (cs.sub_side[j] > 1 || !(cs.sub_un[j] + cs.sub_udil[j] > -1e-6 * tol)) continue;
+                push_sub(next, cs.sub_side[j], cs.sub_key[j], cs.sub_area[j], cs.sub_local[j]);
+                push_history(j, cs.sub_un[j], false, cp.normal);
             }
         }
         next.sub_offset.push_back(next.n_subs());

@@ -186,16 +186,51 @@ void update_contacts(Model& m, double dt) {
     GridpointSet& g = m.gridpoints;
     const int n = s.size();
     thread_local std::vector<Mat3> rot;
-    thread_local std::vector<Vec3> vel, spin;
+    // What each block did over the last step: its displacement, and its turn about its
+    // centroid by the angle |w| dt about w (integrate.cpp), as the axis and the sine and
+    // 1 - cosine of the angle. A material point at r from the centroid (now) moved by
+    // disp + (r - R(-turn) r): its exact displacement, not v dt + w x r dt, which leaves out
+    // the half of the centripetal term (w x (w x r)) dt^2 / 2 that the turn gave it. A closure
+    // built from v dt + w x r dt drifts from the points' motion step by step, at a block that
+    // pivots on a corner by as much as its springs' work of order dt, unmatched by the work
+    // the joint forces do on the blocks' turn (the energy the joints hold and give back would
+    // not be what the blocks put in). In static mode the path to equilibrium is not physical
+    // (scaled masses and inertias) and keeps the first-order form, v dt + w x r dt.
+    thread_local std::vector<Vec3> disp, axis;
+    thread_local std::vector<double> turn_sin, turn_cos1;
     rot.resize(n);
-    vel.resize(n);
-    spin.resize(n);
+    disp.resize(n);
+    axis.resize(n);
+    turn_sin.resize(n);
+    turn_cos1.resize(n);
     for (int b = 0; b < n; ++b) {
         rot[b] = s.orientation[b].toRotationMatrix();
         // A block whose velocity was given at t has not moved with it yet.
         const bool still = s.half_kick[b] || ((s.flags[b] & kFixed) && !s.vel_bc[b]);
-        vel[b] = still ? Vec3::Zero() : s.vel[b];
-        spin[b] = still ? Vec3::Zero() : s.ang_vel[b];
+        disp[b] = still ? Vec3::Zero() : Vec3(s.vel[b] * dt);
+        const Vec3 w = still ? Vec3::Zero() : s.ang_vel[b];
+        const double angle = w.norm() * dt;
+        axis[b] = angle > 0 ? Vec3(w / w.norm()) : Vec3::Zero();
+        const double half = std::sin(0.5 * angle);
+        turn_sin[b] = m.settings.dynamic ? std::sin(angle) : angle;
+        turn_cos1[b] = m.settings.dynamic ? 2.0 * half * half : 0.0;
+    }
+    // A piece of a clump turned about the clump's centroid (clump.cpp): its velocity is that of
+    // the rigid motion at its centroid now, not its centroid's displacement over the step.
+    {
+        thread_local ClumpList clumps;
+        list_clumps(s, clumps);
+        for (int c = 0; c < clumps.size(); ++c) {
+            const int* p = clumps.pieces.data() + clumps.offset[c];
+            const int np = clumps.offset[c + 1] - clumps.offset[c];
+            const Vec3 centre = clump_body(s, p, np).centroid;
+            for (int i = 0; i < np; ++i) {
+                const int b = p[i];
+                if (s.half_kick[b] || ((s.flags[b] & kFixed) && !s.vel_bc[b])) continue;
+                const Vec3 r = s.centroid[b] - centre, k = axis[b];
+                disp[b] += turn_cos1[b] * (r - k.dot(r) * k) + turn_sin[b] * k.cross(r) - s.ang_vel[b].cross(r) * dt;
+            }
+        }
     }
     // So does a gridpoint.
     auto gp_vel = [&g](int i) { return g.half_kick[i] ? Vec3(Vec3::Zero()) : g.vel[i]; };
@@ -212,8 +247,15 @@ void update_contacts(Model& m, double dt) {
     // named inside the parallel loop would be each worker's own, empty).
     const LawParams* law = params.data();
     const Mat3* rot_of = rot.data();
-    const Vec3* vel_of = vel.data();
-    const Vec3* spin_of = spin.data();
+    const Vec3* disp_of = disp.data();
+    const Vec3* axis_of = axis.data();
+    const double* sin_of = turn_sin.data();
+    const double* cos1_of = turn_cos1.data();
+    // The displacement over the last step of the point of block b at r from its centroid.
+    auto moved = [=](int b, const Vec3& r) -> Vec3 {
+        const Vec3& k = axis_of[b];
+        return disp_of[b] + cos1_of[b] * (r - k.dot(r) * k) + sin_of[b] * k.cross(r);
+    };
     auto law_of = [&](int c) -> const LawParams& {
         const int jm = cs.jmat[c];
         return (jm > 0 && jm < n_jmat) ? law[2 * jm + (cs.jcons[c] == 2 ? 1 : 0)] : none;
@@ -243,7 +285,6 @@ void update_contacts(Model& m, double dt) {
         const bool joined = cs.joined[c] != 0;
         const Vec3 nrm = cs.normal[c];
         const Vec3 ca = s.centroid[a], cb = s.centroid[b];
-        const Vec3 va = vel_of[a], wa = spin_of[a], vb = vel_of[b], wb = spin_of[b];
         const double k = std::max(p.kn, p.ks);
         Vec3 fb = Vec3::Zero(), ma = Vec3::Zero(), mb = Vec3::Zero();
         double scale = 0, kt = 0, kra = 0, krb = 0;
@@ -251,8 +292,7 @@ void update_contacts(Model& m, double dt) {
             const int owner = cs.sub_side[q] == 1 ? b : a;
             const Vec3 x = s.centroid[owner] + rot_of[owner] * cs.sub_local[q];
             const Vec3 ra = x - ca, rb = x - cb;
-            const Vec3 f = joint_step(cs, q, p, joined, nrm, (vb + wb.cross(rb) - va - wa.cross(ra)) * dt,
-                                      dissipation ? dissipation + c : nullptr);
+            const Vec3 f = joint_step(cs, q, p, joined, nrm, moved(b, rb) - moved(a, ra), dissipation ? dissipation + c : nullptr);
             fb += f;
             mb += rb.cross(f);
             ma -= ra.cross(f);
@@ -306,15 +346,15 @@ void update_contacts(Model& m, double dt) {
                 const int o = of_a ? b : a;
                 const std::array<int, 3> tri = cs.sub_triangle(k);
                 const Vec3& w = cs.sub_local[k];
-                Vec3 vo, lever = Vec3::Zero();
+                Vec3 dxo, lever = Vec3::Zero();
                 if (tri[0] >= 0) {
-                    vo = w[0] * gp_vel(tri[0]) + w[1] * gp_vel(tri[1]) + w[2] * gp_vel(tri[2]);
+                    dxo = (w[0] * gp_vel(tri[0]) + w[1] * gp_vel(tri[1]) + w[2] * gp_vel(tri[2])) * dt;
                 } else {
                     lever = rot[o] * cs.sub_local[k];
-                    vo = vel[o] + spin[o].cross(lever);
+                    dxo = moved(o, lever);
                 }
-                const Vec3 vg = gp_vel(gp);
-                const Vec3 f = joint_step(cs, k, p, joined, nrm, (of_a ? vo - vg : vg - vo) * dt,
+                const Vec3 dxg = gp_vel(gp) * dt;
+                const Vec3 f = joint_step(cs, k, p, joined, nrm, of_a ? Vec3(dxo - dxg) : Vec3(dxg - dxo),
                                           dissipation ? dissipation + c : nullptr);
                 const Vec3 fg = of_a ? Vec3(-f) : f; // on the gridpoint; its partner takes -fg
                 const double fn = f.norm();

@@ -654,7 +654,7 @@ const std::vector<Intrinsic>& model_intrinsics() {
         {"c_extra", 1, 1, "c", "a value the script stored with the contact (assignable; 0 until then)", "contact", f_c_extra, s_c_extra},
         {"cx_next", 1, 1, "s", "the next sub-contact of the same contact (0 after the last)", "contact", f_cx_next, nullptr},
         {"cx_pos", 1, 1, "s", "position of the sub-contact (vector), m", "contact", f_cx_pos, nullptr},
-        {"cx_area", 1, 1, "s", "spring area of the sub-contact, m^2: its share of the contact polygon, or, for a corner pressing into a face tilted to the plane, its own share of its faces", "contact", f_cx_area, nullptr},
+        {"cx_area", 1, 1, "s", "spring area of the sub-contact, m^2: its share of the contact polygon, or, for a corner of a face tilted to the plane pressing into the other block, its own share of its faces (chiefly of the face nearest the plane)", "contact", f_cx_area, nullptr},
         {"cx_nforce", 1, 1, "s", "normal force, compression positive, N", "contact", f_cx_nforce, nullptr},
         {"cx_sforce", 1, 1, "s", "shear force on the second block (vector), N", "contact", f_cx_sforce, nullptr},
         {"cx_xsforce", 1, 1, "s", "x component of the shear force, N", "contact", f_cx_xsforce, nullptr},
