@@ -280,3 +280,38 @@ TEST(ContactTrust, AContactMadeWithoutJointPropertiesStopsTheRun) {
         EXPECT_NEAR(s.model.blocks.centroid[1].z(), 1.5, 5e-3);
     }
 }
+
+// A dam on a foundation cut every metre, its reservoir pushing it and its base's water lifting it,
+// slides when its friction is cut below its limit: its toe passes onto the block beyond, whose end
+// face stood in one plane with the dam's. Their contact was an edge against an edge across that
+// upright plane and turns into a face on a face. Its points take the closure the geometry shows,
+// not the one gathered across the upright plane as the toe went through it (9.9 mm, 98 MPa
+// holding the toe up, and the dam stood where it should slide).
+TEST(ContactTrust, AContactThatTurnsKeepsNoClosureFromItsOldPlane) {
+    std::string script = "config flow\nfluid density 1000 viscosity 1e-3 bulk 2e9\ngrav 0 0 -9.81\npoly brick -10 0 0 2 -10 0\n";
+    for (int x = 0; x < 10; ++x) script += "poly brick " + std::to_string(x) + " " + std::to_string(x + 1) + " 0 2 -10 0\n";
+    script += "poly brick 10 30 0 2 -10 0\npoly brick 0 10 0 2 0 20\nprop mat=1 dens=2400\n"
+              "prop jmat=1 jkn=1e10 jks=1e10 jfric=35 azero=1e-4 ares=1e-5\nfix range z -10 0\n"
+              "bound pp 196200 range x -0.01 0.01 z -0.01 0.01\nbound pp 19620 range x 9.99 10.01 z -0.01 0.01\n"
+              "bound stress -196200 0 0 0 0 0 zgrad 9810 0 0 0 0 0 range x -0.01 0.01 z 0 20\nsolve\n"
+              "prop jmat=1 jfric=25.03\nstep 1500\n";
+    Session s;
+    ASSERT_TRUE(s.run(script)) << s.error();
+    const odec::ContactSet& cs = s.model.contacts;
+    const int dam = s.model.block_index(13), beyond = s.model.block_index(12);
+    ASSERT_GT(s.model.blocks.disp[dam].x(), 0.02); // the toe is on the block beyond
+    bool found = false;
+    for (int c = 0; c < cs.size(); ++c) {
+        if (cs.block_a[c] != beyond || cs.block_b[c] != dam) continue;
+        found = true;
+        EXPECT_GT(cs.normal[c].z(), 0.999) << "the contact is a face on a face now";
+        // The dam's base is flat and hardly turned: its points' closures differ by little.
+        double lo = 1e9, hi = -1e9;
+        for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
+            lo = std::min(lo, cs.sub_un[k]);
+            hi = std::max(hi, cs.sub_un[k]);
+        }
+        EXPECT_LT(hi - lo, 1e-3) << "closures from " << lo << " to " << hi << " m";
+    }
+    EXPECT_TRUE(found);
+}
