@@ -39,6 +39,9 @@ const CommandSpec& solve_command() {
         c.keyword("nchar", 3, "with fos: the characteristic response Nr, steps (instead of finding it)")
             .integer("n", 1, 2e9);
         c.keyword("associated", 3, "with fos: the dilation angle made equal to the reduced friction angle");
+        c.keyword("dmax", 2, "with fos: a trial that comes to equilibrium after a block or gridpoint moved more than d, m, "
+                             "fails (a mechanism that found a new footing)")
+            .real("d", 0, kMaxMagnitude, Limit::Open, Limit::Closed);
         c.keyword("include", 3, "with fos: reduce only these (kinds: joints, zones; strengths: friction, cohesion, tension)")
             .one_of("what", {"joints", "zones", "friction", "cohesion", "tension"})
             .repeat()
@@ -93,6 +96,11 @@ const CommandSpec& solve_command() {
                    "displacements, contacts and stresses, step and time), so that 'plot' shows the failure "
                    "mechanism and 'print info' and FISH's solve_verdict its verdict, but with its strengths "
                    "given back their values from before 'solve fos'; when no trial failed it is left as it was. "
+                   "A stable trial in which a block or gridpoint moved more than 1 % of the model's size says so "
+                   "(which one, how far): a mechanism that slid until it found a new footing (a dam whose base "
+                   "lost its water, a wedge that came to rest on the next bench) stands at the end of its trial. "
+                   "'dmax d' counts a trial in which anything moved more than d metres as failing; without it, "
+                   "as in 3DEC, only the unbalanced force decides. "
                    "FISH's fos_f gives the factor. An error or Ctrl-C during the search leaves the model as it "
                    "was before it. The search holds up to three copies of the model in memory. Zones are reduced "
                    "as they are in small strain ('set small'): in large strain, the default, a failing slope of "
@@ -112,7 +120,7 @@ const CommandSpec& solve_command() {
                 fail(a.range_loc, "a range belongs to 'solve fos' (it narrows what is reduced)",
                      {"'solve' cycles the whole model"}, "solve");
             }
-            for (const char* kw : {"resolution", "bracket", "nchar", "associated", "include", "exclude"}) {
+            for (const char* kw : {"resolution", "bracket", "nchar", "associated", "include", "exclude", "dmax"}) {
                 if (const KeywordUse* u = a.find(kw)) {
                     fail(u->loc, std::string("'") + kw + "' belongs to 'solve fos'", {"add 'fos' to search for the factor of safety"},
                          "solve");

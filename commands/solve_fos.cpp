@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -9,9 +10,11 @@
 
 #include "analysis_mode.h"
 #include "common.h"
+#include "engine/blocks.h"
 #include "engine/cycle.h"
 #include "engine/fos.h"
 #include "engine/verdict.h"
+#include "engine/zones.h"
 #include "progress.h"
 #include "verdict_text.h"
 
@@ -138,6 +141,55 @@ Trial run_trial(CommandContext& ctx, const SourceLoc& loc, long nr, long cap, do
     whole.max_steps = t.steps;
     t.verdict = std::make_shared<SolveVerdict>(judge_solve(record, m, t.reason, whole, t.steps));
     return t;
+}
+
+// How far the model moved in a trial: the largest displacement of a free rigid block's centroid or of
+// a gridpoint since the trial's start, and what moved (block id, or -1 and the gridpoint's number).
+struct Moved {
+    double distance = 0;
+    int block = -1;     // id
+    int gridpoint = -1; // from 1
+};
+
+Moved largest_move(const Model& start, const Model& m) {
+    Moved mv;
+    const BlockSet& s = m.blocks;
+    if (start.blocks.size() == s.size()) {
+        for (int b = 0; b < s.size(); ++b) {
+            if (s.flags[b] & (kExcavated | kDeformable | kFixed)) continue;
+            const double d = (s.centroid[b] - start.blocks.centroid[b]).norm();
+            if (d > mv.distance) mv = {d, s.id[b], -1};
+        }
+    }
+    const GridpointSet& g = m.gridpoints;
+    if (start.gridpoints.size() == g.size()) {
+        for (int i = 0; i < g.size(); ++i) {
+            const double d = (g.pos[i] - start.gridpoints.pos[i]).norm();
+            if (d > mv.distance) mv = {d, -1, i + 1};
+        }
+    }
+    return mv;
+}
+
+// The model's size: the diagonal of the box around its blocks, m.
+double model_size(const Model& m) {
+    const BlockSet& s = m.blocks;
+    Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    for (int b = 0; b < s.size(); ++b) {
+        if (s.flags[b] & kExcavated) continue;
+        const Eigen::Matrix3d r = s.orientation[b].toRotationMatrix();
+        for (const Vec3& v : s.shape[b].vertices) {
+            const Vec3 x = s.centroid[b] + r * v;
+            lo = lo.cwiseMin(x);
+            hi = hi.cwiseMax(x);
+        }
+    }
+    return hi.x() >= lo.x() ? (hi - lo).norm() : 0.0;
+}
+
+std::string moved_text(const Moved& mv) {
+    return (mv.block > 0 ? "block " + std::to_string(mv.block) : "gridpoint " + std::to_string(mv.gridpoint)) + " moved " +
+           g3(mv.distance) + " m";
 }
 
 std::string trial_text(const Trial& t, long cap) {
@@ -325,6 +377,9 @@ void solve_fos(CommandContext& ctx, const Args& a) {
     res.nr = nr;
     report_mass_scaling(ctx);
 
+    const double dmax = a.real_or("dmax", 0.0);
+    const double size = model_size(m);
+    int far_trials = 0;
     FosBracket bracket(resolution, f1, f2);
     std::unique_ptr<Model> failing;
     double failing_factor = 0;
@@ -333,8 +388,23 @@ void solve_fos(CommandContext& ctx, const Args& a) {
         const double F = bracket.next();
         m = start;
         reduce_strengths(m, base, r, t, F);
-        const Trial tr = run_trial(ctx, loc, nr, cap, ratio);
+        Trial tr = run_trial(ctx, loc, nr, cap, ratio);
         res.steps += tr.steps;
+        // A stable trial that moved far: said, and with 'dmax' a failure.
+        std::string far;
+        if (tr.stable) {
+            const Moved mv = largest_move(start, m);
+            if (dmax > 0 && mv.distance > dmax) {
+                tr.stable = false;
+                far = "fails after " + std::to_string(tr.steps) + " steps: it came to equilibrium (ratio " + g3(tr.ratio) +
+                      ") only after " + moved_text(mv) + ", more than dmax " + num(dmax) +
+                      " m: a mechanism that found a new footing";
+            } else if (dmax <= 0 && mv.distance > 0.01 * size) {
+                far = ", but " + moved_text(mv) + " in the trial (" + g3(100 * mv.distance / size) +
+                      " % of the model's size): a mechanism that found a new footing? ('dmax d' counts such a trial as failing)";
+                ++far_trials;
+            }
+        }
         ++res.trials;
         if (tr.reason == StopReason::Interrupted) return interrupted("in the trial at F = " + factor_text(F));
         if (tr.reason == StopReason::Error) {
@@ -344,7 +414,8 @@ void solve_fos(CommandContext& ctx, const Args& a) {
         if (talk) {
             char head[64];
             std::snprintf(head, sizeof head, "  trial %d: F = %-9s ", res.trials, factor_text(F).c_str());
-            o << head << trial_text(tr, cap) << "\n";
+            if (!tr.stable && !far.empty()) o << head << far << "\n";
+            else o << head << trial_text(tr, cap) << far << "\n";
             o.flush();
         }
         bracket.report(tr.stable);
@@ -401,6 +472,12 @@ void solve_fos(CommandContext& ctx, const Args& a) {
         break;
     case FosBracket::End::Running:
         break;
+    }
+    if (far_trials > 0) {
+        warn(ctx, loc,
+             std::to_string(far_trials) + " stable trial" + (far_trials == 1 ? "" : "s") +
+                 " moved more than 1 % of the model's size before coming to rest: if that is a failure, give "
+                 "'solve fos dmax d' with the displacement a failure starts at");
     }
     if (failing_factor > 0) {
         o << "solve fos: the model is left as the trial at F = " << factor_text(failing_factor)

@@ -12,6 +12,8 @@
 
 #include <unistd.h>
 
+#include "engine/blocks.h"
+#include "engine/contact.h"
 #include "engine/fos.h"
 #include "engine/verdict.h"
 #include "fish/runtime.h"
@@ -420,4 +422,58 @@ TEST(SolveFos, ARangeGivesTheZonesOfTheBlocksItSelectsCopiesOfTheirMaterial) {
     odec::fos_unisolate(m, iso);
     EXPECT_EQ(m.blocks.material[1], 1);
     EXPECT_EQ(static_cast<int>(m.materials.size()), n_materials);
+}
+
+// A free dam on a foundation cut every metre, its reservoir pushing it and lifting its base. In the
+// trials that fail it slides, its base loses its water and it stops metres downstream: stable by the
+// unbalanced force alone (said, trial by trial). 'dmax 0.1' counts those trials as failing, and the
+// factor is then the friction the base mobilises at the start: tan(35) N' / T over its joints.
+TEST(SolveFos, AMechanismThatFindsANewFootingIsSaidAndDmaxFailsIt) {
+    std::string script = "config flow\nfluid density 1000 viscosity 1e-3 bulk 2e9\ngrav 0 0 -9.81\npoly brick -10 0 0 2 -10 0\n";
+    for (int x = 0; x < 10; ++x) script += "poly brick " + std::to_string(x) + " " + std::to_string(x + 1) + " 0 2 -10 0\n";
+    script += "poly brick 10 30 0 2 -10 0\npoly brick 0 10 0 2 0 20\nprop mat=1 dens=2400\n"
+              "prop jmat=1 jkn=1e10 jks=1e10 jfric=35 azero=1e-4 ares=1e-5\nfix range z -10 0\n"
+              "bound pp 196200 range x -0.01 0.01 z -0.01 0.01\nbound pp 19620 range x 9.99 10.01 z -0.01 0.01\n"
+              "bound stress -196200 0 0 0 0 0 zgrad 9810 0 0 0 0 0 range x -0.01 0.01 z 0 20\nsolve\n";
+    double mobilised = 0;
+    {
+        Talking s;
+        ASSERT_TRUE(s.run(script)) << s.error();
+        // The base's effective normal and shear forces on the dam (block 13).
+        const int dam = s.model.block_index(13);
+        double n = 0, t = 0;
+        for (int c = 0; c < s.model.contacts.size(); ++c) {
+            if (s.model.contacts.block_b[c] != dam) continue;
+            const odec::ContactInfo ci = odec::contact_info(s.model, c);
+            if (!(ci.normal.z() > 0.99)) continue;
+            n += ci.normal_stress * ci.area;
+            t += ci.shear_stress_vec.x() * ci.area;
+        }
+        ASSERT_GT(n, 0);
+        mobilised = std::tan(35 * M_PI / 180) * n / std::abs(t);
+        ASSERT_TRUE(s.run("solve fos")) << s.error();
+        ASSERT_TRUE(s.interp.last_fos);
+        const std::string out = s.said();
+        EXPECT_NE(out.find("but block 13 moved"), std::string::npos) << out;
+        EXPECT_NE(s.error().find("moved more than 1 % of the model's size before coming to rest"), std::string::npos) << s.error();
+        EXPECT_GT(s.interp.last_fos->factor, 1.3); // the footing the dam found downstream
+    }
+    {
+        Talking s;
+        ASSERT_TRUE(s.run(script + "solve fos dmax 0.1")) << s.error();
+        ASSERT_TRUE(s.interp.last_fos);
+        const odec::FosResult& r = *s.interp.last_fos;
+        std::printf("[verification] fos: dam with uplift, dmax 0.1 m: F %.4f, the base's mobilised friction %.4f (%+.2f %%)\n",
+                    r.factor, mobilised, 100 * (r.factor - mobilised) / mobilised);
+        EXPECT_NEAR(r.factor, mobilised, 0.02 * mobilised);
+        EXPECT_NE(s.said().find("more than dmax 0.1 m: a mechanism that found a new footing"), std::string::npos);
+    }
+    {
+        // dmax without fos, and a dmax of 0: refused, the model unchanged.
+        Session s;
+        EXPECT_FALSE(s.run("solve dmax 0.1"));
+        EXPECT_NE(s.error().find("'dmax' belongs to 'solve fos'"), std::string::npos) << s.error();
+        EXPECT_FALSE(s.run("solve fos dmax 0"));
+        EXPECT_NE(s.error().find("dmax"), std::string::npos) << s.error();
+    }
 }
