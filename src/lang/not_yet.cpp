@@ -20,6 +20,9 @@ const Missing kMissing[] = {
               "in zones and joints) has no counterpart; odec keeps pore pressures in the joints' flow nodes only: "
               "'config flow', 'fluid density rho', then 'insitu wtable z' (or 'bound wtable z range ...' to hold "
               "it), see 'help fluid'"},
+    {"pfix", "odec has no 'pfix' command: a joint pressure is fixed with 'bound pp p [pgrad gx,gy,gz] range ...' "
+             "(or 'bound wtable z range ...' for a hydrostatic one) and released with 'bound pfree range ...', "
+             "after 'config flow'; see 'help fluid'"},
 };
 
 } // namespace

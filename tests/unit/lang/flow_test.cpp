@@ -607,4 +607,7 @@ TEST(FlowNames, WaterAndFlowOffsetsAreRefusedWithWhatToWrite) {
     EXPECT_NE(s.error().find("fl_aperture(c_x(c), c_y(c), c_z(c))"), std::string::npos) << s.error();
     EXPECT_FALSE(s.run("def g\n  c = contact_head\n  x = fmem(c + $KCQ)\nend\n@g"));
     EXPECT_NE(s.error().find("no flow rate per contact: fl_flow"), std::string::npos) << s.error();
+    EXPECT_FALSE(s.run("pfix 1e5 range x -0.01 0.01"));
+    EXPECT_NE(s.error().find("t.dat:1:1: error: odec has no 'pfix' command"), std::string::npos) << s.error();
+    EXPECT_NE(s.error().find("'bound pp p"), std::string::npos) << s.error();
 }
