@@ -387,6 +387,12 @@ void print_flow(CommandContext& ctx, const Args& a) {
 }
 
 void print_contacts(CommandContext& ctx, const Args& a) {
+    if (ctx.model.flow.configured && ctx.model.contacts.detected) {
+        // The joints' apertures as they stand (derived: the nodes and apertures are made again
+        // from the contacts, nothing saved changes).
+        flow_sync(ctx.model);
+        flow_apertures(ctx.model);
+    }
     const Model& m = ctx.model;
     std::ostream& o = ctx.out;
     const bool flow = m.flow.configured && static_cast<int>(m.flow.sub_node.size()) == m.contacts.n_subs() &&

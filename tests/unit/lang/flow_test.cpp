@@ -497,6 +497,14 @@ TEST(Flow, InsituWithWaterStartsAtRest) {
         EXPECT_NEAR(odec::contact_flow(s.model, 0).pp, 5e4, 1e-9 * 5e4);
     }
     {
+        // Before any step, 'print contact' shows the joint's aperture as it stands: closed by the
+        // effective stress to below azero - sn'/jkn, so at its residual 1e-5 m.
+        Session s;
+        ASSERT_TRUE(s.run(zoned + field + water + "print contact")) << s.error();
+        const std::string out = s.out.str();
+        EXPECT_NE(out.find("5e+04     1e-05 elastic"), std::string::npos) << out;
+    }
+    {
         // A rigid block on a rigid base: 50 kPa of weight on its joint, 30 kPa of it water.
         Session s;
         ASSERT_TRUE(s.run("config flow\npoly brick 0 2 0 2 -2 0\npoly brick 0 2 0 2 0 2\nprop mat=1 dens=2500\n"
