@@ -720,7 +720,33 @@ bool add_contacts(Scene& scene, const ContactView& view, ContactQuantity q, cons
     layer.lit = false;
     std::vector<double> values;
     for (int i = 0; i < n; ++i) {
-        if (opt.cut && cut_n.dot(rows.centroid[i]) > cut_d) continue;
+        const Vec3 nrm = unit_or(rows.normal[i], Vec3(0, 0, 1));
+        const double h = 0.5 * std::sqrt(std::max(rows.area[i], 0.0));
+        const Vec3& c = rows.centroid[i];
+        // On a section, a patch the cut plane crosses is drawn as its trace on the plane too: a band
+        // along the line where the joint meets the section, so that joints seen edge-on there show
+        // their colour.
+        Vec3 trace[4];
+        bool traced = false;
+        if (opt.cut) {
+            const double dist = cut_n.dot(c) - cut_d;
+            const Vec3 along = cut_n - cut_n.dot(nrm) * nrm; // the way across the patch toward the plane
+            const double s2 = along.squaredNorm();
+            if (s2 > 1e-6 && std::abs(dist) <= h * std::sqrt(s2) + 1e-12) {
+                const Vec3 p = c - dist * along / s2; // on the joint's plane and on the section
+                const double off = (p - c).norm();
+                const double half = h * std::sqrt(std::max(1.0 - off * off / (4 * h * h), 0.5)) * 1.2;
+                const Vec3 t = nrm.cross(cut_n).normalized(), b = cut_n.cross(t);
+                const double width = 0.5 * h;
+                const Vec3 lift = cut_n * (0.05 * h); // over the cut faces of the blocks
+                trace[0] = p - half * t - width * b + lift;
+                trace[1] = p + half * t - width * b + lift;
+                trace[2] = p + half * t + width * b + lift;
+                trace[3] = p - half * t + width * b + lift;
+                traced = true;
+            }
+        }
+        if (opt.cut && cut_n.dot(c) > cut_d && !traced) continue;
         double v = 0;
         switch (q) {
         case ContactQuantity::NormalStress: v = rows.normal_stress[i]; break;
@@ -731,13 +757,16 @@ bool add_contacts(Scene& scene, const ContactView& view, ContactQuantity q, cons
         case ContactQuantity::PorePressure: v = rows.pore_pressure[i]; break;
         case ContactQuantity::Aperture: v = rows.aperture[i]; break;
         }
-        const Vec3 nrm = unit_or(rows.normal[i], Vec3(0, 0, 1));
-        Vec3 u, w;
-        plane_axes(nrm, u, w);
-        const double h = 0.5 * std::sqrt(std::max(rows.area[i], 0.0));
-        const Vec3& c = rows.centroid[i];
-        append_polygon(layer, {c - h * u - h * w, c + h * u - h * w, c + h * u + h * w, c - h * u + h * w}, v);
-        values.push_back(v);
+        if (!opt.cut || cut_n.dot(c) <= cut_d) {
+            Vec3 u, w;
+            plane_axes(nrm, u, w);
+            append_polygon(layer, {c - h * u - h * w, c + h * u - h * w, c + h * u + h * w, c - h * u + h * w}, v);
+            values.push_back(v);
+        }
+        if (traced) {
+            append_polygon(layer, {trace[0], trace[1], trace[2], trace[3]}, v);
+            values.push_back(v);
+        }
     }
     if (layer.offsets.size() < 2) return true; // nothing to show is not an error
     if (q == ContactQuantity::State) {

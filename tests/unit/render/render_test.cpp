@@ -222,6 +222,27 @@ TEST(Render, ContactStressAndState) {
     pic = draw(st, "contact-state.png");
     for (int k = 0; k < 3; ++k) EXPECT_GT(pic.count_near(category_colour(k), 0.02), 30) << k;
 
+    // On a section across the joints (the plane y = 0.5 through the patches, seen from -y, the
+    // joints edge-on): each patch the plane crosses is drawn as its trace too, a band in the plane.
+    PlotOptions cut = opt;
+    cut.cut = CutPlane{Vec3(0, 0.5, 0), Vec3(0, -1, 0)};
+    cut.camera.eye_direction = Vec3(0, -1, 0);
+    cut.camera.up = Vec3(0, 0, 1);
+    Scene sc = begin_scene(m, cut);
+    ASSERT_TRUE(add_contacts(sc, v, ContactQuantity::NormalStress, cut, error)) << error;
+    ASSERT_EQ(sc.polygons.size(), 1u);
+    EXPECT_EQ(sc.polygons[0].offsets.size(), 9u); // four patches and four traces
+    int on_section = 0;
+    const PolygonLayer& layer = sc.polygons[0];
+    for (size_t k = 0; k + 1 < layer.offsets.size(); ++k) {
+        bool flat = true;
+        for (int i = layer.offsets[k]; i < layer.offsets[k + 1]; ++i) flat = flat && std::abs(layer.points[layer.indices[i]].y() - 0.5) < 0.05;
+        on_section += flat;
+    }
+    EXPECT_EQ(on_section, 4) << "a trace lies on the section";
+    pic = draw(sc, "contact-nstress-section.png");
+    EXPECT_GT(pic.count_if(is_red), 30);
+
     ContactView bad = v;
     bad.contacts.area.pop_back();
     EXPECT_FALSE(add_contacts(st, bad, ContactQuantity::NormalStress, opt, error));
