@@ -3,6 +3,7 @@
 #include "engine/flow.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -101,6 +102,35 @@ double facing_face_area(const Model& m, int b, const Vec3& n) {
 }
 
 
+// A fingerprint of what the flow network is made from: which contacts carry flow, their blocks,
+// their sub-contacts' identities and sides, and the partner triangles of gridpoints (FNV-1a).
+std::uint64_t contact_shape(const Model& m) {
+    const ContactSet& cs = m.contacts;
+    std::uint64_t h = 1469598103934665603ull;
+    auto mix = [&h](std::uint64_t v) {
+        for (int i = 0; i < 8; ++i) {
+            h ^= (v >> (8 * i)) & 0xff;
+            h *= 1099511628211ull;
+        }
+    };
+    mix(static_cast<std::uint64_t>(cs.size()));
+    for (int c = 0; c < cs.size(); ++c) {
+        mix(static_cast<std::uint64_t>(cs.block_a[c]) << 32 | static_cast<std::uint32_t>(cs.block_b[c]));
+        mix(flow_contact(m, c) ? 1 : 0);
+        mix(static_cast<std::uint64_t>(cs.sub_offset[c + 1] - cs.sub_offset[c]));
+        for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
+            mix(static_cast<std::uint64_t>(cs.sub_key[k]));
+            mix(cs.sub_side[k]);
+            if (cs.sub_side[k] >= 3) {
+                const std::array<int, 3> t = cs.sub_triangle(k);
+                mix(static_cast<std::uint64_t>(static_cast<std::uint32_t>(t[0])) << 32 | static_cast<std::uint32_t>(t[1]));
+                mix(static_cast<std::uint32_t>(t[2]));
+            }
+        }
+    }
+    return h;
+}
+
 bool is_follower(const FlowSet& f, int i) {
     return static_cast<int>(f.follow_offset.size()) > i + 1 && f.follow_offset[i + 1] > f.follow_offset[i];
 }
@@ -149,6 +179,29 @@ void flow_sync(Model& m) {
         return;
     }
     const int ns = cs.n_subs();
+    // A refresh that left the joints as they were (the same contacts, sub-contacts and partner
+    // triangles: the blocks moved a little) keeps the nodes and links; the nodes' places follow
+    // their points.
+    const std::uint64_t shape = contact_shape(m);
+    if (f.n_subs_seen == ns && f.shape == shape && static_cast<int>(f.sub_node.size()) == ns &&
+        static_cast<int>(f.volume.size()) == f.n_nodes()) {
+        std::vector<Vec3> sum(f.n_nodes(), Vec3::Zero());
+        std::vector<int> count(f.n_nodes(), 0);
+        for (int c = 0; c < cs.size(); ++c) {
+            for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
+                const int node = f.sub_node[k];
+                if (node < 0) continue;
+                sum[node] += sub_point(m, c, k);
+                ++count[node];
+            }
+        }
+        for (int i = 0; i < f.n_nodes(); ++i) {
+            if (count[i] > 0) f.pos[i] = sum[i] / count[i];
+        }
+        f.revision = cs.revision;
+        return;
+    }
+    f.shape = shape;
     // The points, and which contacts carry flow.
     std::vector<Vec3> pts(ns, Vec3::Zero());
     std::vector<char> live(ns, 0);

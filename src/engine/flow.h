@@ -95,6 +95,8 @@ struct FlowSet {
     // ---- derived (not saved), made again when the contacts change ----
     long revision = -1;            // ContactSet::revision the nodes were made for
     long rebuilds = 0;             // times the nodes were made (for tests and profiling)
+    std::uint64_t shape = 0;       // fingerprint of the contacts the nodes were made from (a refresh
+                                   //   that keeps it keeps the nodes and links)
     int n_subs_seen = -1;
     std::vector<int> sub_node;     // (n_subs) node of each sub-contact (-1: none, deformable)
     std::vector<double> sub_aperture; // (n_subs) m, hydraulic aperture

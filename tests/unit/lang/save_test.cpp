@@ -738,10 +738,10 @@ TEST(SaveLayout, EveryFieldIsSaved) {
     // by the commands once and chosen again before the next step).
     EXPECT_EQ(count_fields<Model>(), 29u) << fix;
     // FlowSet: 15 saved fields (settings, fluid, the nodes' positions, pressures, fixities and volumes
-    // at the last step) and 21 derived ones (the nodes' sub-contacts, apertures, wetted shares,
+    // at the last step) and 22 derived ones (the nodes' sub-contacts, apertures, wetted shares,
     // volumes, links and flows, the nodes that follow others between zoned faces, and the pressure
-    // forces: made again from the contacts; how often they were made).
-    EXPECT_EQ(count_fields<FlowSet>(), 36u) << fix;
+    // forces: made again from the contacts; how often they were made and from what).
+    EXPECT_EQ(count_fields<FlowSet>(), 37u) << fix;
     EXPECT_EQ(count_fields<CableSet>(), 25u) << fix;
     EXPECT_EQ(count_fields<CableMaterial>(), 8u) << fix;
     // LinerSet: 30 saved fields and 3 derived (the element stiffnesses and the nodes' bounds,
