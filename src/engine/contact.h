@@ -38,6 +38,10 @@ struct Model;
 struct Range;
 struct Polyhedron;
 
+// A face within 20 degrees of a contact's plane lies flat to it (cos 20 deg): the gridpoint areas
+// of contacts, the faces 'insitu' loads and the area the joints' water wets.
+constexpr double kFlatToPlane = 0.9396926207859084;
+
 // Sub-contact state flags.
 enum SubContactFlags : std::uint8_t {
     kSubSlip = 1,    // slipping this step (shear stress at the Coulomb limit)

@@ -51,7 +51,6 @@ struct FlatFace {
 
 // A surface triangle within 20 degrees of the common plane lies flat on it (a face-to-face
 // contact); one more tilted belongs to an edge or a corner of its block near the plane.
-constexpr double kFlat = 0.9396926207859084; // cos 20 deg
 
 bool inside_face(const FlatFace& f, double u, double v, double eps) {
     const int n = static_cast<int>(f.u.size());
@@ -231,7 +230,7 @@ void gridpoint_subcontacts(const Model& m, int a, int b, const CommonPlane& cp, 
                 const double c = sign * nrm.dot(fr.n) / twice;
                 if (c < 0.01) continue; // edge-on or facing away
                 ft.area = 0.5 * twice * c;
-                ft.flat = c >= kFlat;
+                ft.flat = c >= kFlatToPlane;
                 for (int i = 0; i < 3; ++i) ft.in[i] = in[i];
                 const int f = cs.surface_face[t];
                 if (f >= 0 && f < static_cast<int>(face_area[side]->size())) (*face_area[side])[f] += ft.area;

@@ -36,9 +36,6 @@ bool gridpoint_contact(const Model& m, int c) {
 // Smallest cosine between a surface triangle's outward normal and the contact normal for the
 // triangle to carry flow links: the faces that lie along the joint.
 constexpr double kLinkFacing = 0.5;
-// Smallest cosine between a surface triangle and a joint for the water in the joint to wet it (as
-// 'insitu' loads only faces flat to the joint, within 20 degrees).
-constexpr double kWetFlat = 0.9396926207859084;
 
 struct CellKey {
     std::int64_t x, y, z;
@@ -129,10 +126,6 @@ std::uint64_t contact_shape(const Model& m) {
         }
     }
     return h;
-}
-
-bool is_follower(const FlowSet& f, int i) {
-    return static_cast<int>(f.follow_offset.size()) > i + 1 && f.follow_offset[i + 1] > f.follow_offset[i];
 }
 
 // What the nodes that follow others hold (inflow, volume, conductance) goes to the nodes they
@@ -508,7 +501,7 @@ void flow_sync(Model& m) {
             const std::array<int, 3> tri = cs.sub_triangle(k);
             if (tri[0] >= 0) {
                 const Vec3 nt = (g.pos[tri[1]] - g.pos[tri[0]]).cross(g.pos[tri[2]] - g.pos[tri[0]]);
-                partner_flat[k] = nt.dot(toward) >= kWetFlat * nt.norm();
+                partner_flat[k] = nt.dot(toward) >= kFlatToPlane * nt.norm();
                 continue;
             }
             const int o = of_a ? cs.block_b[c] : cs.block_a[c];
@@ -516,7 +509,7 @@ void flow_sync(Model& m) {
             const Vec3 xp = bs.centroid[o] + bs.orientation[o] * cs.sub_local[k];
             for (int fc = 0; fc < shape.n_faces() && !partner_flat[k]; ++fc) {
                 const Vec3 nf = bs.orientation[o] * shape.face_normal(fc);
-                if (nf.dot(toward) < kWetFlat) continue;
+                if (nf.dot(toward) < kFlatToPlane) continue;
                 const Vec3 v0 = bs.centroid[o] + bs.orientation[o] * shape.vertices[shape.face_vertex(fc, 0)];
                 partner_flat[k] = std::abs(nf.dot(xp - v0)) <= ctol;
             }
@@ -552,13 +545,13 @@ void flow_sync(Model& m) {
                 for (int pass = 0; pass < 2 && !(total > 0); ++pass) {
                     need_flat = pass == 0;
                     for (const GpSub& e : it->second) {
-                        if (nrm.dot(e.normal) >= kWetFlat * len && (!need_flat || partner_flat[e.sub])) total += cs.sub_area[e.sub];
+                        if (nrm.dot(e.normal) >= kFlatToPlane * len && (!need_flat || partner_flat[e.sub])) total += cs.sub_area[e.sub];
                     }
                 }
                 if (!(total > 0)) continue;
                 for (const GpSub& e : it->second) {
                     const double cosine = nrm.dot(e.normal) / len;
-                    if (cosine < kWetFlat || (need_flat && !partner_flat[e.sub])) continue;
+                    if (cosine < kFlatToPlane || (need_flat && !partner_flat[e.sub])) continue;
                     wet_area[e.sub] += 0.5 * len * cosine / 3.0 * cs.sub_area[e.sub] / total;
                 }
             }

@@ -34,7 +34,6 @@ namespace {
 
 // A surface within 20 degrees of the contact plane lies flat on it (as contact detection
 // judges a deformable block's surface triangles).
-constexpr double kFlat = 0.9396926207859084; // cos 20 deg
 
 BlockView view_of(const Model& m, int b) {
     return BlockView{m.blocks.world_vertices.data() + m.blocks.vertex_offset[b], &m.blocks.shape[b]};
@@ -51,7 +50,7 @@ FlatFaces flat_faces(const Model& m, int b, const Vec3& dir) {
     FlatFaces ff{view_of(m, b), {}, {}};
     for (int f = 0; f < m.blocks.shape[b].n_faces(); ++f) {
         const Vec3 nf = world_face_normal(ff.view, f);
-        if (nf.dot(dir) >= kFlat) {
+        if (nf.dot(dir) >= kFlatToPlane) {
             ff.faces.push_back(f);
             ff.normals.push_back(nf);
         }
@@ -173,6 +172,26 @@ struct Strength {
     bool model2 = false;
 };
 
+// Contact c's joint material when it has a normal stiffness to load, else null.
+const JointMaterial* stiff_material(const Model& m, int c) {
+    const int jm = m.contacts.jmat[c];
+    const bool ok = jm > 0 && jm < static_cast<int>(m.joint_materials.size()) && m.joint_materials[jm].defined &&
+                    m.joint_materials[jm].kn > 0;
+    return ok ? &m.joint_materials[jm] : nullptr;
+}
+
+// The limits of joint material j under joint model jcons.
+Strength strength_of(const JointMaterial& j, int jcons) {
+    const double deg = M_PI / 180.0;
+    Strength st;
+    st.tan_phi = std::tan(j.friction * deg);
+    st.coh = j.cohesion;
+    st.ten = j.tension;
+    st.model2 = jcons == 2;
+    st.tan_res = st.model2 ? std::tan(j.res_friction * deg) : st.tan_phi;
+    return st;
+}
+
 // Load sub-contact k with the traction t on block b (scaled by the weight w of its area),
 // capped by the joint's strength. Returns 1 when loaded as given, 2 capped in shear, 3 opened.
 int load_sub(ContactSet& cs, int k, const Vec3& n, const Vec3& traction_on_b, double kn, bool joined,
@@ -271,7 +290,6 @@ void load_contacts(Model& m, const Range& r, const StressField& f, const std::ve
     bool around_built = false;
     const double tol = cs.ctol > 0 ? cs.ctol : contact_tolerance(m);
     const double eps = 1e-3 * tol;
-    const double deg = M_PI / 180.0;
     std::vector<double> weight;
     // The joints' water pressures, when there is water (flow.h).
     const bool water = m.flow.configured && m.flow.on;
@@ -281,20 +299,13 @@ void load_contacts(Model& m, const Range& r, const StressField& f, const std::ve
         if ((s.flags[a] | s.flags[b]) & kExcavated) continue;
         if (!only.empty() && !only[a] && !only[b]) continue;
         if (!r.contains_contact(m, contact_centroid(m, c), a, b)) continue;
-        const int jm = cs.jmat[c];
-        const bool has_mat = jm > 0 && jm < static_cast<int>(m.joint_materials.size()) && m.joint_materials[jm].defined &&
-                             m.joint_materials[jm].kn > 0;
-        if (!has_mat) {
+        const JointMaterial* jp = stiff_material(m, c);
+        if (!jp) {
             if (cs.sub_offset[c + 1] > cs.sub_offset[c]) touched[c] = 2;
             continue;
         }
-        const JointMaterial& j = m.joint_materials[jm];
-        Strength st;
-        st.tan_phi = std::tan(j.friction * deg);
-        st.coh = j.cohesion;
-        st.ten = j.tension;
-        st.model2 = cs.jcons[c] == 2;
-        st.tan_res = st.model2 ? std::tan(j.res_friction * deg) : st.tan_phi;
+        const JointMaterial& j = *jp;
+        const Strength st = strength_of(j, cs.jcons[c]);
         const bool joined = cs.joined[c] != 0;
         const Vec3 n = cs.normal[c];
         // The flat faces of a facing b (+n) and of b facing a (-n).
@@ -365,7 +376,7 @@ void load_contacts(Model& m, const Range& r, const StressField& f, const std::ve
                 const double twice = nrm.norm();
                 if (!(twice > 0)) continue;
                 const double cosine = nrm.dot(out) / twice;
-                if (cosine < kFlat) continue;
+                if (cosine < kFlatToPlane) continue;
                 int me = 0;
                 while (me < 3 && q[me] != gp) ++me;
                 const Vec3& xi = g.pos[q[me]];
@@ -459,21 +470,11 @@ int shift_joint_water(Model& m, const std::vector<double>& old_pp) {
     ContactSet& cs = m.contacts;
     const FlowSet& f = m.flow;
     if (static_cast<int>(old_pp.size()) != f.n_nodes() || static_cast<int>(f.sub_node.size()) != cs.n_subs()) return 0;
-    const double deg = M_PI / 180.0;
     int shifted = 0;
     for (int c = 0; c < cs.size(); ++c) {
-        const int jm = cs.jmat[c];
-        if (!(jm > 0 && jm < static_cast<int>(m.joint_materials.size()) && m.joint_materials[jm].defined &&
-              m.joint_materials[jm].kn > 0)) {
-            continue;
-        }
-        const JointMaterial& j = m.joint_materials[jm];
-        Strength st;
-        st.tan_phi = std::tan(j.friction * deg);
-        st.coh = j.cohesion;
-        st.ten = j.tension;
-        st.model2 = cs.jcons[c] == 2;
-        st.tan_res = st.model2 ? std::tan(j.res_friction * deg) : st.tan_phi;
+        const JointMaterial* j = stiff_material(m, c);
+        if (!j) continue;
+        const Strength st = strength_of(*j, cs.jcons[c]);
         const Vec3 n = cs.normal[c];
         for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
             const int node = f.sub_node[k];
@@ -482,7 +483,7 @@ int shift_joint_water(Model& m, const std::vector<double>& old_pp) {
             if (dp == 0) continue;
             // The total stress stays: the springs carry what the water no longer does.
             const Vec3 traction = (cs.sub_sn[k] - dp) * n + cs.sub_ss[k];
-            load_sub(cs, k, n, traction, j.kn, cs.joined[c] != 0, st);
+            load_sub(cs, k, n, traction, j->kn, cs.joined[c] != 0, st);
             ++shifted;
         }
     }

@@ -44,6 +44,20 @@ void report(const char* what, double computed, double analytic, const char* unit
                 100.0 * (computed - analytic) / analytic);
 }
 
+// flow-opening.dat with the pressure held at p + 250 Pa along x = 0 and p - 250 Pa along x = 4;
+// `zoned`: the upper block zoned, the lower one held.
+std::string opening_script(double p, bool zoned) {
+    char in[48], out[48];
+    std::snprintf(in, sizeof in, "bound pp %.6g range x -0.01", p + 250);
+    std::snprintf(out, sizeof out, "bound pp %.6g range x 3.99", p - 250);
+    std::string script = with(script_text("flow-opening.dat"), "bound pp 20250 range x -0.01", in);
+    script = with(script, "bound pp 19750 range x 3.99", out);
+    if (zoned) {
+        script = with(script, "fix range z -1 0\n", "prop mat=1 k=2e10 g=1.5e10\ngen edge 0.5 range z 0 1\nfix range z -1 -0.01\n");
+    }
+    return script;
+}
+
 // The flow the fixed nodes at x < x_max feed in (the inlet side), m^3/s.
 double inflow_left(const odec::Model& m, double x_max) {
     const odec::FlowSet& f = m.flow;
@@ -154,12 +168,7 @@ TEST(Flow, JointOpensUnderPressureAndFlowFollowsTheCubicLaw) {
     double q_first = 0, q_last = 0;
     for (double p : {1000.0, 10000.0, 20000.0}) {
         Session s;
-        char in[48], out[48];
-        std::snprintf(in, sizeof in, "bound pp %.6g range x -0.01", p + dp / 2);
-        std::snprintf(out, sizeof out, "bound pp %.6g range x 3.99", p - dp / 2);
-        std::string script = with(script_text("flow-opening.dat"), "bound pp 20250 range x -0.01", in);
-        script = with(script, "bound pp 19750 range x 3.99", out);
-        ASSERT_TRUE(s.run(script)) << s.error();
+        ASSERT_TRUE(s.run(opening_script(p, false))) << s.error();
         const double a_exact = azero - (sigma - p) / kn;
         const odec::ContactFlow cf = odec::contact_flow(s.model, 0);
         char what[64];
@@ -358,13 +367,7 @@ TEST(Flow, DeformableJointOpensUnderPressure) {
     const double sigma = 25000, kn = 1e8, azero = 3e-4, w = 2, l = 4, mu = 1e-3, dp = 500;
     for (double p : {1000.0, 20000.0}) {
         Session s;
-        char in[48], out[48];
-        std::snprintf(in, sizeof in, "bound pp %.6g range x -0.01", p + dp / 2);
-        std::snprintf(out, sizeof out, "bound pp %.6g range x 3.99", p - dp / 2);
-        std::string script = with(script_text("flow-opening.dat"), "bound pp 20250 range x -0.01", in);
-        script = with(script, "bound pp 19750 range x 3.99", out);
-        script = with(script, "fix range z -1 0\n", "prop mat=1 k=2e10 g=1.5e10\ngen edge 0.5 range z 0 1\nfix range z -1 -0.01\n");
-        ASSERT_TRUE(s.run(script)) << s.error();
+        ASSERT_TRUE(s.run(opening_script(p, true))) << s.error();
         const double a_exact = azero - (sigma - p) / kn;
         const odec::ContactFlow cf = odec::contact_flow(s.model, 0);
         char what[72];
