@@ -79,6 +79,9 @@ namespace odec {
 namespace {
 
 constexpr int kCap = 96; // polygon vertex capacity: a face clipped by a face
+// A crossing of edges this close to a corner (times ctol, seen along the normal) is the corner
+// (snap_to_corner).
+constexpr double kCornerSnap = 1e-6;
 
 // Labels. An edge label names a polyhedron edge or the band line of a face, on one block;
 // a vertex key names a block vertex, or the crossing of two edge labels. Keys survive
@@ -128,6 +131,39 @@ inline std::int64_t as_vertex(std::int64_t key, int nv_a, int nv_b) {
     if (i1 == i2 || i1 == j2) return corner_key(side, i1);
     if (j1 == i2 || j1 == j2) return corner_key(side, j1);
     return key;
+}
+
+// A crossing of two block edges that lies within `snap` of an end of either edge, as seen along
+// the normal, is that corner (the nearest; corner_key), else the crossing itself. Blocks cut to
+// one thickness (the voussoirs of a plane arch, the stones of a wall) have their side faces on
+// one plane: a corner of one lies on the other's side face, in or out of its footprint by the
+// rounding of its coordinates. Taken as a crossing while it is out, it would carry the sliver
+// share of a crossing, and as a corner pressing in, its own area, a thousand times more: the
+// hinge of such an arch would change its stiffness, and its springs their energy, with the
+// last bit of a coordinate.
+std::int64_t snap_to_corner(std::int64_t key, double u, double v, const std::vector<double>& uv_a,
+                            const std::vector<double>& uv_b, double snap) {
+    if (!is_crossing(key)) return key;
+    const std::int32_t labels[2] = {crossing_lo(key), crossing_hi(key)};
+    if ((labels[0] | labels[1]) & (kEdgeBand | kEdgeTouch)) return key; // band or overlap lines
+    std::int64_t out = key;
+    double best = snap * snap;
+    for (const std::int32_t l : labels) {
+        const int side = (l & kEdgeSideB) ? 1 : 0;
+        const std::vector<double>& uv = side ? uv_b : uv_a;
+        const int nv = static_cast<int>(uv.size() / 2);
+        if (nv <= 0 || nv >= 16384) continue; // labels of larger blocks are not decoded
+        const int idx = l & (kEdgeTouch - 1);
+        for (const int vtx : {idx / nv, idx % nv}) {
+            const double du = uv[2 * vtx] - u, dv = uv[2 * vtx + 1] - v;
+            const double d2 = du * du + dv * dv;
+            if (d2 <= best) { // false for NaN: a corner of no presented face
+                best = d2;
+                out = corner_key(side, vtx);
+            }
+        }
+    }
+    return out;
 }
 
 struct Poly {
@@ -316,6 +352,22 @@ void present_faces(const BlockView& s, const Frame& fr, int side, double tol, st
     }
 }
 
+// Where each block's vertices lie on the common plane, (u, v) per vertex, from the corners of
+// the faces it presents (NaN for the vertices of none).
+void corner_places(const std::vector<Piece>& pieces, int nv, std::vector<double>& uv) {
+    uv.assign(2 * static_cast<size_t>(nv), std::numeric_limits<double>::quiet_NaN());
+    for (const Piece& pc : pieces) {
+        for (int k = 0; k < pc.poly.n; ++k) {
+            const std::int64_t key = pc.poly.vkey[k];
+            if (is_crossing(key)) continue;
+            const int vtx = corner_vertex(key);
+            if (vtx >= nv) continue;
+            uv[2 * vtx] = pc.poly.u[k];
+            uv[2 * vtx + 1] = pc.poly.v[k];
+        }
+    }
+}
+
 struct NewSub {
     std::int64_t key;
     double area;
@@ -334,6 +386,13 @@ void polygon_subcontacts(const Frame& fr, const std::vector<Piece>& pa, const st
                          const std::vector<double>& nodal_b) {
     const int nv_a = static_cast<int>(nodal_a.size()), nv_b = static_cast<int>(nodal_b.size());
     out.clear();
+    thread_local std::vector<double> uv_a, uv_b;
+    corner_places(pa, nv_a, uv_a);
+    corner_places(pb, nv_b, uv_b);
+    const double snap = kCornerSnap * tol;
+    auto key_at = [&](std::int64_t key, double u, double v) {
+        return snap_to_corner(as_vertex(key, nv_a, nv_b), u, v, uv_a, uv_b, snap);
+    };
     Poly q, tmp;
     // Faces on the plane first. Where two faces lie on the plane and overlap over an area of at
     // least ctol^2, the blocks meet face to face, and a face tilted beside one of them can reach
@@ -362,7 +421,7 @@ void polygon_subcontacts(const Frame& fr, const std::vector<Piece>& pa, const st
             if (tilted != (pass == 1)) continue;
             clip_convex(A.poly, B.poly, B.orient, eps, q, tmp);
             if (q.n < 3) continue;
-            for (int i = 0; i < q.n; ++i) q.vkey[i] = as_vertex(q.vkey[i], nv_a, nv_b);
+            for (int i = 0; i < q.n; ++i) q.vkey[i] = key_at(q.vkey[i], q.u[i], q.v[i]);
             if (!tilted) {
                 flat_area += std::abs(signed_area(q));
                 for (int i = 0; i < q.n; ++i) {
@@ -382,7 +441,7 @@ void polygon_subcontacts(const Frame& fr, const std::vector<Piece>& pa, const st
                 if (q.n < 3) continue;
                 bool sliver = flat_area >= tol * tol;
                 for (int i = 0; i < q.n; ++i) {
-                    q.vkey[i] = as_vertex(q.vkey[i], nv_a, nv_b);
+                    q.vkey[i] = key_at(q.vkey[i], q.u[i], q.v[i]);
                     has_corner |= key_side(q.vkey[i]) < 2;
                     sliver = sliver && near_edge(q.u[i], q.v[i]);
                 }
@@ -1285,23 +1344,35 @@ void detect_contacts(Model& m) {
                 }
                 return false;
             };
-            // How far x is inside the block (negative: outside).
-            auto inside = [&](int blk, const Vec3& x) {
+            // How far x has gone into the block through its faces that face x's own block (those
+            // whose outward normal points against `toward`, the normal from x's block to this
+            // one), or -infinity when x is beside the block: outside one of its other faces by more
+            // than depth_min. A corner on the plane of a side face (blocks of one thickness: every
+            // voussoir's corner of a plane arch lies on its neighbour's side faces) presses in as
+            // far as it went through the facing faces.
+            auto inside = [&](int blk, const Vec3& x, const Vec3& toward) {
                 const BlockView view{s.world_vertices.data() + s.vertex_offset[blk], &s.shape[blk]};
                 double depth = std::numeric_limits<double>::infinity();
-                for (int f = 0; f < view.topo->n_faces() && depth > deeper; ++f) {
-                    depth = std::min(depth, -world_face_normal(view, f).dot(x - view.v[view.topo->face_vertex(f, 0)]));
+                for (int f = 0; f < view.topo->n_faces(); ++f) {
+                    const Vec3 nf = world_face_normal(view, f);
+                    const double d = -nf.dot(x - view.v[view.topo->face_vertex(f, 0)]);
+                    if (nf.dot(toward) < -1e-3) {
+                        depth = std::min(depth, d);
+                        if (depth <= deeper) return depth;
+                    } else if (d < -depth_min) {
+                        return -std::numeric_limits<double>::infinity();
+                    }
                 }
                 return depth;
             };
             bool found = false;
             for (int i = a0; i < a1 && !found; ++i) {
                 const Vec3& x = s.world_vertices[i];
-                found = nrm.dot(x) - lo_b > deeper && !tracked(0, i - a0) && inside(b, x) > deeper;
+                found = nrm.dot(x) - lo_b > deeper && !tracked(0, i - a0) && inside(b, x, nrm) > deeper;
             }
             for (int i = b0; i < b1 && !found; ++i) {
                 const Vec3& x = s.world_vertices[i];
-                found = hi_a - nrm.dot(x) > deeper && !tracked(1, i - b0) && inside(a, x) > deeper;
+                found = hi_a - nrm.dot(x) > deeper && !tracked(1, i - b0) && inside(a, x, -nrm) > deeper;
             }
             close_mark[c] = found;
         }
@@ -1404,6 +1475,12 @@ double contact_touch_area(const Model& m, int c) {
     // carries nothing and is open).
     const int nv_a = s.shape[a].n_vertices(), nv_b = s.shape[b].n_vertices();
     const double eps = 1e-9 * tol;
+    std::vector<double> uv_a, uv_b;
+    corner_places(pa, nv_a, uv_a);
+    corner_places(pb, nv_b, uv_b);
+    auto key_at = [&](std::int64_t key, double u, double v) {
+        return snap_to_corner(as_vertex(key, nv_a, nv_b), u, v, uv_a, uv_b, kCornerSnap * tol);
+    };
     double area = 0;
     std::vector<std::int64_t> pressing, on_plane;
     Poly q, tmp;
@@ -1412,7 +1489,7 @@ double contact_touch_area(const Model& m, int c) {
             clip_convex(A.poly, B.poly, B.orient, eps, q, tmp);
             if (q.n < 3) continue;
             if (A.flat && B.flat) {
-                for (int i = 0; i < q.n; ++i) on_plane.push_back(as_vertex(q.vkey[i], nv_a, nv_b));
+                for (int i = 0; i < q.n; ++i) on_plane.push_back(key_at(q.vkey[i], q.u[i], q.v[i]));
                 continue;
             }
             clip_step(q, [&](int i) { return A.height(q.u[i], q.v[i]) - B.height(q.u[i], q.v[i]); }, eps, 0, tmp);
@@ -1420,7 +1497,7 @@ double contact_touch_area(const Model& m, int c) {
             if (q.n < 3) continue;
             area += std::abs(signed_area(q));
             for (int i = 0; i < q.n; ++i) {
-                const std::int64_t key = as_vertex(q.vkey[i], nv_a, nv_b);
+                const std::int64_t key = key_at(q.vkey[i], q.u[i], q.v[i]);
                 if (key_side(key) < 2) pressing.push_back(key);
             }
         }

@@ -140,7 +140,7 @@ TEST(SolveVerdict, AStableButSlowBlockIsNotConvergedWithAFallingRatioNotAMechani
 }
 
 // A 6 m cube cut by bedding dipping 25 degrees toward a free face (east) and by two steep sets
-// (examples/tutorial/jointed-block.dat with its bedding tilted): with joint friction 25 the
+// (examples/tutorial/jointed-block.dat with its bedding tilted): with joint friction 26 the
 // slope stands, but settles slowly; with 20 it slides.
 std::string jointed_slope(int friction) {
     return "poly brick 0 6 0 6 -2 6\njset dip 25 dd 90 origin 0,0,2 spacing 2 number 3\n"
@@ -151,17 +151,18 @@ std::string jointed_slope(int friction) {
 
 TEST(SolveVerdict, AStableButSlowSlopeDoesNotReadLikeAFailingOne) {
     Talking stable;
-    // Real masses: density scaling brings this slope to rest within the 2000 steps. (In its first
-    // 1000 steps a corner of block 14 presses into block 22 and is pushed back out, a short
-    // steady slide; then the slope settles.)
-    ASSERT_TRUE(stable.run("config dyn\n" + jointed_slope(25) + "solve cycles 2000")) << stable.error();
+    // Real masses: density scaling brings this slope to rest within the 1000 steps. Friction 26
+    // on the 25 degree bedding: at 25 the block on the bedding at the toe (block 14) is in
+    // neutral equilibrium, and whether it stops or slides on at the speed it was given depends
+    // on how its corners meet its neighbours, not on the verdict this test is about.
+    ASSERT_TRUE(stable.run("config dyn\n" + jointed_slope(26) + "solve cycles 1000")) << stable.error();
     const odec::SolveVerdict a = *stable.interp.last_solve;
     EXPECT_EQ(a.outcome, SolveOutcome::NotConverged);
     ASSERT_TRUE(a.trend_known);
     EXPECT_LT(a.decades_per_step, 0);
     EXPECT_GT(a.steps_to_limit, 0);
     EXPECT_TRUE(a.moving.empty());
-    EXPECT_NE(stable.said().find("solve: not converged within the step limit (2000 steps): ratio "), std::string::npos)
+    EXPECT_NE(stable.said().find("solve: not converged within the step limit (1000 steps): ratio "), std::string::npos)
         << stable.said();
     EXPECT_NE(stable.said().find(" the ratio fell from "), std::string::npos) << stable.said();
     ASSERT_TRUE(stable.run("solve")) << stable.error();
