@@ -23,7 +23,7 @@ const char* contact_state_name(ContactState s) {
 
 void ContactSet::clear() {
     id.clear(); block_a.clear(); block_b.clear(); normal.clear(); point.clear(); gap.clear();
-    jmat.clear(); jcons.clear(); joined.clear(); sub_offset.assign(1, 0);
+    jmat.clear(); jcons.clear(); joined.clear(); free_motion.clear(); sub_offset.assign(1, 0);
     sub_side.clear(); sub_key.clear(); sub_area.clear();
     sub_local.clear(); sub_un.clear(); sub_udil.clear(); sub_sn.clear(); sub_us.clear(); sub_ss.clear();
     sub_flags.clear(); sub_tri.clear();

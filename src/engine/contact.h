@@ -70,6 +70,10 @@ struct ContactSet {
     std::vector<int> jcons;               // (n_contacts) joint model (1 or 2)
     std::vector<std::uint8_t> joined;     // (n_contacts) 1: glued (no slip, no opening)
     std::vector<int> sub_offset;          // (n_contacts + 1) first sub-contact of each contact
+    std::vector<double> free_motion;      // (n_contacts) m, derived (not saved): how far its blocks may
+                                          //          move (`movement` since their geometry references)
+                                          //          before a corner that carries no sub-contact could
+                                          //          press into the other block; -infinity: unknown
 
     // ---- per sub-contact (n_subs) ----
     // Its contact is the one whose sub_offset range holds it (sub_owner), and the vertex or

@@ -81,7 +81,13 @@ namespace {
 constexpr int kCap = 96; // polygon vertex capacity: a face clipped by a face
 // A crossing of edges this close to a corner (times ctol, seen along the normal) is the corner
 // (snap_to_corner).
-constexpr double kCornerSnap = 1e-6;
+constexpr double kCornerSnap = 1e-3;
+// The depth (times ctol) past which a corner that carries no sub-contact and has pressed into
+// the other block has its contact rebuilt at once (detect_contacts).
+constexpr double kClosingDepth = 1e-6;
+// A rebuild that would leave a contact's springs holding more than this times the energy they
+// held is held to what they held (limit_rebuild_energy).
+constexpr double kRebuildGrowth = 1.5;
 
 // Labels. An edge label names a polyhedron edge or the band line of a face, on one block;
 // a vertex key names a block vertex, or the crossing of two edge labels. Keys survive
@@ -532,7 +538,7 @@ double movement(const ContactSet& cs, const BlockSet& s, int b, const std::vecto
 
 void clear_arrays(ContactSet& x) {
     x.id.clear(); x.block_a.clear(); x.block_b.clear(); x.normal.clear(); x.point.clear(); x.gap.clear();
-    x.jmat.clear(); x.jcons.clear(); x.joined.clear(); x.sub_offset.assign(1, 0);
+    x.jmat.clear(); x.jcons.clear(); x.joined.clear(); x.free_motion.clear(); x.sub_offset.assign(1, 0);
     x.sub_side.clear(); x.sub_key.clear();
     x.sub_area.clear(); x.sub_local.clear(); x.sub_un.clear(); x.sub_udil.clear(); x.sub_sn.clear();
     x.sub_us.clear(); x.sub_ss.clear(); x.sub_flags.clear(); x.sub_tri.clear();
@@ -542,6 +548,7 @@ void clear_arrays(ContactSet& x) {
 template <class F>
 void each_contact_array(ContactSet& x, F&& f) {
     f(x.id); f(x.block_a); f(x.block_b); f(x.normal); f(x.point); f(x.gap); f(x.jmat); f(x.jcons); f(x.joined);
+    f(x.free_motion);
 }
 // f applied to each per-sub-contact array of x, the triangles too when `tri`.
 template <class F>
@@ -638,7 +645,7 @@ public:
         const int c = wc_;
         cs_.id[c] = take_id(cs_, x.id[f]); cs_.block_a[c] = x.block_a[f]; cs_.block_b[c] = x.block_b[f];
         cs_.normal[c] = x.normal[f]; cs_.point[c] = x.point[f]; cs_.gap[c] = x.gap[f];
-        cs_.jmat[c] = x.jmat[f]; cs_.jcons[c] = x.jcons[f]; cs_.joined[c] = x.joined[f];
+        cs_.jmat[c] = x.jmat[f]; cs_.jcons[c] = x.jcons[f]; cs_.joined[c] = x.joined[f]; cs_.free_motion[c] = x.free_motion[f];
         for (int i = 0; i < n; ++i) {
             const int j = j0 + i, k = wk_ + i;
             cs_.sub_side[k] = x.sub_side[j]; cs_.sub_key[k] = x.sub_key[j]; cs_.sub_area[k] = x.sub_area[j];
@@ -887,6 +894,7 @@ struct Detector {
         next.normal.push_back(cp.normal);
         next.point.push_back(cp.point);
         next.gap.push_back(cp.gap);
+        next.free_motion.push_back(-std::numeric_limits<double>::infinity());
     }
 
     // Build contact (a, b), one of them deformable, from its gridpoints (contact_gridpoint.h).
@@ -929,10 +937,12 @@ struct Detector {
             // points' areas and places would change the energy its springs hold without work
             // (on joints of 1e8 Pa/m, a pendulum of glued blocks gained or lost 0.4 %).
             push_header(a, b, oc, va, vb, cp);
+            const int first = next.n_subs();
             for (int k = old.k0; k < old.k1; ++k) {
                 push_sub(next, cs.sub_side[k], cs.sub_key[k], cs.sub_area[k], cs.sub_local[k]);
                 push_history(k, cs.sub_un[k], false, cp.normal);
             }
+            next.free_motion.back() = clearance(a, b, cp.normal, first);
             next.sub_offset.push_back(next.n_subs());
             return true;
         }
@@ -965,6 +975,9 @@ struct Detector {
         // Merge with the old sub-contacts: both lists are in key order.
         int k = old.k0;
         const int k_end = old.k1;
+        const int first = next.n_subs();
+        born.clear();
+        old_area.clear();
         for (const NewSub& ns : subs) {
             while (k < k_end && cs.sub_key[k] < ns.key) ++k;
             const int side = key_side(ns.key);
@@ -972,6 +985,8 @@ struct Detector {
             const Vec3 local = rot[side == 1 ? 1 : 0].transpose() * (ns.x - s.centroid[owner]);
             push_sub(next, side, ns.key, ns.area, local);
             const bool moving = on_touch_line(ns.key);
+            born.push_back(!(k < k_end && cs.sub_key[k] == ns.key) || moving || plane_turned);
+            old_area.push_back(k < k_end && cs.sub_key[k] == ns.key ? cs.sub_area[k] : 0.0);
             if (k < k_end && cs.sub_key[k] == ns.key) {
                 push_history(k, ns.closure, moving, cp.normal);
             } else {
@@ -995,9 +1010,98 @@ struct Detector {
                 push_history(j, cs.sub_un[j], false, cp.normal);
             }
         }
+        if (m.settings.dynamic && oc >= 0) limit_rebuild_energy(old, first);
+        next.free_motion.back() = clearance(a, b, cp.normal, first);
         next.sub_offset.push_back(next.n_subs());
         return true;
     }
+
+    // A rebuild is no event of the blocks' motion: in dynamic mode (where energy is real) the
+    // energy the contact's springs hold may not jump by it. Areas and closures are made to
+    // carry over smoothly (see the top), but where the geometry fails that (thin convex pieces
+    // of blocks striking each other at speed, a corner that went in unseen), the springs born
+    // or grown in area by this rebuild (`born`, `old_area`) would hold up to thousands of times
+    // what the contact held: the collapsing corpus arch gained megajoules that way. When the
+    // contact's springs would hold more than kRebuildGrowth times what they held, the closures
+    // and shear stresses of those springs are scaled down so that it holds what it held (or
+    // what its unchanged springs hold): the blocks overlap by the rest, unloaded, until they
+    // part. Smaller changes, the rule's own, are left alone.
+    void limit_rebuild_energy(const OldRef& old, int first) {
+        const int jm = next.jmat.back();
+        if (jm <= 0 || jm >= static_cast<int>(m.joint_materials.size()) || !m.joint_materials[jm].defined) return;
+        const double kn = m.joint_materials[jm].kn, ks = m.joint_materials[jm].ks;
+        if (!(kn > 0 && ks > 0)) return;
+        // Twice the energy of a spring of area `area`, normal closure `un`, shear stress `ss`.
+        auto e = [&](double area, double un, const Vec3& ss) {
+            return area * ((un > 0 ? kn * un * un : 0.0) + ss.squaredNorm() / ks);
+        };
+        double e_old = 0, e_keep = 0, e_changed = 0;
+        for (int j = old.k0; j < old.k1; ++j) e_old += e(cs.sub_area[j], cs.sub_un[j] + cs.sub_udil[j], cs.sub_ss[j]);
+        for (int i = 0; i < static_cast<int>(born.size()); ++i) {
+            const int q = first + i;
+            if (!born[i] && next.sub_area[q] > (1 + 1e-9) * old_area[i]) born[i] = 1;
+            (born[i] ? e_changed : e_keep) += e(next.sub_area[q], next.sub_un[q] + next.sub_udil[q], next.sub_ss[q]);
+        }
+        if (!(e_changed > 0 && e_keep + e_changed > kRebuildGrowth * e_old)) return;
+        const double f = std::sqrt(std::max(0.0, e_old - e_keep) / e_changed);
+        for (int i = 0; i < static_cast<int>(born.size()); ++i) {
+            if (!born[i]) continue;
+            const int q = first + i;
+            const double c = next.sub_un[q] + next.sub_udil[q];
+            if (c > 0) next.sub_un[q] = f * c - next.sub_udil[q];
+            next.sub_ss[q] *= f;
+        }
+    }
+
+    // How far blocks a and b may move, as `movement` measures it since their geometry
+    // references, before a corner of either that carries none of the sub-contacts from `first`
+    // on could have pressed into the other as the closing check looks for (detect_contacts):
+    // the least distance of such a corner outside the other block (the largest of its distances
+    // over the other's face planes, which a motion of either block changes by no more than the
+    // motion), less the corner snap, less how far the blocks have moved since their references.
+    // A corner over or under a corner of the other block that carries a sub-contact, as seen
+    // along the normal, is carried by it (two blocks' corners meeting).
+    double clearance(int a, int b, const Vec3& nrm, int first) const {
+        const BlockSet& s = m.blocks;
+        const double snap = kCornerSnap * tol;
+        const int off[2] = {s.vertex_offset[a], s.vertex_offset[b]};
+        const int end[2] = {s.vertex_offset[a + 1], s.vertex_offset[b + 1]};
+        const BlockView views[2] = {view(a), view(b)};
+        auto tracked = [&](int side, int vertex) {
+            const Vec3& x = s.world_vertices[off[side] + vertex];
+            for (int k = first; k < next.n_subs(); ++k) {
+                const int sk = next.sub_side[k];
+                if (sk > 1) continue;
+                const int vk = corner_vertex(next.sub_key[k]);
+                if (sk == side) {
+                    if (vk == vertex) return true;
+                    continue;
+                }
+                const Vec3 d = s.world_vertices[off[sk] + vk] - x;
+                if ((d - nrm.dot(d) * nrm).squaredNorm() <= snap * snap) return true;
+            }
+            return false;
+        };
+        double clear = std::numeric_limits<double>::infinity();
+        for (int side = 0; side < 2; ++side) {
+            const BlockView& other = views[1 - side];
+            for (int i = off[side]; i < end[side]; ++i) {
+                if (tracked(side, i - off[side])) continue;
+                const Vec3& x = s.world_vertices[i];
+                double outside = -std::numeric_limits<double>::infinity();
+                for (int f = 0; f < other.topo->n_faces(); ++f) {
+                    outside = std::max(outside, world_face_normal(other, f).dot(x - other.v[other.topo->face_vertex(f, 0)]));
+                }
+                clear = std::min(clear, outside);
+            }
+        }
+        return clear - snap - movement(cs, s, a, cs.geo_centroid, cs.geo_orientation) -
+               movement(cs, s, b, cs.geo_centroid, cs.geo_orientation);
+    }
+    // Per sub-contact of the contact being built: its spring is new (born, or its closure taken
+    // from the geometry), and the area it had before (0: none).
+    std::vector<char> born;
+    std::vector<double> old_area;
 };
 
 // One contact to build in a pass: blocks a < b, carrying the history of old contact oc (-1: new).
@@ -1162,6 +1266,10 @@ double contact_tolerance(const Model& m) {
 }
 
 void detect_contacts(Model& m) {
+    // Unknown (a restored model, contacts made elsewhere): looked at every step until rebuilt.
+    if (m.contacts.free_motion.size() != static_cast<size_t>(m.contacts.size())) {
+        m.contacts.free_motion.assign(m.contacts.size(), -std::numeric_limits<double>::infinity());
+    }
     ContactSet& cs = m.contacts;
     BlockSet& s = m.blocks;
     const int n = s.size();
@@ -1301,9 +1409,10 @@ void detect_contacts(Model& m) {
         // refresh, a toe that lifts off for a moment would sink back unseen, and its force
         // would start from the overlap it reached: on stiff joints a kick that throws the
         // block off its pivot.
-        const double depth_min = 1e-6 * cs.ctol;
+        const double depth_min = kClosingDepth * cs.ctol;
         const int nc = cs.size();
         closing.assign(nc, 0);
+        const double* free_motion = cs.free_motion.data();
         // The threads reach these thread_local arrays through pointers (named in the loop, a
         // thread_local would be each worker's own).
         char* close_mark = closing.data();
@@ -1311,9 +1420,13 @@ void detect_contacts(Model& m) {
 #pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && nc >= kParallelMinItems)
         for (int c = 0; c < nc; ++c) {
             const int k0 = cs.sub_offset[c], k1 = cs.sub_offset[c + 1];
-            if (k1 - k0 > 2) continue; // a face on a face: the tracking rule above
             const int a = cs.block_a[c], b = cs.block_b[c];
+            // A zoned block's faces on a face: the tracking rule above. Between rigid blocks, a
+            // contact of more sub-contacts is looked at too: a hinge whose face closes onto the
+            // other's, a corner that comes down beside a face on a face.
+            if (k1 - k0 > 2 && ((s.flags[a] | s.flags[b]) & kDeformable)) continue;
             if (!(mot[a] + mot[b] > 0)) continue;
+            if (mot[a] + mot[b] < free_motion[c]) continue; // no corner could have reached in yet
             // Deeper than when it was built by depth_min; for a contact that touches nowhere and
             // was built touching (blocks cut from one another, meeting along an edge) or already
             // overlapping without area (edges along one line), by a thousandth of ctol: looking
@@ -1335,21 +1448,33 @@ void detect_contacts(Model& m) {
                 close_mark[c] = 1;
                 continue;
             }
-            // An edge or a corner on a face (one or two sub-contacts): a vertex that carries
-            // none and has gone into the other block (the other corner of a toe coming down)
-            // counts as well.
+            // A vertex that carries no sub-contact and has gone into the other block (the other
+            // corner of a toe coming down, the far edge of a hinge's face closing) counts as well;
+            // one over or under a corner of the other block that carries one, as seen along the
+            // normal, does not (two blocks' corners meeting, the sub-contact keyed by one of them).
+            const double snap2 = kCornerSnap * cs.ctol * kCornerSnap * cs.ctol;
+            const int off[2] = {a0, b0};
             auto tracked = [&](int side, int vertex) {
+                const Vec3& x = s.world_vertices[off[side] + vertex];
                 for (int k = k0; k < k1; ++k) {
-                    if (cs.sub_side[k] == side && cs.sub_vertex(k) == vertex) return true;
+                    const int sk = cs.sub_side[k];
+                    if (sk > 1) continue;
+                    const int vk = cs.sub_vertex(k);
+                    if (sk == side) {
+                        if (vk == vertex) return true;
+                        continue;
+                    }
+                    const Vec3 d = s.world_vertices[off[sk] + vk] - x;
+                    if ((d - nrm.dot(d) * nrm).squaredNorm() <= snap2) return true;
                 }
                 return false;
             };
             // How far x has gone into the block through its faces that face x's own block (those
             // whose outward normal points against `toward`, the normal from x's block to this
             // one), or -infinity when x is beside the block: outside one of its other faces by more
-            // than depth_min. A corner on the plane of a side face (blocks of one thickness: every
-            // voussoir's corner of a plane arch lies on its neighbour's side faces) presses in as
-            // far as it went through the facing faces.
+            // than the corner snap (kCornerSnap). A corner on the plane of a side face (blocks of
+            // one thickness: every voussoir's corner of a plane arch lies on its neighbour's side
+            // faces) presses in as far as it went through the facing faces.
             auto inside = [&](int blk, const Vec3& x, const Vec3& toward) {
                 const BlockView view{s.world_vertices.data() + s.vertex_offset[blk], &s.shape[blk]};
                 double depth = std::numeric_limits<double>::infinity();
@@ -1359,7 +1484,7 @@ void detect_contacts(Model& m) {
                     if (nf.dot(toward) < -1e-3) {
                         depth = std::min(depth, d);
                         if (depth <= deeper) return depth;
-                    } else if (d < -depth_min) {
+                    } else if (d < -kCornerSnap * cs.ctol) {
                         return -std::numeric_limits<double>::infinity();
                     }
                 }
