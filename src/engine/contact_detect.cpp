@@ -536,6 +536,27 @@ double movement(const ContactSet& cs, const BlockSet& s, int b, const std::vecto
     return dx + 2.0 * std::asin(sin_half) * cs.radius[b];
 }
 
+// Whether sub-contacts [k0, k1) of x carry corner `vertex` of block side `side` (0: block a,
+// 1: block b; off: the blocks' first entries in wv, the world vertices): one of them is that
+// corner, or a corner of the other block within `snap` of it as seen along the normal nrm (two
+// blocks' corners meeting, the sub-contact keyed by one of them).
+bool corner_carried(const ContactSet& x, int k0, int k1, const std::vector<Vec3>& wv, const int off[2], int side,
+                    int vertex, const Vec3& nrm, double snap) {
+    const Vec3& p = wv[off[side] + vertex];
+    for (int k = k0; k < k1; ++k) {
+        const int sk = x.sub_side[k];
+        if (sk > 1) continue;
+        const int vk = corner_vertex(x.sub_key[k]);
+        if (sk == side) {
+            if (vk == vertex) return true;
+            continue;
+        }
+        const Vec3 d = wv[off[sk] + vk] - p;
+        if ((d - nrm.dot(d) * nrm).squaredNorm() <= snap * snap) return true;
+    }
+    return false;
+}
+
 void clear_arrays(ContactSet& x) {
     x.id.clear(); x.block_a.clear(); x.block_b.clear(); x.normal.clear(); x.point.clear(); x.gap.clear();
     x.jmat.clear(); x.jcons.clear(); x.joined.clear(); x.free_motion.clear(); x.sub_offset.assign(1, 0);
@@ -1068,19 +1089,7 @@ struct Detector {
         const int end[2] = {s.vertex_offset[a + 1], s.vertex_offset[b + 1]};
         const BlockView views[2] = {view(a), view(b)};
         auto tracked = [&](int side, int vertex) {
-            const Vec3& x = s.world_vertices[off[side] + vertex];
-            for (int k = first; k < next.n_subs(); ++k) {
-                const int sk = next.sub_side[k];
-                if (sk > 1) continue;
-                const int vk = corner_vertex(next.sub_key[k]);
-                if (sk == side) {
-                    if (vk == vertex) return true;
-                    continue;
-                }
-                const Vec3 d = s.world_vertices[off[sk] + vk] - x;
-                if ((d - nrm.dot(d) * nrm).squaredNorm() <= snap * snap) return true;
-            }
-            return false;
+            return corner_carried(next, first, next.n_subs(), s.world_vertices, off, side, vertex, nrm, snap);
         };
         double clear = std::numeric_limits<double>::infinity();
         for (int side = 0; side < 2; ++side) {
@@ -1452,22 +1461,9 @@ void detect_contacts(Model& m) {
             // corner of a toe coming down, the far edge of a hinge's face closing) counts as well;
             // one over or under a corner of the other block that carries one, as seen along the
             // normal, does not (two blocks' corners meeting, the sub-contact keyed by one of them).
-            const double snap2 = kCornerSnap * cs.ctol * kCornerSnap * cs.ctol;
             const int off[2] = {a0, b0};
             auto tracked = [&](int side, int vertex) {
-                const Vec3& x = s.world_vertices[off[side] + vertex];
-                for (int k = k0; k < k1; ++k) {
-                    const int sk = cs.sub_side[k];
-                    if (sk > 1) continue;
-                    const int vk = cs.sub_vertex(k);
-                    if (sk == side) {
-                        if (vk == vertex) return true;
-                        continue;
-                    }
-                    const Vec3 d = s.world_vertices[off[sk] + vk] - x;
-                    if ((d - nrm.dot(d) * nrm).squaredNorm() <= snap2) return true;
-                }
-                return false;
+                return corner_carried(cs, k0, k1, s.world_vertices, off, side, vertex, nrm, kCornerSnap * cs.ctol);
             };
             // How far x has gone into the block through its faces that face x's own block (those
             // whose outward normal points against `toward`, the normal from x's block to this
