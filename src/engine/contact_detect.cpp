@@ -1082,7 +1082,7 @@ struct Detector {
     // motion), less the corner snap, less how far the blocks have moved since their references.
     // A corner over or under a corner of the other block that carries a sub-contact, as seen
     // along the normal, is carried by it (two blocks' corners meeting).
-    double clearance(int a, int b, const Vec3& nrm, int first) const {
+    double clearance(int a, int b, const Vec3& nrm, int first) {
         const BlockSet& s = m.blocks;
         const double snap = kCornerSnap * tol;
         const int off[2] = {s.vertex_offset[a], s.vertex_offset[b]};
@@ -1093,20 +1093,28 @@ struct Detector {
         };
         double clear = std::numeric_limits<double>::infinity();
         for (int side = 0; side < 2; ++side) {
+            // The other block's face planes n.x = d, once.
             const BlockView& other = views[1 - side];
+            const int nf = other.topo->n_faces();
+            plane_n.resize(nf);
+            plane_d.resize(nf);
+            for (int f = 0; f < nf; ++f) {
+                plane_n[f] = world_face_normal(other, f);
+                plane_d[f] = plane_n[f].dot(other.v[other.topo->face_vertex(f, 0)]);
+            }
             for (int i = off[side]; i < end[side]; ++i) {
                 if (tracked(side, i - off[side])) continue;
                 const Vec3& x = s.world_vertices[i];
                 double outside = -std::numeric_limits<double>::infinity();
-                for (int f = 0; f < other.topo->n_faces(); ++f) {
-                    outside = std::max(outside, world_face_normal(other, f).dot(x - other.v[other.topo->face_vertex(f, 0)]));
-                }
+                for (int f = 0; f < nf; ++f) outside = std::max(outside, plane_n[f].dot(x) - plane_d[f]);
                 clear = std::min(clear, outside);
             }
         }
         return clear - snap - movement(cs, s, a, cs.geo_centroid, cs.geo_orientation) -
                movement(cs, s, b, cs.geo_centroid, cs.geo_orientation);
     }
+    std::vector<Vec3> plane_n; // clearance's scratch: a block's face normals
+    std::vector<double> plane_d;
     // Per sub-contact of the contact being built: its spring is new (born, or its closure taken
     // from the geometry), and the area it had before (0: none).
     std::vector<char> born;
