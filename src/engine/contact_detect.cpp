@@ -161,6 +161,7 @@ std::int64_t snap_to_corner(std::int64_t key, double u, double v, const std::vec
         if (nv <= 0 || nv >= 16384) continue; // labels of larger blocks are not decoded
         const int idx = l & (kEdgeTouch - 1);
         for (const int vtx : {idx / nv, idx % nv}) {
+            if (vtx >= nv) continue; // not a label of this block's edges
             const double du = uv[2 * vtx] - u, dv = uv[2 * vtx + 1] - v;
             const double d2 = du * du + dv * dv;
             if (d2 <= best) { // false for NaN: a corner of no presented face
