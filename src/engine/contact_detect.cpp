@@ -375,6 +375,25 @@ void corner_places(const std::vector<Piece>& pieces, int nv, std::vector<double>
     }
 }
 
+// The key of a point of a contact polygon between the faces pa and pb present (blocks of nv_a
+// and nv_b vertices): two edges of one block crossing at their vertex are that vertex
+// (as_vertex), a crossing near a corner is the corner (snap_to_corner).
+struct PolygonKeys {
+    int nv_a, nv_b;
+    double snap;
+    std::vector<double>& uv_a;
+    std::vector<double>& uv_b;
+    PolygonKeys(const std::vector<Piece>& pa, const std::vector<Piece>& pb, int nv_a_, int nv_b_, double tol,
+                std::vector<double>& uv_a_, std::vector<double>& uv_b_)
+        : nv_a(nv_a_), nv_b(nv_b_), snap(kCornerSnap * tol), uv_a(uv_a_), uv_b(uv_b_) {
+        corner_places(pa, nv_a, uv_a);
+        corner_places(pb, nv_b, uv_b);
+    }
+    std::int64_t operator()(std::int64_t key, double u, double v) const {
+        return snap_to_corner(as_vertex(key, nv_a, nv_b), u, v, uv_a, uv_b, snap);
+    }
+};
+
 struct NewSub {
     std::int64_t key;
     double area;
@@ -394,12 +413,7 @@ void polygon_subcontacts(const Frame& fr, const std::vector<Piece>& pa, const st
     const int nv_a = static_cast<int>(nodal_a.size()), nv_b = static_cast<int>(nodal_b.size());
     out.clear();
     thread_local std::vector<double> uv_a, uv_b;
-    corner_places(pa, nv_a, uv_a);
-    corner_places(pb, nv_b, uv_b);
-    const double snap = kCornerSnap * tol;
-    auto key_at = [&](std::int64_t key, double u, double v) {
-        return snap_to_corner(as_vertex(key, nv_a, nv_b), u, v, uv_a, uv_b, snap);
-    };
+    const PolygonKeys key_at(pa, pb, nv_a, nv_b, tol, uv_a, uv_b);
     Poly q, tmp;
     // Faces on the plane first. Where two faces lie on the plane and overlap over an area of at
     // least ctol^2, the blocks meet face to face, and a face tilted beside one of them can reach
@@ -835,16 +849,22 @@ struct Detector {
         next.sub_udil.push_back(cs.sub_udil[k]);
         next.sub_sn.push_back(0);
         next.sub_us.push_back(retangent(cs.sub_us[k], normal));
-        const int jm = next.jmat.back();
         double kn = 0, ten = 0;
-        if (jm > 0 && jm < static_cast<int>(m.joint_materials.size()) && m.joint_materials[jm].defined) {
-            kn = m.joint_materials[jm].kn;
-            ten = (cs.sub_flags[k] & kSubFailed) ? 0.0 : m.joint_materials[jm].tension;
+        if (const JointMaterial* jm = material()) {
+            kn = jm->kn;
+            ten = (cs.sub_flags[k] & kSubFailed) ? 0.0 : jm->tension;
         }
         const double sn = kn * (closure + cs.sub_udil[k]);
         const bool opens = !next.joined.back() && (sn < -ten || (sn <= 0 && ten <= 0));
         next.sub_ss.push_back(opens ? Vec3(Vec3::Zero()) : retangent(cs.sub_ss[k], normal));
         next.sub_flags.push_back(static_cast<std::uint8_t>((cs.sub_flags[k] & kSubFailed) | kSubFresh));
+    }
+
+    // The joint material of the contact being built, or null when it has none defined.
+    const JointMaterial* material() const {
+        const int jm = next.jmat.back();
+        if (jm <= 0 || jm >= static_cast<int>(m.joint_materials.size()) || !m.joint_materials[jm].defined) return nullptr;
+        return &m.joint_materials[jm];
     }
 
     // Whether the contact being built turned its plane by more than kTurned since it was last
@@ -1007,9 +1027,10 @@ struct Detector {
             const Vec3 local = rot[side == 1 ? 1 : 0].transpose() * (ns.x - s.centroid[owner]);
             push_sub(next, side, ns.key, ns.area, local);
             const bool moving = on_touch_line(ns.key);
-            born.push_back(!(k < k_end && cs.sub_key[k] == ns.key) || moving || plane_turned);
-            old_area.push_back(k < k_end && cs.sub_key[k] == ns.key ? cs.sub_area[k] : 0.0);
-            if (k < k_end && cs.sub_key[k] == ns.key) {
+            const bool kept = k < k_end && cs.sub_key[k] == ns.key; // the same point as before
+            born.push_back(!kept || moving || plane_turned);
+            old_area.push_back(kept ? cs.sub_area[k] : 0.0);
+            if (kept) {
                 push_history(k, ns.closure, moving, cp.normal);
             } else {
                 const int j = moving || old.c < 0 ? -1 : nearest_old(old, a, b, ns.x);
@@ -1049,9 +1070,9 @@ struct Detector {
     // what its unchanged springs hold): the blocks overlap by the rest, unloaded, until they
     // part. Smaller changes, the rule's own, are left alone.
     void limit_rebuild_energy(const OldRef& old, int first) {
-        const int jm = next.jmat.back();
-        if (jm <= 0 || jm >= static_cast<int>(m.joint_materials.size()) || !m.joint_materials[jm].defined) return;
-        const double kn = m.joint_materials[jm].kn, ks = m.joint_materials[jm].ks;
+        const JointMaterial* jm = material();
+        if (!jm) return;
+        const double kn = jm->kn, ks = jm->ks;
         if (!(kn > 0 && ks > 0)) return;
         // Twice the energy of a spring of area `area`, normal closure `un`, shear stress `ss`.
         auto e = [&](double area, double un, const Vec3& ss) {
@@ -1150,7 +1171,7 @@ void build_jobs(Model& m, ContactSet& cs, const std::vector<Job>& jobs, int j0, 
     for (int p = 0; p < n_parts; ++p) {
         const int i0 = static_cast<int>(static_cast<long>(nj) * p / n_parts);
         const int i1 = static_cast<int>(static_cast<long>(nj) * (p + 1) / n_parts);
-        Detector d{m, cs, parts[p], cs.ctol, {}, {}, {}, {}, {}, {}, {}, {}};
+        Detector d{m, cs, parts[p], cs.ctol, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}};
         for (int i = i0; i < i1; ++i) {
             if (d.build(job[i].a, job[i].b, rw.old(job[i].oc), true)) where[i] = parts[p].size() - 1;
         }
@@ -1606,11 +1627,7 @@ double contact_touch_area(const Model& m, int c) {
     const int nv_a = s.shape[a].n_vertices(), nv_b = s.shape[b].n_vertices();
     const double eps = 1e-9 * tol;
     std::vector<double> uv_a, uv_b;
-    corner_places(pa, nv_a, uv_a);
-    corner_places(pb, nv_b, uv_b);
-    auto key_at = [&](std::int64_t key, double u, double v) {
-        return snap_to_corner(as_vertex(key, nv_a, nv_b), u, v, uv_a, uv_b, kCornerSnap * tol);
-    };
+    const PolygonKeys key_at(pa, pb, nv_a, nv_b, tol, uv_a, uv_b);
     double area = 0;
     std::vector<std::int64_t> pressing, on_plane;
     Poly q, tmp;
