@@ -53,12 +53,8 @@ bool safe_relative(const std::string& p) {
 constexpr long long kOpenFishSteps = 50;
 constexpr long long kFileFishSteps = 10;
 
-void charge(Runtime& rt, long long steps, L loc) {
-    for (long long k = 0; k < steps && rt.budget && *rt.budget >= 0; ++k) rt.tick(loc);
-}
-
 Value f_open(Runtime& rt, A a, int n, L loc) {
-    charge(rt, kOpenFishSteps, loc);
+    rt.spend(kOpenFishSteps, loc);
     const std::string name = str_arg(a, 0, "open", loc);
     const long long mode = n > 1 ? int_arg(a, 1, "open", loc) : 0;
     if (mode != 0 && mode != 1) fish_fail(loc, "'open' mode is 0 (read) or 1 (write), not " + std::to_string(mode));
@@ -122,7 +118,7 @@ long long count_arg(A a, int n, const Array& arr, const char* fn, L loc) {
 }
 
 Value f_write(Runtime& rt, A a, int n, L loc) {
-    charge(rt, kFileFishSteps, loc);
+    rt.spend(kFileFishSteps, loc);
     Array& arr = array_arg(a, "write", loc);
     const long long k = count_arg(a, n, arr, "write", loc);
     if (!rt.file || !rt.file_writing) fish_fail(loc, "'write' with no file open for writing: open(name, 1, 1) first");
@@ -136,7 +132,7 @@ Value f_write(Runtime& rt, A a, int n, L loc) {
 }
 
 Value f_read(Runtime& rt, A a, int n, L loc) {
-    charge(rt, kFileFishSteps, loc);
+    rt.spend(kFileFishSteps, loc);
     Array& arr = array_arg(a, "read", loc);
     const long long k = count_arg(a, n, arr, "read", loc);
     if (!rt.file || rt.file_writing) fish_fail(loc, "'read' with no file open for reading: open(name, 0, 1) first");
@@ -157,7 +153,7 @@ Value f_read(Runtime& rt, A a, int n, L loc) {
 }
 
 Value f_close(Runtime& rt, A, int, L loc) {
-    charge(rt, kFileFishSteps, loc);
+    rt.spend(kFileFishSteps, loc);
     if (!rt.file) return Value::integer(1);
     const int r = std::fclose(rt.file);
     const int e = errno;

@@ -68,7 +68,7 @@ Model& model(Runtime& rt) { return rt.host.model(); }
 void ensure_contacts(Runtime& rt, Model& m, L loc) {
     if (m.geometry_changed || !m.contacts.detected) {
         const long long cost = 200LL * m.blocks.size();
-        for (long long k = 0; k < cost && rt.budget && *rt.budget >= 0; ++k) rt.tick(loc);
+        rt.spend(cost, loc);
         refresh_world_vertices(m);
         detect_contacts(m);
     }

@@ -262,6 +262,16 @@ void Runtime::tick(const SourceLoc& loc) {
     }
 }
 
+void Runtime::spend(long long steps, const SourceLoc& loc) {
+    if (!budget || *budget < 0 || steps <= 0) return;
+    if (host.interrupted()) fish_fail(loc, "interrupted by Ctrl-C");
+    if (*budget < steps) {
+        *budget = 0;
+        fish_fail(loc, "this session's bound on FISH loop iterations and calls is reached");
+    }
+    *budget -= steps;
+}
+
 size_t Runtime::array_items() const {
     size_t n = 0;
     for (const auto& [k, s] : symbols_) {

@@ -134,6 +134,9 @@ public:
     long long* budget = nullptr;
     // A loop iteration or a call: stops at Ctrl-C and at the end of the budget.
     void tick(const SourceLoc& loc);
+    // Work that counts as `steps` loop iterations against the budget (none without one): stops
+    // at Ctrl-C and where the budget runs out, as that many ticks would.
+    void spend(long long steps, const SourceLoc& loc);
     // Longest string FISH builds, in characters (no string is ever longer than kMaxString).
     static constexpr size_t kMaxString = size_t{1} << 20;
     size_t max_string = kMaxString;
