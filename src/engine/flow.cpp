@@ -11,6 +11,7 @@
 
 #include "engine/blocks.h"
 #include "engine/contact.h"
+#include "engine/grid_cell.h"
 #include "engine/model.h"
 #include "engine/range.h"
 #include "engine/zones.h"
@@ -43,7 +44,7 @@ struct CellKey {
 };
 struct CellHash {
     std::size_t operator()(const CellKey& k) const {
-        return static_cast<std::size_t>(k.x * 73856093LL ^ k.y * 19349663LL ^ k.z * 83492791LL);
+        return static_cast<std::size_t>(grid_cell_hash(k.x, k.y, k.z));
     }
 };
 
@@ -56,8 +57,7 @@ struct PointGrid {
     const std::vector<Vec3>* pts;
     double cell() const { return 2 * tol; }
     CellKey key(const Vec3& x) const {
-        return {static_cast<std::int64_t>(std::floor(x.x() / cell())), static_cast<std::int64_t>(std::floor(x.y() / cell())),
-                static_cast<std::int64_t>(std::floor(x.z() / cell()))};
+        return {grid_cell(x.x() / cell()), grid_cell(x.y() / cell()), grid_cell(x.z() / cell())};
     }
     int find(const Vec3& x, double within) const {
         const CellKey k = key(x);

@@ -1,5 +1,6 @@
 #include "mesh/tet_mesh.h"
 #include "mesh/tet_improve.h"
+#include "engine/grid_cell.h"
 
 #include <dlfcn.h>
 #include <fcntl.h>
@@ -143,7 +144,7 @@ struct PointMerge {
     explicit PointMerge(double t) : tol(t), cell(4 * t) {}
     int find_or_add(const Vec3& p) {
         std::array<long long, 3> k;
-        for (int i = 0; i < 3; ++i) k[i] = static_cast<long long>(std::floor(p[i] / cell));
+        for (int i = 0; i < 3; ++i) k[i] = grid_cell(p[i] / cell);
         for (int dx = -1; dx <= 1; ++dx)
             for (int dy = -1; dy <= 1; ++dy)
                 for (int dz = -1; dz <= 1; ++dz) {

@@ -622,3 +622,24 @@ TEST(FlowNames, WaterAndFlowOffsetsAreRefusedWithWhatToWrite) {
     EXPECT_NE(s.error().find("t.dat:1:1: error: odec has no 'pfix' command"), std::string::npos) << s.error();
     EXPECT_NE(s.error().find("'bound pp p"), std::string::npos) << s.error();
 }
+
+// Flow nodes that lie far out (a restored file may put them anywhere finite) are carried into
+// the new network by a hash grid of cells 1e-12 m wide at least: a coordinate of 1e200 m is
+// 1e212 cells, beyond any integer. Found by fuzzing `restore` (undefined behaviour, the cast of
+// the cell index overflowed); the sanitizer build of this test catches it again.
+TEST(Flow, FarNodesDoNotOverflowTheCellIndex) {
+    Session s;
+    ASSERT_TRUE(s.interp.run_file(kDir + "flow-parallel-plate.dat")) << s.error();
+    odec::FlowSet& f = s.model.flow;
+    ASSERT_GT(f.n_nodes(), 2);
+    f.pos[0] = odec::Vec3(1e200, -1e200, 1e200);
+    f.pos[1] = odec::Vec3(-1e300, 1e300, 0);
+    f.invalidate();
+    ASSERT_TRUE(s.run("step 1")) << s.error();
+    // The far nodes carried nothing to the new ones; the network is rebuilt where the joints are.
+    for (int i = 0; i < f.n_nodes(); ++i) {
+        EXPECT_TRUE(f.pos[i].allFinite());
+        EXPECT_LT(f.pos[i].norm(), 10.0);
+        EXPECT_TRUE(std::isfinite(f.pp[i]));
+    }
+}
