@@ -265,13 +265,12 @@ void refresh_world_vertices(Model& m) {
     s.vertex_offset[n] = total;
     s.world_vertices.resize(total);
     const int threads = thread_count();
-#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && n >= kParallelMinBlocks)
-    for (int b = 0; b < n; ++b) {
+    parallel_for(n, threads, n >= kParallelMinBlocks, [&](int b) {
         const Mat3 r = s.orientation[b].toRotationMatrix();
         const Vec3& c = s.centroid[b];
         Vec3* out = s.world_vertices.data() + s.vertex_offset[b];
         for (const Vec3& v : s.shape[b].vertices) *out++ = c + r * v;
-    }
+    });
     refresh_deformable_vertices(m);
 }
 

@@ -22,8 +22,9 @@ double kinetic_energy(const BlockSet& s, int b) {
     if (s.inertial_moment[b] > 0) {
         spin = s.inertial_moment[b] * w.squaredNorm();
     } else {
-        const Mat3 r = s.orientation[b].toRotationMatrix();
-        spin = (mass / s.mass[b]) * w.dot(r * s.inertia_body[b] * r.transpose() * w);
+        // In the body frame: w . (R I R^T w) = (R^T w) . I (R^T w).
+        const Vec3 wb = s.orientation[b].conjugate() * w;
+        spin = (mass / s.mass[b]) * wb.dot(s.inertia_body[b] * wb);
     }
     return 0.5 * mass * v.squaredNorm() + 0.5 * spin;
 }

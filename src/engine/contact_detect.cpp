@@ -1334,12 +1334,10 @@ void detect_contacts(Model& m) {
     if (!full) {
         // Each block's movement since the last broad phase, on the threads in a large model.
         const double limit = 0.5 * cs.ctol;
-        int far = 0;
-#pragma omp parallel for num_threads(threads) schedule(static) reduction(| : far) if (threads > 1 && n >= kParallelMinBlocks)
-        for (int b = 0; b < n; ++b) {
-            if (s.flags[b] & kExcavated) continue;
-            if (movement(cs, s, b, cs.ref_centroid, cs.ref_orientation) > limit) far |= 1;
-        }
+        const int far = parallel_or(n, threads, n >= kParallelMinBlocks, [&](int b) {
+            if (s.flags[b] & kExcavated) return 0;
+            return movement(cs, s, b, cs.ref_centroid, cs.ref_orientation) > limit ? 1 : 0;
+        });
         full = far != 0;
     }
     const double old_ctol = cs.ctol;
@@ -1401,21 +1399,23 @@ void detect_contacts(Model& m) {
         const double limit = 0.1 * cs.ctol;
         moved.assign(n, 0);
         motion.assign(n, 0.0);
-        int any_moved = 0, any_stirred = 0;
+        int bits;
         {
             char* mv_of = moved.data();
             double* motion_of = motion.data();
-#pragma omp parallel for num_threads(threads) schedule(static) reduction(| : any_moved, any_stirred) if (threads > 1 && n >= kParallelMinBlocks)
-            for (int b = 0; b < n; ++b) {
-                if (s.flags[b] & kExcavated) continue;
+            // Bit 1: some block moved more than the limit; bit 2: more than 1e-3 ctol.
+            bits = parallel_or(n, threads, n >= kParallelMinBlocks, [&](int b) {
+                if (s.flags[b] & kExcavated) return 0;
                 const double mv = movement(cs, s, b, geo_c, geo_q);
                 motion_of[b] = mv;
-                if (mv > limit) mv_of[b] = 1, any_moved |= 1;
-                if (mv > 1e-3 * cs.ctol) any_stirred |= 1;
-            }
+                int out = 0;
+                if (mv > limit) mv_of[b] = 1, out |= 1;
+                if (mv > 1e-3 * cs.ctol) out |= 2;
+                return out;
+            });
         }
-        bool any = any_moved != 0;
-        const bool any_motion = any_stirred != 0;
+        bool any = (bits & 1) != 0;
+        const bool any_motion = (bits & 2) != 0;
         // An edge or corner that presses into a face touches over an area that grows with
         // the overlap: its contact is rebuilt once its blocks have moved a quarter of that
         // overlap, so the area follows the penetration (a force that depended on the path
@@ -1426,8 +1426,7 @@ void detect_contacts(Model& m) {
             grown.assign(nc, 0);
             char* grown_of = grown.data();
             const double* motion_of = motion.data();
-#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && nc >= kParallelMinItems)
-            for (int c = 0; c < nc; ++c) {
+            parallel_for(nc, threads, nc >= kParallelMinItems, [&](int c) {
                 const int a = cs.block_a[c], b = cs.block_b[c];
                 double deepest = 0;
                 bool tracked = false;
@@ -1436,7 +1435,7 @@ void detect_contacts(Model& m) {
                     deepest = std::max(deepest, cs.sub_un[k] + cs.sub_udil[k]);
                 }
                 grown_of[c] = tracked && motion_of[a] + motion_of[b] > 0.25 * deepest + 1e-3 * cs.ctol;
-            }
+            });
             for (int c = 0; c < nc; ++c) {
                 if (grown[c]) moved[cs.block_a[c]] = moved[cs.block_b[c]] = any = 1;
             }
@@ -1456,16 +1455,15 @@ void detect_contacts(Model& m) {
         // thread_local would be each worker's own).
         char* close_mark = closing.data();
         const double* mot = motion.data();
-#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && nc >= kParallelMinItems)
-        for (int c = 0; c < nc; ++c) {
+        parallel_for(nc, threads, nc >= kParallelMinItems, [&](int c) {
             const int k0 = cs.sub_offset[c], k1 = cs.sub_offset[c + 1];
             const int a = cs.block_a[c], b = cs.block_b[c];
             // A zoned block's faces on a face: the tracking rule above. Between rigid blocks, a
             // contact of more sub-contacts is looked at too: a hinge whose face closes onto the
             // other's, a corner that comes down beside a face on a face.
-            if (k1 - k0 > 2 && ((s.flags[a] | s.flags[b]) & kDeformable)) continue;
-            if (!(mot[a] + mot[b] > 0)) continue;
-            if (mot[a] + mot[b] < free_motion[c]) continue; // no corner could have reached in yet
+            if (k1 - k0 > 2 && ((s.flags[a] | s.flags[b]) & kDeformable)) return;
+            if (!(mot[a] + mot[b] > 0)) return;
+            if (mot[a] + mot[b] < free_motion[c]) return; // no corner could have reached in yet
             // Deeper than when it was built by depth_min; for a contact that touches nowhere and
             // was built touching (blocks cut from one another, meeting along an edge) or already
             // overlapping without area (edges along one line), by a thousandth of ctol: looking
@@ -1475,17 +1473,17 @@ void detect_contacts(Model& m) {
             // Built -gap deep across its plane, and no point of either block has moved further
             // than its movement since: blocks that have not moved enough to go that much deeper
             // are not looked at (most contacts between blocks apart, each step).
-            if (mot[a] + mot[b] - cs.gap[c] < 0.5 * deeper) continue;
+            if (mot[a] + mot[b] - cs.gap[c] < 0.5 * deeper) return;
             const Vec3& nrm = cs.normal[c];
             const int a0 = s.vertex_offset[a], a1 = s.vertex_offset[a + 1];
             const int b0 = s.vertex_offset[b], b1 = s.vertex_offset[b + 1];
             double hi_a = -std::numeric_limits<double>::infinity(), lo_b = -hi_a;
             for (int i = a0; i < a1; ++i) hi_a = std::max(hi_a, nrm.dot(s.world_vertices[i]));
             for (int i = b0; i < b1; ++i) lo_b = std::min(lo_b, nrm.dot(s.world_vertices[i]));
-            if (hi_a - lo_b <= deeper) continue;
+            if (hi_a - lo_b <= deeper) return;
             if (k1 == k0) {
                 close_mark[c] = 1;
-                continue;
+                return;
             }
             // A vertex that carries no sub-contact and has gone into the other block (the other
             // corner of a toe coming down, the far edge of a hinge's face closing) counts as well;
@@ -1526,7 +1524,7 @@ void detect_contacts(Model& m) {
                 found = hi_a - nrm.dot(x) > deeper && !tracked(1, i - b0) && inside(a, x, -nrm) > deeper;
             }
             close_mark[c] = found;
-        }
+        });
         if (!any && std::find(closing.begin(), closing.end(), 1) == closing.end()) return;
         for (int c = 0; c < nc; ++c) {
             const int a = cs.block_a[c], b = cs.block_b[c];

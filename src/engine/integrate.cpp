@@ -64,8 +64,7 @@ int integrate(Model& m, double dt) {
     EnergyStep* ce = chunk_energy.data();
     const Vec3 grav = m.gravity;
     const int threads = thread_count();
-#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && nb >= kParallelMinBlocks)
-    for (int chunk = 0; chunk < n_chunks; ++chunk) {
+    parallel_for(n_chunks, threads, nb >= kParallelMinBlocks, [&](int chunk) {
         AutoDampingPower& power = cp[chunk];
         int& bad = cb[chunk];
         for (int b = chunk * kChunk; b < std::min(nb, (chunk + 1) * kChunk); ++b) {
@@ -181,7 +180,7 @@ int integrate(Model& m, double dt) {
                 bad = b;
             }
         }
-    }
+    });
     int bad = -1;
     for (int chunk = 0; chunk < n_chunks; ++chunk) {
         total.damping += cp[chunk].damping;
@@ -230,8 +229,7 @@ int integrate_gridpoints(Model& m, const Damping& d, double dt, double* damping_
     const Vec3 grav = m.gravity;
     const bool power = damping_power != nullptr;
     const int threads = thread_count();
-#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && ng >= kParallelMinItems)
-    for (int chunk = 0; chunk < n_chunks; ++chunk) {
+    parallel_for(n_chunks, threads, ng >= kParallelMinItems, [&](int chunk) {
         const int hi = std::min(ng, (chunk + 1) * kChunk);
         double pd = 0, pf = 0;
         int bad = -1;
@@ -284,7 +282,7 @@ int integrate_gridpoints(Model& m, const Damping& d, double dt, double* damping_
         cd[chunk] = pd;
         cf[chunk] = pf;
         cb[chunk] = bad;
-    }
+    });
     int bad = -1;
     for (int chunk = 0; chunk < n_chunks; ++chunk) {
         if (energy) energy->add(ce[chunk]);

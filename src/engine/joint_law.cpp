@@ -119,8 +119,10 @@ LawParams law_params(const Model& m, int jmat, int jcons) {
             flags |= kSubOpen;
         } else {
             double tmax = std::max(0.0, coh + sn * tan_phi);
-            const double t = ss.norm();
-            if (t > tmax) {
+            // The root only where it slips (most sub-contacts stick).
+            const double t2 = ss.squaredNorm();
+            if (t2 > tmax * tmax) {
+                const double t = std::sqrt(t2);
                 if (!failed && (coh > 0 || ten > 0 || p.model2)) {
                     flags |= kSubFailed;
                     coh = 0;
@@ -321,17 +323,23 @@ void update_contacts(Model& m, double dt) {
     const int* order = cs.color_order.data();
     const int* offset = cs.color_offset.data();
     const int threads = thread_count();
-#pragma omp parallel num_threads(threads) if (threads > 1 && cs.size() >= kParallelMinItems)
-    for (int col = 0; col < n_colors; ++col) {
+    if (threads > 1 && cs.size() >= kParallelMinItems) {
+#pragma omp parallel num_threads(threads)
+        for (int col = 0; col < n_colors; ++col) {
 #pragma omp for schedule(static)
-        for (int i = offset[col]; i < offset[col + 1]; ++i) rigid_contact(order[i]);
+            for (int i = offset[col]; i < offset[col + 1]; ++i) rigid_contact(order[i]);
+        }
+    } else {
+        // The same order, without entering an OpenMP region (parallel.h).
+        for (int i = 0; i < (n_colors >= 0 ? offset[n_colors] : 0); ++i) rigid_contact(order[i]);
     }
     // Then, in contact order: the contacts no colour could take (a block with more contacts
     // than there are colours), and those of deformable blocks.
     for (int i = n_colors >= 0 ? offset[n_colors] : 0; i < static_cast<int>(cs.color_order.size()); ++i) {
         rigid_contact(order[i]);
     }
-    for (int c = 0; c < cs.size(); ++c) {
+    // Without gridpoints there are no deformable blocks.
+    for (int c = 0; c < (g.size() > 0 ? cs.size() : 0); ++c) {
         const int a = cs.block_a[c], b = cs.block_b[c];
         if ((s.flags[a] | s.flags[b]) & kExcavated) continue;
         if ((s.flags[a] | s.flags[b]) & kDeformable) {

@@ -184,13 +184,12 @@ void assign_block_masses(Model& m, const std::vector<double>& kt, const std::vec
     const double dt2 = m.dt * m.dt;
     const int threads = thread_count();
     // Each block alone: on the threads in a large model.
-#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && n >= kParallelMinBlocks)
-    for (int b = 0; b < n; ++b) {
-        if (!moves_as_rigid(s, b)) continue;
+    parallel_for(n, threads, n >= kParallelMinBlocks, [&](int b) {
+        if (!moves_as_rigid(s, b)) return;
         if (!(kt[b] > 0) || !std::isfinite(kt[b])) {
             // Touching nothing: it moves as its real mass would.
             if (s.inertial_mass[b] != s.mass[b] || s.inertial_moment[b] != 0) set_block(s, b, s.mass[b], 0.0);
-            continue;
+            return;
         }
         // Never below a fraction of the real mass and inertia: a block losing its last contact
         // area (a wedge sliding off) would otherwise be thrown by its own weight.
@@ -201,7 +200,7 @@ void assign_block_masses(Model& m, const std::vector<double>& kt, const std::vec
         const double moment = kr[b] > 0 ? std::max(kBlockFactor * kr[b] * dt2, kBlockFloor * real_moment)
                                         : mass * real_moment / s.mass[b];
         if (mass != s.inertial_mass[b] || moment != s.inertial_moment[b]) set_block(s, b, mass, moment);
-    }
+    });
 }
 
 } // namespace

@@ -32,4 +32,31 @@ constexpr int kParallelMinBuilds = 64;
 // colours hold too few chunks to share out, and one thread is as fast.
 constexpr int kParallelMinZones = 32768;
 
+// fn(i) for every i in [0, n): on `threads` threads in a static schedule when `parallel` and
+// threads > 1, else in a plain loop. The plain loop enters no OpenMP region at all: an idle
+// region (its `if` clause false) still costs the runtime a team and a wake-up, some
+// microseconds each, several times a step.
+template <class F>
+inline void parallel_for(int n, int threads, bool parallel, F&& fn) {
+    if (parallel && threads > 1) {
+#pragma omp parallel for num_threads(threads) schedule(static)
+        for (int i = 0; i < n; ++i) fn(i);
+    } else {
+        for (int i = 0; i < n; ++i) fn(i);
+    }
+}
+
+// The same, for an fn that returns bits: their OR over every i.
+template <class F>
+inline int parallel_or(int n, int threads, bool parallel, F&& fn) {
+    int bits = 0;
+    if (parallel && threads > 1) {
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(| : bits)
+        for (int i = 0; i < n; ++i) bits |= fn(i);
+    } else {
+        for (int i = 0; i < n; ++i) bits |= fn(i);
+    }
+    return bits;
+}
+
 } // namespace odec

@@ -248,7 +248,8 @@ struct EnergyWatch {
             }
             // Moving more than half its size in one step, a block jumps past the blocks in
             // its way: contact detection cannot see them.
-            if (jumper < 0 && neighbours && s.vel[b].stableNorm() * m.dt > 0.5 * size[b]) jumper = b;
+            // (Squared: an infinite or overflowing speed still compares as larger; NaN as not.)
+            if (jumper < 0 && neighbours && (s.vel[b] * m.dt).squaredNorm() > 0.25 * size[b] * size[b]) jumper = b;
             const double e = kinetic_energy(s, b);
             ke += e;
             if (!(e <= ke_max)) {

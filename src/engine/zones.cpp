@@ -430,8 +430,7 @@ void refresh_zone_geometry(ZoneSet& z, const std::vector<Vec3>& x) {
     const int nz = z.size();
     z.grad.resize(nz);
     const int threads = thread_count();
-#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && nz >= kParallelMinItems)
-    for (int i = 0; i < nz; ++i) {
+    parallel_for(nz, threads, nz >= kParallelMinItems, [&](int i) {
         const auto& q = z.gp[i];
         const TetGeometry t = tet_geometry(x[q[0]], x[q[1]], x[q[2]], x[q[3]]);
         auto& g = z.grad[i];
@@ -441,7 +440,7 @@ void refresh_zone_geometry(ZoneSet& z, const std::vector<Vec3>& x) {
             g[3 * k + 2] = t.grad[k + 1].z();
         }
         z.volume[i] = t.volume;
-    }
+    });
 }
 
 } // namespace
@@ -527,15 +526,14 @@ void zone_forces(Model& m, double dt) {
         if (bf.table != 0) factors.emplace(bf.table, 0.0);
     }
     for (auto& [n, f] : factors) f = m.table_factor(n);
-#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && ng >= kParallelMinItems)
-    for (int i = 0; i < ng; ++i) {
+    parallel_for(ng, threads, ng >= kParallelMinItems, [&](int i) {
         const Vec3 w = g.mass[i] * grav;
         const Vec3 applied = g.applied_table[i] == 0 ? g.applied[i] : Vec3(factors.at(g.applied_table[i]) * g.applied[i]);
         g.force[i] = w + applied + g.traction[i];
         g.force_scale[i] = w.norm() + applied.norm() + g.traction[i].norm();
         g.nmd_volume[i] = 0;
         g.nmd_rate[i] = 0;
-    }
+    });
     // The loaded faces that follow a table (those without are in `traction`).
     if (!factors.empty()) {
         for (const BoundaryFace& bf : m.stress_boundary.faces) {
@@ -665,14 +663,19 @@ void zone_forces(Model& m, double dt) {
             for (int k = lo; k < hi; ++k) chunk_range(order[k], pass);
         }
     };
-#pragma omp parallel num_threads(threads) if (parallel)
-    {
+    auto passes = [&] {
         by_colour(pass1);
 #pragma omp for schedule(static)
         for (int i = 0; i < ng; ++i) {
             if (g.nmd_volume[i] > 0) g.nmd_rate[i] /= g.nmd_volume[i];
         }
         by_colour(pass2);
+    };
+    if (parallel) {
+#pragma omp parallel num_threads(threads)
+        passes();
+    } else {
+        passes(); // no OpenMP region entered (parallel.h); its worksharing runs on this thread
     }
     if (account) {
         double sum = 0;
