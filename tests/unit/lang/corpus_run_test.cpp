@@ -139,21 +139,23 @@ TEST(CorpusRun, CollapsingArchKeepsItsEnergy) {
     // voussoir lies on its neighbours' side faces) on its joints of 3.2e10 Pa/m, tipped by a
     // sideways gravity so that it collapses: its voussoirs hinge, their faces close onto each
     // other again and their corners strike. With real masses and no damping the energy account
-    // holds: 15 J, 0.025 %, of the 58.8 kJ it handled after 1 s (was 65 kJ, 96 %, when a hinge's
-    // corner sat in or out of its neighbour's footprint by the rounding of its coordinates and
-    // the contact's area jumped a thousandfold between refreshes); 0.1 % is allowed.
+    // holds: 20 J, 0.003 %, of the 696 kJ it handled after 1.7 s (was 65 kJ, 96 %, at 1 s when
+    // a hinge's corner sat in or out of its neighbour's footprint by the rounding of its
+    // coordinates and the contact's area jumped a thousandfold between refreshes); 0.1 % is
+    // allowed. (After 1.75 s the pieces strike at metres per second, through edges and faces that
+    // go centimetres into each other between refreshes: not yet held, see the manual.)
     REQUIRE_CORPUS();
     InTempDir tmp("arch-collapse");
     Session s;
     std::string missing;
     ASSERT_TRUE(run_script(s, "demifang_0_2_arch.dat", missing));
     ASSERT_TRUE(run_script(s, "demifang_boundary.dat", missing));
-    ASSERT_TRUE(s.run("config dyn\nset jmat 3\nset energy on\ndamp off\ngrav 4 0 -9.81\nsolve time 1.0")) << s.error();
+    ASSERT_TRUE(s.run("config dyn\nset jmat 3\nset energy on\ndamp off\ngrav 4 0 -9.81\nsolve time 1.7")) << s.error();
     const odec::EnergyReading e = odec::energy_reading(s.model);
-    std::printf("[energy] collapsing corpus arch, 1 s: gravity %.6g J, kinetic %.6g J, slip %.6g J, error %.4g J "
+    std::printf("[energy] collapsing corpus arch, 1.7 s: gravity %.6g J, kinetic %.6g J, slip %.6g J, error %.4g J "
                 "= %.4f %% of %.6g J\n",
                 e.gravity, e.kinetic, e.slip, e.error(), 100 * e.error() / s.model.energy.peak, s.model.energy.peak);
-    EXPECT_GT(e.gravity, 5e4); // it collapses: gravity did 58.8 kJ of work
+    EXPECT_GT(e.gravity, 5e5); // it collapses: gravity did 696 kJ of work
     EXPECT_GT(e.kinetic, 0.9 * e.gravity);
     EXPECT_LT(std::abs(e.error()), 1e-3 * s.model.energy.peak);
 }
