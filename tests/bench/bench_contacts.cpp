@@ -1,7 +1,8 @@
 // Contact benchmark: a cube of jointed rock, n x n x n m cut by three orthogonal joint sets
 // of spacing 1 m into n^3 blocks (by the same code as `jset`), settling under gravity on a
 // fixed base. Prints blocks, contacts,
-// sub-contacts, steps per second, sub-contact updates per second and the share of time in
+// sub-contacts, steps per second, sub-contact updates per second, the refresh passes (contacts
+// rebuilt without a full detection) and the share of time in
 // each cycle stage, and memory: heap in use after the blocks are made (bytes per block), the
 // heap the contacts add at its largest (bytes per sub-contact, their per-contact records
 // included) and the peak resident memory of the process, phase by phase (cutting, first
@@ -90,6 +91,7 @@ void run(int n, long steps) {
     std::printf("  after first detection: heap %.1f MB, peak resident %.1f MB\n", heap_most / 1e6, peak_detect / 1e6);
     reset_peak_rss();
     m.profile = Profile{};
+    const long revision0 = m.contacts.revision;
     CycleLimits lim;
     lim.max_steps = steps;
     const auto t1 = Clock::now();
@@ -109,8 +111,10 @@ void run(int n, long steps) {
     }();
     std::printf("blocks %d  contacts %d  sub-contacts %d  first detection %.3f s\n", m.blocks.size(), m.contacts.size(),
                 m.contacts.n_subs(), t_detect);
-    std::printf("  %ld steps in %.3f s: %.1f steps/s, %.3g s/step, %.3g sub-contact updates/s, detections %ld\n", steps,
-                t, steps / t, t / steps, static_cast<double>(m.contacts.n_subs()) * steps / t, m.contacts.n_detections);
+    std::printf("  %ld steps in %.3f s: %.1f steps/s, %.3g s/step, %.3g sub-contact updates/s, detections %ld, "
+                "refresh passes %ld\n",
+                steps, t, steps / t, t / steps, static_cast<double>(m.contacts.n_subs()) * steps / t, m.contacts.n_detections,
+                m.contacts.revision - revision0);
     std::printf("  stages:");
     for (int s = 0; s < static_cast<int>(Stage::Count); ++s) {
         std::printf(" %s %.1f%%", stage_name(static_cast<Stage>(s)), 100.0 * m.profile.seconds[s] / total_stage);
