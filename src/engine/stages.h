@@ -248,8 +248,13 @@ struct EnergyWatch {
             }
             // Moving more than half its size in one step, a block jumps past the blocks in
             // its way: contact detection cannot see them.
-            // (Squared: an infinite or overflowing speed still compares as larger; NaN as not.)
-            if (jumper < 0 && neighbours && (s.vel[b] * m.dt).squaredNorm() > 0.25 * size[b] * size[b]) jumper = b;
+            // (Its largest component first, which neither overflows nor underflows; then the
+            // squared length, cheaper than a scaled norm. NaN compares as not larger.)
+            if (jumper < 0 && neighbours) {
+                const Vec3 d = s.vel[b] * m.dt;
+                const double half = 0.5 * size[b];
+                if (d.cwiseAbs().maxCoeff() > half || d.squaredNorm() > half * half) jumper = b;
+            }
             const double e = kinetic_energy(s, b);
             ke += e;
             if (!(e <= ke_max)) {
