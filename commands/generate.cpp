@@ -24,6 +24,9 @@ constexpr double kPoorZone = 0.1;
 // Most zones one command makes (a regular tetrahedron of edge e has volume e^3 / (6 sqrt 2)):
 // beyond it the memory of the model and its cycle time are out of any session's reach.
 constexpr double kMaxZones = 5e7;
+// Zones of a bounded session's budget (Interpreter::Limits::zone_budget) that one `gen` costs at
+// least.
+constexpr long long kGenZoneCharge = 250;
 
 int find_root(std::vector<int>& parent, int i) {
     while (parent[i] != i) {
@@ -292,6 +295,10 @@ const CommandSpec& generate_command() {
                          " m would make about " + num(std::round(estimate)),
                      {}, "generate");
             }
+            // Each `gen` forks the mesher: in a bounded session it costs at least kGenZoneCharge
+            // zones of the budget, zoned or not, so that a FISH loop of small or failing ones
+            // ends as well (2,000 of a few zones each forked a process of 700 MB 2,000 times).
+            if (budget >= 0) budget = std::max<long long>(0, budget - kGenZoneCharge);
             // Bodies: joined blocks of the range that share a whole face deform as one.
             const std::vector<int> clumps_before = m.blocks.clump;
             const int clumps_ended = dissolve_clumps(m, blocks);
@@ -348,7 +355,7 @@ const CommandSpec& generate_command() {
             for (size_t k = 0; k < blocks.size(); ++k) m.blocks.zone_edge[blocks[k]] = edges[k];
             long made = 0;
             for (const auto& t : bm.tets) made += static_cast<long>(t.size());
-            if (budget >= 0) budget = std::max<long long>(0, budget - made);
+            if (budget >= 0) budget = std::max<long long>(0, budget - std::max<long long>(0, made - kGenZoneCharge));
             if (clumps_ended > 0 && !ctx.interp.quiet) {
                 ctx.out << "zoned " << clumps_ended << " clump" << (clumps_ended == 1 ? "" : "s")
                         << " (a solid that is not convex): " << (clumps_ended == 1 ? "its" : "their")

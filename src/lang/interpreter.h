@@ -187,7 +187,8 @@ public:
         // Zones a `generate` may make at most; 0: the built-in limit.
         long max_zones = 0;
         // Zones all `generate` commands together may still make; < 0: no limit (each `gen`
-        // forks the mesher: a FISH loop of them must end).
+        // forks the mesher: a FISH loop of them must end, so each costs at least 250, zoned or
+        // not).
         long long zone_budget = -1;
         // FISH loop iterations that may still run in all; < 0: no limit. A command that FISH
         // runs (a line of a `command` block) costs kCommandFishSteps of them, and

@@ -74,6 +74,20 @@ TEST(Limits, ZoneBudgetEndsALoopOfZonings) {
     EXPECT_LT(s.interp.limits.zone_budget, 400);
 }
 
+TEST(Limits, EachZoningCostsAtLeastAShareOfTheBudget) {
+    // Each `gen` forks the mesher: a loop of small ones (a few zones each) ends after 5000 / 250
+    // of them, not after a thousand (the fuzzer's process forked 2,000 times: 20 s an input).
+    Session s;
+    s.interp.limits.zone_budget = 5000;
+    EXPECT_FALSE(s.run("poly brick 0 1 0 1 0 1\nprop mat=1 dens=2000 ymod=1e9 prat=0.25\n"
+                       "def rezone\n  loop k (1, 2000)\n    command\n      gen edge 0.5\n    endcommand\n"
+                       "    n = k\n  endloop\nend\n@rezone\n"));
+    EXPECT_NE(s.error().find("more zones in all"), std::string::npos) << s.error();
+    const odec::fish::Symbol* n = s.interp.fish().find("n");
+    ASSERT_NE(n, nullptr);
+    EXPECT_EQ(n->value.number(), 20);
+}
+
 TEST(Limits, CommandsRunByFishCountAgainstItsBound) {
     // 200,000 iterations of two commands each would take minutes: each command costs 50.
     Session s;
