@@ -122,22 +122,29 @@ inline int corner_vertex(std::int64_t key) { return static_cast<int>(key & ((std
 inline bool on_touch_line(std::int64_t key) {
     return is_crossing(key) && ((crossing_lo(key) & kEdgeTouch) != 0 || (crossing_hi(key) & kEdgeTouch) != 0);
 }
-// A point where an edge crosses the line a tilted face is cut off at, the band's edge.
-inline bool is_band_crossing(std::int64_t key) {
-    return is_crossing(key) && ((crossing_lo(key) & kEdgeBand) != 0 || (crossing_hi(key) & kEdgeBand) != 0);
+// A crossing of two block edges: not a point of a band or overlap line.
+inline bool is_edge_crossing(std::int64_t key) {
+    return is_crossing(key) && !((crossing_lo(key) | crossing_hi(key)) & (kEdgeBand | kEdgeTouch));
+}
+// The ends i < j of the edge that edge label `label` names on a block of nv vertices; false for
+// a band or overlap line, and for a block of 16384 vertices or more, whose labels are not decoded.
+inline bool edge_ends(std::int32_t label, int nv, int& i, int& j) {
+    if ((label & (kEdgeBand | kEdgeTouch)) || nv <= 0 || nv >= 16384) return false;
+    const int idx = label & (kEdgeTouch - 1);
+    i = idx / nv;
+    j = idx % nv;
+    return i < nv; // else not a label of this block's edges
 }
 // Two edges of one block crossing at their common vertex are that vertex: clipping one
 // footprint by the other finds the other's vertices as crossings of its own edges.
 inline std::int64_t as_vertex(std::int64_t key, int nv_a, int nv_b) {
-    if (!is_crossing(key)) return key;
+    if (!is_edge_crossing(key)) return key;
     const std::int32_t l1 = crossing_lo(key), l2 = crossing_hi(key);
-    if ((l1 | l2) & (kEdgeBand | kEdgeTouch)) return key;    // band or overlap lines
     if ((l1 & kEdgeSideB) != (l2 & kEdgeSideB)) return key;  // edges of different blocks
     const int side = (l1 & kEdgeSideB) ? 1 : 0;
     const int nv = side ? nv_b : nv_a;
-    if (nv <= 0 || nv >= 16384) return key;                  // labels of larger blocks are not decoded
-    const int i1 = (l1 & (kEdgeTouch - 1)) / nv, j1 = (l1 & (kEdgeTouch - 1)) % nv;
-    const int i2 = (l2 & (kEdgeTouch - 1)) / nv, j2 = (l2 & (kEdgeTouch - 1)) % nv;
+    int i1, j1, i2, j2;
+    if (!edge_ends(l1, nv, i1, j1) || !edge_ends(l2, nv, i2, j2)) return key;
     if (i1 == i2 || i1 == j2) return corner_key(side, i1);
     if (j1 == i2 || j1 == j2) return corner_key(side, j1);
     return key;
@@ -153,19 +160,15 @@ inline std::int64_t as_vertex(std::int64_t key, int nv_a, int nv_b) {
 // last bit of a coordinate.
 std::int64_t snap_to_corner(std::int64_t key, double u, double v, const std::vector<double>& uv_a,
                             const std::vector<double>& uv_b, double snap) {
-    if (!is_crossing(key)) return key;
-    const std::int32_t labels[2] = {crossing_lo(key), crossing_hi(key)};
-    if ((labels[0] | labels[1]) & (kEdgeBand | kEdgeTouch)) return key; // band or overlap lines
+    if (!is_edge_crossing(key)) return key;
     std::int64_t out = key;
     double best = snap * snap;
-    for (const std::int32_t l : labels) {
+    for (const std::int32_t l : {crossing_lo(key), crossing_hi(key)}) {
         const int side = (l & kEdgeSideB) ? 1 : 0;
         const std::vector<double>& uv = side ? uv_b : uv_a;
-        const int nv = static_cast<int>(uv.size() / 2);
-        if (nv <= 0 || nv >= 16384) continue; // labels of larger blocks are not decoded
-        const int idx = l & (kEdgeTouch - 1);
-        for (const int vtx : {idx / nv, idx % nv}) {
-            if (vtx >= nv) continue; // not a label of this block's edges
+        int i, j;
+        if (!edge_ends(l, static_cast<int>(uv.size() / 2), i, j)) continue;
+        for (const int vtx : {i, j}) {
             const double du = uv[2 * vtx] - u, dv = uv[2 * vtx + 1] - v;
             const double d2 = du * du + dv * dv;
             if (d2 <= best) { // false for NaN: a corner of no presented face
@@ -416,15 +419,13 @@ void polygon_subcontacts(const Frame& fr, const std::vector<Piece>& pa, const st
                          const std::vector<double>& nodal_b) {
     const int nv_a = static_cast<int>(nodal_a.size()), nv_b = static_cast<int>(nodal_b.size());
     out.clear();
-    // An edge's own area: the mean of its ends' own areas (edge_label).
+    // An edge's own area: the mean of its ends' own areas.
     auto edge_own_area = [&](std::int32_t label) {
         const bool of_b = (label & kEdgeSideB) != 0;
-        const int nv = of_b ? nv_b : nv_a;
-        const int e = label & ~kEdgeSideB;
-        if (nv <= 0 || e < 0) return 0.0;
-        const int i = e / nv, j = e % nv;
+        int i, j;
+        if (!edge_ends(label, of_b ? nv_b : nv_a, i, j)) return 0.0;
         const std::vector<double>& own = of_b ? nodal_b : nodal_a;
-        return i < nv && j < nv ? 0.5 * (own[i] + own[j]) : 0.0;
+        return 0.5 * (own[i] + own[j]);
     };
     thread_local std::vector<double> uv_a, uv_b;
     const PolygonKeys key_at(pa, pb, nv_a, nv_b, tol, uv_a, uv_b);
@@ -482,7 +483,7 @@ void polygon_subcontacts(const Frame& fr, const std::vector<Piece>& pa, const st
                     q.vkey[i] = key_at(q.vkey[i], q.u[i], q.v[i]);
                     const double d = A.height(q.u[i], q.v[i]) - B.height(q.u[i], q.v[i]);
                     if (key_side(q.vkey[i]) < 2) corner_depth = std::max(corner_depth, d);
-                    else if (!on_touch_line(q.vkey[i]) && !is_band_crossing(q.vkey[i])) crossing_depth = std::max(crossing_depth, d);
+                    else if (is_edge_crossing(q.vkey[i])) crossing_depth = std::max(crossing_depth, d);
                     sliver = sliver && near_edge(q.u[i], q.v[i]);
                 }
                 if (sliver) continue;
@@ -524,9 +525,7 @@ void polygon_subcontacts(const Frame& fr, const std::vector<Piece>& pa, const st
                 // presses in and no edges cross (an overlap bounded by its edge alone), its
                 // points carry their shares.
                 const int side = key_side(q.vkey[i]);
-                const bool edge_crossing = crossing_carried && side == 2 && !on_touch_line(q.vkey[i]) &&
-                                           !is_band_crossing(q.vkey[i]);
-                const bool nodal = tilted && (side < 2 || edge_crossing);
+                const bool nodal = tilted && (side < 2 || (crossing_carried && is_edge_crossing(q.vkey[i])));
                 if (tilted && (has_corner || crossing_carried) && !nodal) continue;
                 double area = share;
                 if (!tilted) {
