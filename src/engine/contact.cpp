@@ -129,7 +129,7 @@ int contact_index(const Model& m, int contact_id) {
 namespace {
 // Contacts must exist before they can be changed: detect them if the model changed.
 void ensure_detected(Model& m) {
-    if (m.contacts.detected && !m.geometry_changed) return;
+    if (m.contacts_current()) return;
     refresh_world_vertices(m);
     detect_contacts(m);
 }

@@ -113,6 +113,7 @@ struct ContactSet {
     std::vector<Eigen::Quaterniond> geo_orientation; // (n_blocks) orientation then
     std::vector<double> radius;           // (n_blocks) m, largest vertex distance from the centroid
     long n_detections = 0;                // full detections so far (for tests and profiling)
+    std::uint64_t change_seen = 0;        // (not saved) Model::geometry_changed.count() at the last detection
     long revision = 0;                    // (not saved) counts the refreshes that rewrote the contacts,
                                           //   so that what is derived from them knows to follow
 

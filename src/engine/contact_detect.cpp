@@ -1430,6 +1430,7 @@ void detect_contacts(Model& m) {
             }
         }
         cs.detected = true;
+        cs.change_seen = m.geometry_changed.count();
         ++cs.n_detections;
         // The candidate pairs are planned: their buffer, as large as all the pairs near one
         // another, is not kept (the broad phase runs seldom).

@@ -630,7 +630,7 @@ void flow_apertures(Model& m) {
 }
 
 void flow_ready(Model& m) {
-    if (!m.contacts.detected || m.geometry_changed || !m.contacts.surface_ready) {
+    if (!m.contacts_current() || !m.contacts.surface_ready) {
         refresh_world_vertices(m);
         detect_contacts(m);
     }

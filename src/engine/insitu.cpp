@@ -247,7 +247,7 @@ void unload_sub(ContactSet& cs, int k) {
 }
 
 void ensure_detected(Model& m) {
-    if (m.contacts.detected && !m.geometry_changed && m.contacts.surface_ready) return;
+    if (m.contacts_current() && m.contacts.surface_ready) return;
     refresh_world_vertices(m);
     detect_contacts(m);
 }

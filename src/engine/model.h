@@ -207,6 +207,23 @@ struct MassScalingReport {
 // long holds (about 9.2e18), and a save file holding more is refused.
 constexpr long kMaxStep = 1000000000000000000L; // 1e18
 
+// A flag that counts how often it was set: whoever saw count() when it last acted knows
+// whether anything changed since, though the flag stays set until the cycle clears it.
+class ChangeFlag {
+public:
+    ChangeFlag& operator=(bool v) {
+        value = v;
+        if (v) ++count_;
+        return *this;
+    }
+    operator bool() const { return value; }
+    std::uint64_t count() const { return count_; }
+    bool value = true; // read and written as such by save and restore
+
+private:
+    std::uint64_t count_ = 1;
+};
+
 struct Model {
     std::string title;
     BlockSet blocks;
@@ -237,7 +254,13 @@ struct Model {
     double time = 0;              // s
     double dt = 0;                // s, timestep in use
     int next_block_id = 1;
-    bool geometry_changed = true; // contacts and timestep must be recomputed
+    ChangeFlag geometry_changed; // contacts and timestep must be recomputed (the cycle clears it)
+
+    // The contacts are those of the model as it stands: found, and found again since the last
+    // change of geometry (commands and FISH between steps need not find them twice).
+    bool contacts_current() const {
+        return contacts.detected && (!geometry_changed || contacts.change_seen == geometry_changed.count());
+    }
 
     // Index of the block with this id, or -1 (blocks are kept in id order).
     int block_index(int block_id) const;

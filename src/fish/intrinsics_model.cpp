@@ -66,7 +66,7 @@ Model& model(Runtime& rt) { return rt.host.model(); }
 // work (Runtime::budget) as 200 loop iterations a block, about what it costs: a walk that
 // changes the blocks at each step detects them again each time.
 void ensure_contacts(Runtime& rt, Model& m, L loc) {
-    if (m.geometry_changed || !m.contacts.detected) {
+    if (!m.contacts_current()) {
         const long long cost = 200LL * m.blocks.size();
         rt.spend(cost, loc);
         refresh_world_vertices(m);

@@ -458,7 +458,7 @@ auto fields(IO& io, M& x) -> If<M, ContactSet> {
 // The scalars of the model itself.
 template <class IO, class M>
 void model_scalars(IO& io, M& m) {
-    io(m.title); io(m.step); io(m.time); io(m.dt); io(m.next_block_id); io(m.geometry_changed);
+    io(m.title); io(m.step); io(m.time); io(m.dt); io(m.next_block_id); io(m.geometry_changed.value);
     io(m.n_joint_sets); io(m.slivers_skipped); io(m.gravity);
 }
 

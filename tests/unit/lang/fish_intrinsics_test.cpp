@@ -412,6 +412,26 @@ TEST(FishIntrinsics, BlocksAndContactsOfARestingBlock) {
               block_write_cases());
 }
 
+// Contacts are found once after a change of geometry, not at every 'contact_head' or
+// 'change' that needs them before the next step (a FISH loop over blocks that asked for
+// contact_head found every contact again at each turn: seconds a call on a large model).
+TEST(FishIntrinsics, ContactsAreFoundOnceAfterEachChangeOfGeometry) {
+    Session s;
+    ASSERT_TRUE(s.run("poly brick 0 2 0 2 -1 0\npoly brick 0.5 1.5 0.5 1.5 0 1\n"
+                      "prop mat=1 dens=2000\nprop jmat=1 jkn=1e10 jks=1e10 jfric=30\n"
+                      "def count\n  n = 0\n  loop k (1, 5)\n    c = contact_head\n"
+                      "    loop while c # 0\n      n = n + 1\n      c = c_next(c)\n    endloop\n"
+                      "  endloop\nend\n@count\n")) << s.error();
+    EXPECT_EQ(s.interp.fish().find("n")->value.number(), 5);
+    EXPECT_EQ(s.model.contacts.n_detections, 1);
+    ASSERT_TRUE(s.run("change jmat 1\nchange jmat 1 range z -0.5 0.5\n@count\n")) << s.error();
+    EXPECT_EQ(s.model.contacts.n_detections, 1);
+    // A third block on top: found at the next call, once.
+    ASSERT_TRUE(s.run("poly brick 0.5 1.5 0.5 1.5 1 2\n@count\n@count\n")) << s.error();
+    EXPECT_EQ(s.interp.fish().find("n")->value.number(), 10);
+    EXPECT_EQ(s.model.contacts.n_detections, 2);
+}
+
 TEST(FishIntrinsics, RotationAndSpinOfATurnedBlock) {
     // Turned by spins about the world z, y and x axes in turn, 0.1 s each (no gravity, no
     // contacts, undamped: each spin turns it by exactly its angle).
