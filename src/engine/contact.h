@@ -129,11 +129,12 @@ struct ContactSet {
     std::vector<double> joint_kt;                 // (n_blocks) N/m, sum of k times area
     std::vector<double> joint_kr;                 // (n_blocks) N m, the same times the squared lever
 
-    // Derived (not saved), made again whenever detection changes which pairs are in contact:
-    // the contacts by colour, no two contacts of one colour sharing a block, so that the
-    // contact update adds their forces straight into the blocks on the threads.
-    std::vector<int> color_order;                 // (n_contacts) colour by colour, each in contact
-                                                  //   order, then those no colour could take
+    // Derived (not saved), made again whenever detection changes which pairs are in contact or
+    // which of them carry sub-contacts: the contacts that carry sub-contacts, by colour, no two
+    // contacts of one colour sharing a block, so that the contact update adds their forces
+    // straight into the blocks on the threads.
+    std::vector<int> color_order;                 // (contacts carrying sub-contacts) colour by colour,
+                                                  //   each in contact order, then those no colour could take
     std::vector<int> color_offset;                // (n_colours + 1) first entry of each colour
     bool colored = false;
 

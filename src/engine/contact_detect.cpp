@@ -1171,6 +1171,12 @@ struct Detector {
                 clear = std::min(clear, outside);
             }
         }
+        // A contact that carries nothing is watched from the moment its blocks could touch at
+        // all: the gap across its plane, which a motion of either block closes by no more than
+        // the motion. Two edges crossing (square prisms laid crosswise) touch with no corner in
+        // the other block: watched by their corners alone, such blocks went ctol/10 into one
+        // another before the next refresh (the upper prism sank 5 mm and was thrown off).
+        if (first == next.n_subs()) clear = std::min(clear, next.gap.back());
         return clear - snap - movement(cs, s, a, cs.geo_centroid, cs.geo_orientation) -
                movement(cs, s, b, cs.geo_centroid, cs.geo_orientation);
     }
@@ -1604,6 +1610,15 @@ void detect_contacts(Model& m) {
                     continue;
                 }
                 same_pairs = same_pairs && jobs[~e].oc == rw.written();
+                // The colouring lists the contacts that carry sub-contacts: one that starts or
+                // stops carrying any needs a new one (the old count from the old offsets, which
+                // the writing leaves as they were).
+                if (same_pairs) {
+                    const OldRef o = rw.old(jobs[~e].oc);
+                    const ContactSet& x = rebuilt.set(f);
+                    const int lf = rebuilt.local[f];
+                    same_pairs = (o.k1 > o.k0) == (x.sub_offset[lf + 1] > x.sub_offset[lf]);
+                }
                 pend = std::max(pend, pi + 1);
                 while (pend < np && !pending(pend)) ++pend;
                 const int next = pend < np ? (plan[pend] >= 0 ? plan[pend] : jobs[~plan[pend]].oc) : -1;

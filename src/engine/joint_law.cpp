@@ -152,14 +152,20 @@ LawParams law_params(const Model& m, int jmat, int jcons) {
 } // namespace
 
 void color_contacts(ContactSet& cs, int n_blocks) {
-    // Greedy: each contact, in order, takes the lowest of 64 colours that neither of its blocks
-    // has yet; a contact whose blocks have used them all goes to the list after the colours.
+    // Greedy: each contact that carries sub-contacts, in order, takes the lowest of 64 colours
+    // that neither of its blocks has yet; a contact whose blocks have used them all goes to the
+    // list after the colours. Contacts without sub-contacts (blocks near one another, or meeting
+    // along an edge: most of a jointed rock mass's) are not listed: the contact update would
+    // only look at them to find nothing to do (a refresh that makes one carry colours again).
     constexpr int kColors = 64;
     const int nc = cs.size();
     std::vector<std::uint64_t> used(n_blocks, 0);
-    std::vector<int> color(nc);
+    std::vector<int> color(nc, -1);
     std::vector<int> count(kColors + 1, 0);
+    int listed = 0;
     for (int c = 0; c < nc; ++c) {
+        if (cs.sub_offset[c] == cs.sub_offset[c + 1]) continue;
+        ++listed;
         const std::uint64_t free = ~(used[cs.block_a[c]] | used[cs.block_b[c]]);
         const int k = free ? __builtin_ctzll(free) : kColors;
         if (k < kColors) {
@@ -177,8 +183,10 @@ void color_contacts(ContactSet& cs, int n_blocks) {
     for (int k = 0; k < n_colors; ++k) cs.color_offset[k + 1] = cs.color_offset[k] + count[k];
     std::vector<int> fill(cs.color_offset.begin(), cs.color_offset.end() - 1);
     fill.push_back(cs.color_offset.back()); // the uncoloured, after the colours
-    cs.color_order.assign(nc, 0);
-    for (int c = 0; c < nc; ++c) cs.color_order[fill[std::min(color[c], n_colors)]++] = c;
+    cs.color_order.assign(listed, 0);
+    for (int c = 0; c < nc; ++c) {
+        if (color[c] >= 0) cs.color_order[fill[std::min(color[c], n_colors)]++] = c;
+    }
     cs.colored = true;
 }
 

@@ -86,3 +86,40 @@ TEST(ContactRewrite, APassRebuildingEveryContactFindsWhatAFreshDetectionFinds) {
     EXPECT_LE(a.sub_local.capacity(), a.sub_local.size() + a.sub_local.size() / 8 + 1024);
     EXPECT_LE(a.normal.capacity(), a.normal.size() + a.normal.size() / 8 + 1024);
 }
+
+// Two square prisms crossed edge to edge, 1 mm apart: their contact exists (within ctol) with
+// no sub-contact. As the upper one lands, its edge crossing the lower's must be seen at once
+// (no corner of either goes into the other: watched by the corners alone, the prism sank 5 mm
+// before the next refresh and was thrown off, a run-away), and the refresh that gives the
+// contact its crossing without changing which pairs are in contact must take it into the
+// colouring of the contacts that carry sub-contacts: otherwise its force would be left out.
+TEST(ContactRewrite, AContactThatStartsToCarryIsTakenIntoTheColouring) {
+    Model m;
+    set_material(m, 1, 2000);
+    set_joint(m, 1, 1e9, 1e9, 30);
+    m.gravity = Vec3(0, 0, -10);
+    const double h = 0.5 * std::sqrt(2.0); // half the diagonal of a unit square
+    // Below: its top edge along y at z = 0; above: its bottom edge along x, 1 mm higher.
+    Polyhedron low = rotated(make_brick(-0.5, 0.5, -0.5, 0.5, -0.5, 0.5), Vec3::Zero(), Vec3::UnitY(), M_PI / 4);
+    low.translate(Vec3(0, 0, -h));
+    Polyhedron high = rotated(make_brick(-0.5, 0.5, -0.5, 0.5, -0.5, 0.5), Vec3::Zero(), Vec3::UnitX(), M_PI / 4);
+    high.translate(Vec3(0, 0, h + 0.001));
+    const int base = add_fixed(m, low);
+    const int top = add_block(m, high, 0, -1, 1);
+    ASSERT_EQ(prepare_cycle(m), "");
+    const int c = contact_between(m, base, top);
+    ASSERT_GE(c, 0);
+    ASSERT_EQ(m.contacts.sub_offset[c], m.contacts.sub_offset[c + 1]); // apart: nothing to carry
+    const CycleResult r = run_steps(m, 2000);
+    ASSERT_EQ(r.message, "");
+    ASSERT_EQ(r.steps, 2000);
+    const ContactSet& cs = m.contacts;
+    const int c2 = contact_between(m, base, top);
+    ASSERT_GE(c2, 0);
+    ASSERT_GT(cs.sub_offset[c2 + 1], cs.sub_offset[c2]);
+    ASSERT_TRUE(cs.colored);
+    EXPECT_NE(std::find(cs.color_order.begin(), cs.color_order.end(), c2), cs.color_order.end());
+    // Held up by the crossing, closed by 60 um (2e4 N on the crossing's spring).
+    EXPECT_GT(m.blocks.centroid[top].z(), h - 1e-4);
+    EXPECT_LT(m.blocks.centroid[top].z(), h - 1e-5); // it did land
+}
