@@ -73,7 +73,9 @@ struct ContactSet {
     std::vector<double> free_motion;      // (n_contacts) m, derived (not saved): how far its blocks may
                                           //          move (`movement` since their geometry references)
                                           //          before a corner that carries no sub-contact could
-                                          //          press into the other block; -infinity: unknown
+                                          //          press into the other block (for a contact that
+                                          //          carries none, before its blocks could touch at
+                                          //          all: no more than its gap); -infinity: unknown
 
     // ---- per sub-contact (n_subs) ----
     // Its contact is the one whose sub_offset range holds it (sub_owner), and the vertex or
