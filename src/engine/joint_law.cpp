@@ -213,17 +213,27 @@ void update_contacts(Model& m, double dt) {
     axis.resize(n);
     turn_sin.resize(n);
     turn_cos1.resize(n);
-    for (int b = 0; b < n; ++b) {
-        rot[b] = s.orientation[b].toRotationMatrix();
-        // A block whose velocity was given at t has not moved with it yet.
-        const bool still = s.half_kick[b] || ((s.flags[b] & kFixed) && !s.vel_bc[b]);
-        disp[b] = still ? Vec3::Zero() : Vec3(s.vel[b] * dt);
-        const Vec3 w = still ? Vec3::Zero() : s.ang_vel[b];
-        const double angle = w.norm() * dt;
-        axis[b] = angle > 0 ? Vec3(w / w.norm()) : Vec3::Zero();
-        const double half = std::sin(0.5 * angle);
-        turn_sin[b] = m.settings.dynamic ? std::sin(angle) : angle;
-        turn_cos1[b] = m.settings.dynamic ? 2.0 * half * half : 0.0;
+    {
+        // Block by block, each on its own: on the threads in a large model (the pointers: a
+        // thread_local named inside the loop would be each worker's own).
+        Mat3* rot_w = rot.data();
+        Vec3* disp_w = disp.data();
+        Vec3* axis_w = axis.data();
+        double* sin_w = turn_sin.data();
+        double* cos1_w = turn_cos1.data();
+        const bool dynamic = m.settings.dynamic;
+        parallel_for(n, thread_count(), n >= kParallelMinBlocks, [&](int b) {
+            rot_w[b] = s.orientation[b].toRotationMatrix();
+            // A block whose velocity was given at t has not moved with it yet.
+            const bool still = s.half_kick[b] || ((s.flags[b] & kFixed) && !s.vel_bc[b]);
+            disp_w[b] = still ? Vec3::Zero() : Vec3(s.vel[b] * dt);
+            const Vec3 w = still ? Vec3::Zero() : s.ang_vel[b];
+            const double angle = w.norm() * dt;
+            axis_w[b] = angle > 0 ? Vec3(w / w.norm()) : Vec3::Zero();
+            const double half = std::sin(0.5 * angle);
+            sin_w[b] = dynamic ? std::sin(angle) : angle;
+            cos1_w[b] = dynamic ? 2.0 * half * half : 0.0;
+        });
     }
     // A piece of a clump turned about the clump's centroid (clump.cpp): its velocity is that of
     // the rigid motion at its centroid now, not its centroid's displacement over the step.
