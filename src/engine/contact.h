@@ -118,6 +118,9 @@ struct ContactSet {
     std::uint64_t change_seen = 0;        // (not saved) Model::geometry_changed.count() at the last detection
     long revision = 0;                    // (not saved) counts the refreshes that rewrote the contacts,
                                           //   so that what is derived from them knows to follow
+    double build_seconds = 0;             // (not saved) s, building the contacts of refresh passes
+                                          //   (on the threads), for the benchmarks
+    double write_seconds = 0;             // (not saved) s, writing them into the set (on one thread)
 
     // Derived from the zones, rebuilt when the model changes (not saved): the surface
     // triangles of every deformable block, outward, grouped by block.

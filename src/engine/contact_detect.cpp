@@ -62,6 +62,7 @@
 // so a sub-contact that existed before keeps its history; a new one starts with the
 // overlap the geometry shows at its point.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -1584,6 +1585,9 @@ void detect_contacts(Model& m) {
     // Build the jobs a window at a time, and after each window write the plan as far as it
     // reaches (Rewrite): a job whose blocks were too far apart drops out. The pairs in contact
     // stay as they were when every old contact keeps its place.
+    using Clock = std::chrono::steady_clock;
+    const Clock::time_point pass_start = Clock::now();
+    double build_time = 0;
     thread_local std::vector<int> old_off;
     bool same_pairs = static_cast<int>(plan.size()) == cs.size();
     {
@@ -1593,7 +1597,11 @@ void detect_contacts(Model& m) {
         int pend = 0; // the first entry after it whose old contact is still to be read
         for (int j0 = 0;;) {
             const int j1 = std::min(nj, j0 + kBuildWindow);
-            if (j1 > j0) build_jobs(m, cs, jobs, j0, j1, rw, rebuilt, fresh);
+            if (j1 > j0) {
+                const Clock::time_point t0 = Clock::now();
+                build_jobs(m, cs, jobs, j0, j1, rw, rebuilt, fresh);
+                build_time += std::chrono::duration<double>(Clock::now() - t0).count();
+            }
             // Kept contacts are read as they are written, the old contacts of jobs when their
             // window is built.
             auto pending = [&](int q) { return plan[q] >= 0 || (~plan[q] >= j1 && jobs[~plan[q]].oc >= 0); };
@@ -1629,6 +1637,8 @@ void detect_contacts(Model& m) {
         }
         rw.finish();
     }
+    cs.build_seconds += build_time;
+    cs.write_seconds += std::chrono::duration<double>(Clock::now() - pass_start).count() - build_time;
     ++cs.revision;
     if (!same_pairs) cs.colored = false;
     // The parts are buffers for the contacts rebuilt in one window, kept so that passes allocate

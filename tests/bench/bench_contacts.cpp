@@ -2,7 +2,8 @@
 // of spacing 1 m into n^3 blocks (by the same code as `jset`), settling under gravity on a
 // fixed base. Prints blocks, contacts,
 // sub-contacts, steps per second, sub-contact updates per second, the refresh passes (contacts
-// rebuilt without a full detection) and the share of time in
+// rebuilt without a full detection; the seconds spent building their contacts on the threads and
+// writing them into the set on one) and the share of time in
 // each cycle stage, and memory: heap in use after the blocks are made (bytes per block), the
 // heap the contacts add at its largest (bytes per sub-contact, their per-contact records
 // included) and the peak resident memory of the process, phase by phase (cutting, first
@@ -92,6 +93,7 @@ void run(int n, long steps) {
     reset_peak_rss();
     m.profile = Profile{};
     const long revision0 = m.contacts.revision;
+    const double build0 = m.contacts.build_seconds, write0 = m.contacts.write_seconds;
     CycleLimits lim;
     lim.max_steps = steps;
     const auto t1 = Clock::now();
@@ -115,6 +117,9 @@ void run(int n, long steps) {
                 "refresh passes %ld\n",
                 steps, t, steps / t, t / steps, static_cast<double>(m.contacts.n_subs()) * steps / t, m.contacts.n_detections,
                 m.contacts.revision - revision0);
+    std::printf("  refresh passes: %.3f s building contacts (on the threads), %.3f s writing them into the set (on one "
+                "thread)\n",
+                m.contacts.build_seconds - build0, m.contacts.write_seconds - write0);
     std::printf("  stages:");
     for (int s = 0; s < static_cast<int>(Stage::Count); ++s) {
         std::printf(" %s %.1f%%", stage_name(static_cast<Stage>(s)), 100.0 * m.profile.seconds[s] / total_stage);
