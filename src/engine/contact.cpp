@@ -126,17 +126,14 @@ int contact_index(const Model& m, int contact_id) {
     return -1;
 }
 
-namespace {
-// Contacts must exist before they can be changed: detect them if the model changed.
-void ensure_detected(Model& m) {
-    if (m.contacts_current()) return;
+void ensure_contacts_current(Model& m, bool with_surface) {
+    if (m.contacts_current() && (!with_surface || m.contacts.surface_ready)) return;
     refresh_world_vertices(m);
     detect_contacts(m);
 }
-} // namespace
 
 int assign_joint_material(Model& m, const Range& r, int jmat, int jcons) {
-    ensure_detected(m);
+    ensure_contacts_current(m, false); // contacts must exist before they can be changed
     ContactSet& cs = m.contacts;
     int changed = 0;
     for (int c = 0; c < cs.size(); ++c) {
@@ -165,7 +162,7 @@ int contact_without_joint_properties(const Model& m, bool loaded_only) {
 }
 
 int join_blocks(Model& m, const std::vector<int>& block_indices) {
-    ensure_detected(m);
+    ensure_contacts_current(m, false); // contacts must exist before they can be changed
     std::vector<char> sel(m.blocks.size(), 0);
     for (int b : block_indices) {
         if (b >= 0 && b < m.blocks.size()) sel[b] = 1;

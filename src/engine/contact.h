@@ -163,6 +163,9 @@ struct ContactSet {
 // areas), when some block has moved more than a fraction of ctol since the last time, or
 // the model changed (Model::geometry_changed).
 void detect_contacts(Model& m);
+// For commands and FISH between steps: the contacts of the model as it stands (and, with_surface,
+// the zones' contact surface), found now unless they already are (Model::contacts_current).
+void ensure_contacts_current(Model& m, bool with_surface);
 // Colour the contacts (ContactSet::color_order): done by update_contacts when needed.
 void color_contacts(ContactSet& cs, int n_blocks);
 // Relative motion -> joint stresses -> forces and moments on both blocks.

@@ -1583,13 +1583,14 @@ void detect_contacts(Model& m) {
         }
     }
     // Build the jobs a window at a time, and after each window write the plan as far as it
-    // reaches (Rewrite): a job whose blocks were too far apart drops out. The pairs in contact
-    // stay as they were when every old contact keeps its place.
+    // reaches (Rewrite): a job whose blocks were too far apart drops out. The colouring of the
+    // contact update holds while every old contact keeps its place and carries sub-contacts
+    // or none as before.
     using Clock = std::chrono::steady_clock;
     const Clock::time_point pass_start = Clock::now();
     double build_time = 0;
     thread_local std::vector<int> old_off;
-    bool same_pairs = static_cast<int>(plan.size()) == cs.size();
+    bool colouring_holds = static_cast<int>(plan.size()) == cs.size();
     {
         Rewrite rw(cs, old_off);
         const int np = static_cast<int>(plan.size()), nj = static_cast<int>(jobs.size());
@@ -1608,24 +1609,24 @@ void detect_contacts(Model& m) {
             for (; pi < np && (plan[pi] >= 0 || ~plan[pi] < j1); ++pi) {
                 const int e = plan[pi];
                 if (e >= 0) {
-                    same_pairs = same_pairs && e == rw.written();
+                    colouring_holds = colouring_holds && e == rw.written();
                     rw.put_kept(e);
                     continue;
                 }
                 const int f = fresh[~e - j0];
                 if (f < 0) {
-                    same_pairs = false;
+                    colouring_holds = false;
                     continue;
                 }
-                same_pairs = same_pairs && jobs[~e].oc == rw.written();
+                colouring_holds = colouring_holds && jobs[~e].oc == rw.written();
                 // The colouring lists the contacts that carry sub-contacts: one that starts or
-                // stops carrying any needs a new one (the old count from the old offsets, which
+                // stops carrying any needs a new one (its old count from the old offsets, which
                 // the writing leaves as they were).
-                if (same_pairs) {
+                if (colouring_holds) {
                     const OldRef o = rw.old(jobs[~e].oc);
                     const ContactSet& x = rebuilt.set(f);
                     const int lf = rebuilt.local[f];
-                    same_pairs = (o.k1 > o.k0) == (x.sub_offset[lf + 1] > x.sub_offset[lf]);
+                    colouring_holds = (o.k1 > o.k0) == (x.sub_offset[lf + 1] > x.sub_offset[lf]);
                 }
                 pend = std::max(pend, pi + 1);
                 while (pend < np && !pending(pend)) ++pend;
@@ -1640,7 +1641,7 @@ void detect_contacts(Model& m) {
     cs.build_seconds += build_time;
     cs.write_seconds += std::chrono::duration<double>(Clock::now() - pass_start).count() - build_time;
     ++cs.revision;
-    if (!same_pairs) cs.colored = false;
+    if (!colouring_holds) cs.colored = false;
     // The parts are buffers for the contacts rebuilt in one window, kept so that passes allocate
     // nothing. So are the jobs and the plan, but after a full pass they are as large as all
     // the candidate pairs, most of which (blocks near one another without a contact) the

@@ -630,10 +630,7 @@ void flow_apertures(Model& m) {
 }
 
 void flow_ready(Model& m) {
-    if (!m.contacts_current() || !m.contacts.surface_ready) {
-        refresh_world_vertices(m);
-        detect_contacts(m);
-    }
+    ensure_contacts_current(m, true);
     flow_sync(m);
 }
 

@@ -246,11 +246,6 @@ void unload_sub(ContactSet& cs, int k) {
     cs.sub_flags[k] = (cs.sub_flags[k] & kSubFailed) | kSubOpen;
 }
 
-void ensure_detected(Model& m) {
-    if (m.contacts_current() && m.contacts.surface_ready) return;
-    refresh_world_vertices(m);
-    detect_contacts(m);
-}
 
 void set_zone_stress(Model& m, const Range& r, const StressField& f, const std::vector<char>& only,
                      std::vector<std::uint8_t>& set) {
@@ -279,7 +274,7 @@ enum SubResult : std::uint8_t { kUntouched = 0, kLoaded = 1, kCapped = 2, kOpene
 // 2 no stiffness).
 void load_contacts(Model& m, const Range& r, const StressField& f, const std::vector<char>& only,
                    std::vector<std::uint8_t>& result, std::vector<std::uint8_t>& touched) {
-    ensure_detected(m);
+    ensure_contacts_current(m, true);
     refresh_contact_surface(m);
     ContactSet& cs = m.contacts;
     const BlockSet& s = m.blocks;

@@ -195,6 +195,7 @@ void update_contacts(Model& m, double dt) {
     BlockSet& s = m.blocks;
     GridpointSet& g = m.gridpoints;
     const int n = s.size();
+    const int threads = thread_count();
     thread_local std::vector<Mat3> rot;
     // What each block did over the last step: its displacement, and its turn about its
     // centroid by the angle |w| dt about w (integrate.cpp), as the axis and the sine and
@@ -222,7 +223,7 @@ void update_contacts(Model& m, double dt) {
         double* sin_w = turn_sin.data();
         double* cos1_w = turn_cos1.data();
         const bool dynamic = m.settings.dynamic;
-        parallel_for(n, thread_count(), n >= kParallelMinBlocks, [&](int b) {
+        parallel_for(n, threads, n >= kParallelMinBlocks, [&](int b) {
             rot_w[b] = s.orientation[b].toRotationMatrix();
             // A block whose velocity was given at t has not moved with it yet.
             const bool still = s.half_kick[b] || ((s.flags[b] & kFixed) && !s.vel_bc[b]);
@@ -340,7 +341,6 @@ void update_contacts(Model& m, double dt) {
     const int n_colors = static_cast<int>(cs.color_offset.size()) - 1;
     const int* order = cs.color_order.data();
     const int* offset = cs.color_offset.data();
-    const int threads = thread_count();
     if (threads > 1 && cs.size() >= kParallelMinItems) {
 #pragma omp parallel num_threads(threads)
         for (int col = 0; col < n_colors; ++col) {

@@ -69,8 +69,7 @@ void ensure_contacts(Runtime& rt, Model& m, L loc) {
     if (!m.contacts_current()) {
         const long long cost = 200LL * m.blocks.size();
         rt.spend(cost, loc);
-        refresh_world_vertices(m);
-        detect_contacts(m);
+        ensure_contacts_current(m, false);
     }
 }
 
