@@ -428,7 +428,7 @@ void cable_forces(Model& m, double dt) {
     }
 }
 
-int integrate_cables(Model& m, double dt) {
+int integrate_cables(Model& m, double dt, AutoDampingSums* sums) {
     CableSet& cs = m.cables;
     const Damping& d = m.damping;
     int bad = -1;
@@ -458,12 +458,16 @@ int integrate_cables(Model& m, double dt) {
                 }
                 if (b >= 0) {
                     const Vec3 t = node_direction(cs, c, i);
-                    double va = cs.vel[i].dot(t);
-                    va += damp(cs.force[i].dot(t), va, mass) / mass * dt;
+                    const double va0 = cs.vel[i].dot(t), fa = cs.force[i].dot(t);
+                    const double va = va0 + damp(fa, va0, mass) / mass * dt;
+                    if (sums) sums->add(mass, fa, va0, va);
                     v = vh - vh.dot(t) * t + va * t;
                 } else {
                     v = cs.vel[i];
-                    for (int k = 0; k < 3; ++k) v[k] += damp(cs.force[i][k], v[k], mass) / mass * dt;
+                    for (int k = 0; k < 3; ++k) {
+                        v[k] += damp(cs.force[i][k], v[k], mass) / mass * dt;
+                        if (sums) sums->add(mass, cs.force[i][k], cs.vel[i][k], v[k]);
+                    }
                 }
             }
             cs.vel[i] = v;

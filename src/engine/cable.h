@@ -50,6 +50,7 @@
 namespace odec {
 
 struct Model;
+struct AutoDampingSums;
 
 // Steel and grout of a cable (`prop mat=n cb_area ... cb_sbond ...`).
 struct CableMaterial {
@@ -159,7 +160,7 @@ void add_cable_block_stiffness(const Model& m, std::vector<double>& kt, std::vec
 void cable_forces(Model& m, double dt);
 // Part of the integration stage, after blocks and gridpoints: the nodes' velocities and positions.
 // Returns the index of a node whose motion became non-finite, or -1.
-int integrate_cables(Model& m, double dt);
+int integrate_cables(Model& m, double dt, AutoDampingSums* sums = nullptr);
 
 // Elastic energy stored in the segments and the grout, J.
 double cable_strain_energy(const Model& m);

@@ -160,8 +160,7 @@ void set_clump_component_at_t(Model& m, int b, int k, double value, bool spin) {
     }
 }
 
-int integrate_clumps(Model& m, const ClumpList& cl, double dt, EnergyStep* energy, double* damping_power,
-                     double* forcing_power) {
+int integrate_clumps(Model& m, const ClumpList& cl, double dt, EnergyStep* energy, AutoDampingSums* sums) {
     BlockSet& s = m.blocks;
     const Damping& d = m.damping;
     const Vec3 grav = m.gravity;
@@ -219,16 +218,14 @@ int integrate_clumps(Model& m, const ClumpList& cl, double dt, EnergyStep* energ
             }
         } else {
             const double kick = half ? 0.5 * dt : dt;
-            if (damping_power) {
-                *damping_power += inertial_mass * v0.squaredNorm();
-                *forcing_power += std::abs(force.dot(v0)) + std::abs(moment.dot(w0));
-            }
             for (int k = 0; k < 3; ++k) a[k] = damped_force(d, force[k], v0[k], inertial_mass, dt) / inertial_mass;
             v = v0 + a * kick;
             for (int k = 0; k < 3; ++k) {
                 if (bc & (1 << k)) {
                     v[k] = bc_value[k] * m.table_factor(bc_table[k]);
                     a[k] = 0;
+                } else if (sums) {
+                    sums->add(inertial_mass, force[k], v0[k], v[k]);
                 }
             }
             if (energy) {
@@ -266,9 +263,11 @@ int integrate_clumps(Model& m, const ClumpList& cl, double dt, EnergyStep* energ
             }
             Vec3 mom;
             for (int k = 0; k < 3; ++k) mom[k] = damped_force(d, moment[k], w0[k], inertia(k, k), dt);
-            if (damping_power) *damping_power += w0.dot(inertia.diagonal().cwiseProduct(w0));
             alpha = scaled_moment ? Vec3(mom / iso) : Vec3(inertia.ldlt().solve(mom));
             w = w0 + alpha * kick;
+            if (sums) {
+                for (int k = 0; k < 3; ++k) sums->add(inertia(k, k), moment[k], w0[k], w[k]);
+            }
             if (energy) energy_rotation(*energy, body.inertia, moment, mom, load_m, w0, w, half, dt);
         }
         // The clump's motion over the step, and each piece where it takes it.

@@ -82,10 +82,9 @@ void set_clump_component_at_t(Model& m, int b, int k, double value, bool spin);
 
 // The integration of the clumps (part of the integration stage): each moves as one rigid body
 // under the sum of its pieces' forces and their moments about its centroid, damped as a block
-// is. Adds the step's energy increments when given and the adaptive damping's power sums.
+// is. Adds the step's energy increments and adaptive damping's sums when given.
 // Returns the index of a piece whose motion became non-finite, or -1.
-int integrate_clumps(Model& m, const ClumpList& clumps, double dt, EnergyStep* energy, double* damping_power,
-                     double* forcing_power);
+int integrate_clumps(Model& m, const ClumpList& clumps, double dt, EnergyStep* energy, AutoDampingSums* sums);
 
 // Why the clumps of a model are not consistent (for restore's checks), or "".
 std::string clumps_problem(const BlockSet& s);

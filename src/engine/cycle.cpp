@@ -153,22 +153,26 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
             liner_forces(m, m.dt);
         }
         int bad;
+        // Adaptive damping gathers over every free degree of freedom (integrate.cpp).
+        AutoDampingSums auto_sums;
+        AutoDampingSums* sums = m.damping.mode == DampingMode::Auto ? &auto_sums : nullptr;
         {
             StageTimer t{prof, Stage::Integrate};
-            bad = integrate(m, m.dt);
+            bad = integrate(m, m.dt, sums);
             refresh_world_vertices(m);
         }
         int bad_node = -1;
         if (m.cables.size() > 0) {
             // The nodes follow the rock across their axis: after the blocks and gridpoints moved.
             StageTimer t{prof, Stage::Cables};
-            bad_node = integrate_cables(m, m.dt);
+            bad_node = integrate_cables(m, m.dt, sums);
         }
         if (m.liners.size() > 0 && bad_node < 0) {
             StageTimer t{prof, Stage::Liners};
-            const int i = integrate_liners(m, m.dt);
+            const int i = integrate_liners(m, m.dt, sums);
             if (i >= 0) bad_node = -2 - i;
         }
+        if (sums) adjust_auto_damping(m.damping, auto_sums, m.dt);
         m.time += m.dt;
         ++m.step;
         ++res.steps;

@@ -15,47 +15,55 @@ namespace odec {
 
 namespace {
 
-// Adaptive global damping (Cundall's auto damping): a viscous coefficient c (1/s, force
-// c m v) that is nudged every few steps so that the power the damping absorbs stays at
-// half the rate at which the unbalanced forces change the kinetic energy. When the model
-// still moves with purpose (kinetic energy changing fast) the damping rises to follow;
-// as it settles and the forces balance, it eases off, so it never freezes a real motion
-// the way a fixed heavy damping would. Explicit viscous damping needs c dt < 2; it is
-// kept well inside that.
-struct AutoDampingPower {
-    double damping = 0; // W per unit c: sum of m v.v (and I w.w)
-    double forcing = 0; // W: sum of |f.v| (and |M.w|), the undamped change of kinetic energy
-};
-
-void adjust_auto_damping(Damping& d, const AutoDampingPower& p, long step, double dt) {
-    const double c_max = 0.5 / dt, c_min = 1e-4 / dt;
-    if (!(d.auto_coefficient > 0)) d.auto_coefficient = 0.02 / dt;
-    if (step % 5 != 0 || !(p.forcing > 0)) return;
-    const double ratio = d.auto_coefficient * p.damping / p.forcing;
-    d.auto_coefficient *= ratio < 0.5 ? 1.05 : 1.0 / 1.05;
-    d.auto_coefficient = std::clamp(d.auto_coefficient, c_min, c_max);
-}
+// Adaptive global damping: a viscous coefficient c (1/s, force c m v) set each step from the
+// frequency of the motion the model shows, so that the slowest motion towards equilibrium,
+// which dominates what still moves, is damped at a fixed fraction of critical (dynamic
+// relaxation with a Rayleigh-quotient estimate of that frequency). With K the stiffness and M
+// the inertial masses, the squared frequency of the velocity field v is v.K v / v.M v; the step
+// shows K v through the change of the unbalanced forces, f(t) - f(t - dt) = -K v dt (loads held),
+// so v.K v dt = v.f(t - dt) - v.f(t) with v the velocities between the two, and the estimate
+// needs three sums over the free degrees of freedom (AutoDampingSums), one kept from the last
+// step. The Rayleigh quotient is never below the lowest frequency: early on, while stiff local
+// motions dominate, the damping is heavier than the slowest mode needs, and it eases off as the
+// model settles into its slowest motion. A motion against no stiffness (a block sliding or
+// falling freely) shows no frequency and draws the least damping, so the damping does not freeze
+// a mechanism. Explicit viscous damping needs c dt < 2; c is kept within [1e-4, 0.5] / dt. An
+// estimate that is not a positive number (loads changed, a contact opened between the steps)
+// leaves c as it was.
+constexpr double kAutoFraction = 0.7; // of critical: c = 2 * 0.7 * omega
 
 } // namespace
 
-int integrate(Model& m, double dt) {
+void adjust_auto_damping(Damping& d, const AutoDampingSums& s, double dt) {
+    const double c_max = 0.5 / dt, c_min = 1e-4 / dt;
+    if (d.auto_inertia > 0) {
+        const double w2 = (d.auto_after - s.before) / (dt * d.auto_inertia);
+        if (std::isfinite(w2) && w2 > 0) d.auto_coefficient = std::clamp(2 * kAutoFraction * std::sqrt(w2), c_min, c_max);
+    }
+    // Kept for the next step only when they are numbers (a model running away is stopped by the
+    // checks; what it leaves here must still save).
+    const bool kept = std::isfinite(s.after) && std::isfinite(s.inertia);
+    d.auto_after = kept ? s.after : 0.0;
+    d.auto_inertia = kept ? s.inertia : 0.0;
+}
+
+int integrate(Model& m, double dt, AutoDampingSums* sums) {
     BlockSet& s = m.blocks;
     // One damping law for blocks and gridpoints.
     const Damping& d = m.damping;
-    const bool auto_damp = d.mode == DampingMode::Auto;
-    if (auto_damp && !(m.damping.auto_coefficient > 0)) m.damping.auto_coefficient = 0.02 / dt;
-    AutoDampingPower total;
+    const bool auto_damp = sums != nullptr;
+    if (d.mode == DampingMode::Auto && !(m.damping.auto_coefficient > 0)) m.damping.auto_coefficient = 0.02 / dt;
     // Static mode: the blocks' masses follow their joints as they are this step.
     if (!m.settings.dynamic) scale_block_masses(m, true);
     // Fixed chunks of blocks, whatever the number of threads: their sums are added in order.
     constexpr int kChunk = 512;
     const int nb = s.size();
     const int n_chunks = (nb + kChunk - 1) / kChunk;
-    thread_local std::vector<AutoDampingPower> chunk_power;
+    thread_local std::vector<AutoDampingSums> chunk_sums;
     thread_local std::vector<int> chunk_bad;
-    chunk_power.assign(n_chunks, AutoDampingPower{});
+    chunk_sums.assign(n_chunks, AutoDampingSums{});
     chunk_bad.assign(n_chunks, -1);
-    AutoDampingPower* cp = chunk_power.data();
+    AutoDampingSums* cp = chunk_sums.data();
     int* cb = chunk_bad.data();
     // The energy account (energy.h): each step's increments by chunk, added in order.
     const bool account = m.energy.on;
@@ -65,7 +73,7 @@ int integrate(Model& m, double dt) {
     const Vec3 grav = m.gravity;
     const int threads = thread_count();
     parallel_for(n_chunks, threads, nb >= kParallelMinBlocks, [&](int chunk) {
-        AutoDampingPower& power = cp[chunk];
+        AutoDampingSums& sums = cp[chunk];
         int& bad = cb[chunk];
         for (int b = chunk * kChunk; b < std::min(nb, (chunk + 1) * kChunk); ++b) {
             // The pieces of a clump move together, after the blocks alone (clump.h).
@@ -103,10 +111,6 @@ int integrate(Model& m, double dt) {
             }
             const double mass = s.inertial_mass[b];
             const double kick = s.half_kick[b] ? 0.5 * dt : dt;
-            if (auto_damp) {
-                power.damping += mass * s.vel[b].squaredNorm();
-                power.forcing += std::abs(s.force[b].dot(s.vel[b])) + std::abs(s.moment[b].dot(s.ang_vel[b]));
-            }
             // Translation.
             Vec3 a;
             for (int i = 0; i < 3; ++i) {
@@ -120,6 +124,11 @@ int integrate(Model& m, double dt) {
                         v[i] = s.vel_bc_value[b][i] * scale;
                         a[i] = 0;
                     }
+                }
+            }
+            if (auto_damp) {
+                for (int i = 0; i < 3; ++i) {
+                    if (!(s.vel_bc[b] & (1 << i))) sums.add(mass, s.force[b][i], s.vel[b][i], v[i]);
                 }
             }
             if (account) {
@@ -151,7 +160,6 @@ int integrate(Model& m, double dt) {
             for (int i = 0; i < 3; ++i) {
                 mom[i] = damped_force(d, s.moment[b][i], s.ang_vel[b][i], inertia(i, i), dt);
             }
-            if (auto_damp) power.damping += s.ang_vel[b].dot(inertia.diagonal().cwiseProduct(s.ang_vel[b]));
             // The 3 x 3 inverse in closed form, of the tensor scaled to a trace of 1 (its
             // determinant, the cube of its size, would underflow for a block of 1e-100 m).
             Vec3 alpha;
@@ -162,6 +170,9 @@ int integrate(Model& m, double dt) {
                 alpha = (inertia / t).inverse() * (mom / t);
             }
             const Vec3 w = s.ang_vel[b] + alpha * kick;
+            if (auto_damp) {
+                for (int i = 0; i < 3; ++i) sums.add(inertia(i, i), s.moment[b][i], s.ang_vel[b][i], w[i]);
+            }
             if (account) {
                 const Mat3 r = s.orientation[b].toRotationMatrix();
                 energy_rotation(ce[chunk], r * s.inertia_body[b] * r.transpose(), s.moment[b], mom, load_m, s.ang_vel[b],
@@ -183,8 +194,7 @@ int integrate(Model& m, double dt) {
     });
     int bad = -1;
     for (int chunk = 0; chunk < n_chunks; ++chunk) {
-        total.damping += cp[chunk].damping;
-        total.forcing += cp[chunk].forcing;
+        if (auto_damp) sums->add(cp[chunk]);
         if (bad < 0) bad = cb[chunk];
     }
     EnergyStep energy;
@@ -195,43 +205,38 @@ int integrate(Model& m, double dt) {
         thread_local ClumpList clumps;
         list_clumps(s, clumps);
         if (clumps.size() > 0) {
-            const int bad_clump = integrate_clumps(m, clumps, dt, account ? &energy : nullptr,
-                                                   auto_damp ? &total.damping : nullptr, &total.forcing);
+            const int bad_clump =
+                integrate_clumps(m, clumps, dt, account ? &energy : nullptr, sums);
             if (bad < 0) bad = bad_clump;
         }
     }
-    const int bad_gp = integrate_gridpoints(m, d, dt, auto_damp ? &total.damping : nullptr, &total.forcing,
-                                            account ? &energy : nullptr);
+    const int bad_gp = integrate_gridpoints(m, d, dt, sums, account ? &energy : nullptr);
     if (bad < 0 && bad_gp >= 0) bad = m.gridpoints.block[bad_gp];
     if (account) add_energy_step(m, energy);
-    if (auto_damp) adjust_auto_damping(m.damping, total, m.step, dt);
     return bad;
 }
 
-int integrate_gridpoints(Model& m, const Damping& d, double dt, double* damping_power, double* forcing_power,
-                         EnergyStep* energy) {
+int integrate_gridpoints(Model& m, const Damping& d, double dt, AutoDampingSums* sums, EnergyStep* energy) {
     GridpointSet& g = m.gridpoints;
     const int ng = g.size();
     // Fixed chunks, whatever the number of threads: their sums are added in order (parallel.h).
     constexpr int kChunk = 2048;
     const int n_chunks = (ng + kChunk - 1) / kChunk;
-    thread_local std::vector<double> chunk_damping, chunk_forcing;
+    thread_local std::vector<AutoDampingSums> chunk_sums;
     thread_local std::vector<int> chunk_bad;
-    chunk_damping.assign(n_chunks, 0.0);
-    chunk_forcing.assign(n_chunks, 0.0);
+    chunk_sums.assign(n_chunks, AutoDampingSums{});
     chunk_bad.assign(n_chunks, -1);
-    double* cd = chunk_damping.data();
-    double* cf = chunk_forcing.data();
+    AutoDampingSums* cs = chunk_sums.data();
     int* cb = chunk_bad.data();
     thread_local std::vector<EnergyStep> chunk_energy;
     if (energy) chunk_energy.assign(n_chunks, EnergyStep{});
     EnergyStep* ce = chunk_energy.data();
     const Vec3 grav = m.gravity;
-    const bool power = damping_power != nullptr;
+    const bool gather = sums != nullptr;
     const int threads = thread_count();
     parallel_for(n_chunks, threads, ng >= kParallelMinItems, [&](int chunk) {
         const int hi = std::min(ng, (chunk + 1) * kChunk);
-        double pd = 0, pf = 0;
+        AutoDampingSums part;
         int bad = -1;
         for (int i = chunk * kChunk; i < hi; ++i) {
             const double mass = g.inertial_mass[i];
@@ -263,14 +268,11 @@ int integrate_gridpoints(Model& m, const Damping& d, double dt, double* damping_
                 case DampingMode::Off: break;
                 }
                 v[k] = vk + fd / mass * kick;
+                if (gather) part.add(mass, f, vk, v[k]);
                 if (energy) {
                     energy_dof(ce[chunk], g.mass[i], g.mass[i] * grav[k], g.applied[i][k] + g.traction[i][k], f, fd,
                                vk, v[k], false, g.half_kick[i] != 0, dt);
                 }
-            }
-            if (power) {
-                pd += mass * g.vel[i].squaredNorm();
-                pf += std::abs(g.force[i].dot(g.vel[i]));
             }
             g.vel[i] = v;
             const Vec3 dx = v * dt;
@@ -279,17 +281,13 @@ int integrate_gridpoints(Model& m, const Damping& d, double dt, double* damping_
             g.half_kick[i] = 0;
             if (bad < 0 && !(v.allFinite() && g.pos[i].allFinite())) bad = i;
         }
-        cd[chunk] = pd;
-        cf[chunk] = pf;
+        cs[chunk] = part;
         cb[chunk] = bad;
     });
     int bad = -1;
     for (int chunk = 0; chunk < n_chunks; ++chunk) {
         if (energy) energy->add(ce[chunk]);
-        if (power) {
-            *damping_power += cd[chunk];
-            *forcing_power += cf[chunk];
-        }
+        if (gather) sums->add(cs[chunk]);
         if (bad < 0) bad = cb[chunk];
     }
     return bad;

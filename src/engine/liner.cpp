@@ -611,7 +611,7 @@ void liner_forces(Model& m, double dt) {
     }
 }
 
-int integrate_liners(Model& m, double dt) {
+int integrate_liners(Model& m, double dt, AutoDampingSums* sums) {
     LinerSet& ls = m.liners;
     const Damping& d = m.damping;
     int bad = -1;
@@ -619,8 +619,13 @@ int integrate_liners(Model& m, double dt) {
         const double mass = ls.inertial_mass[i], inertia = ls.inertial_moment[i];
         if (!(mass > 0) || !(inertia > 0)) continue;
         for (int k = 0; k < 3; ++k) {
-            ls.vel[i][k] += damped(d, ls.force[i][k], ls.vel[i][k], mass) / mass * dt;
-            ls.spin[i][k] += damped(d, ls.moment[i][k], ls.spin[i][k], inertia) / inertia * dt;
+            const double v0 = ls.vel[i][k], w0 = ls.spin[i][k];
+            ls.vel[i][k] += damped(d, ls.force[i][k], v0, mass) / mass * dt;
+            ls.spin[i][k] += damped(d, ls.moment[i][k], w0, inertia) / inertia * dt;
+            if (sums) {
+                sums->add(mass, ls.force[i][k], v0, ls.vel[i][k]);
+                sums->add(inertia, ls.moment[i][k], w0, ls.spin[i][k]);
+            }
         }
         const Vec3 dx = ls.vel[i] * dt;
         ls.pos[i] += dx;

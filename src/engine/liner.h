@@ -61,6 +61,7 @@
 namespace odec {
 
 struct Model;
+struct AutoDampingSums;
 struct Range;
 
 // Shell and bond of a liner (`prop mat=n li_e ... li_thick ...`).
@@ -173,7 +174,7 @@ void add_liner_block_stiffness(const Model& m, std::vector<double>& kt, std::vec
 // forces are all in, the nodes' motion; integrate_liners returns the index of a node whose motion
 // became non-finite, or -1.
 void liner_forces(Model& m, double dt);
-int integrate_liners(Model& m, double dt);
+int integrate_liners(Model& m, double dt, AutoDampingSums* sums = nullptr);
 
 LinerResultants liner_resultants(const LinerSet& ls, int e);
 

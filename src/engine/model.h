@@ -165,6 +165,28 @@ struct Damping {
     double rayleigh_fraction = 0;   // critical damping fraction
     double rayleigh_frequency = 0;  // Hz
     double auto_coefficient = 0;    // adaptive global damping: current viscous coefficient (1/s)
+    // Adaptive damping's memory of the last step (AutoDampingSums): the sum of v.f over the free
+    // degrees of freedom with the velocities it gave (N m/s), and of m v.v with them (kg m^2/s^2).
+    double auto_after = 0;
+    double auto_inertia = 0;
+};
+
+// What adaptive damping (integrate.cpp) gathers over the free degrees of freedom of a step
+// (translations and rotations of blocks and clumps, gridpoints' components), f being the
+// unbalanced force (or moment) of the step and m the inertial mass (or moment): the sums of v.f
+// with the velocities before (`before`) and after (`after`) the step's kick, and of m v.v after.
+struct AutoDampingSums {
+    double before = 0, after = 0, inertia = 0;
+    void add(double m, double f, double v0, double v1) {
+        before += v0 * f;
+        after += v1 * f;
+        inertia += m * v1 * v1;
+    }
+    void add(const AutoDampingSums& o) {
+        before += o.before;
+        after += o.after;
+        inertia += o.inertia;
+    }
 };
 
 struct Settings {

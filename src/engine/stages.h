@@ -61,15 +61,18 @@ void block_applied_load(const Model& m, int b, double t, Vec3& force, Vec3& mome
 double block_applied_force_bound(const Model& m, int b);
 
 // integrate: velocities at t + dt/2 and positions at t + dt of the free blocks and gridpoints,
-// forces damped by the model's damping law. Returns the index of a block whose motion became
-// non-finite, or -1.
-int integrate(Model& m, double dt);
+// forces damped by the model's damping law; adds to adaptive damping's sums when given.
+// Returns the index of a block whose motion became non-finite, or -1.
+int integrate(Model& m, double dt, AutoDampingSums* sums);
+
+// Adaptive damping's coefficient for the next step, from the sums of every free degree of
+// freedom of this one (blocks, gridpoints, cable and liner nodes), kept for the next (integrate.cpp).
+void adjust_auto_damping(Damping& d, const AutoDampingSums& sums, double dt);
 
 // Gridpoints only (part of integrate): returns the index of a gridpoint whose motion became
-// non-finite, or -1; adds m v.v and |f.v| to the two power sums when given (adaptive damping),
-// and the step's energy increments when given (energy.h).
-int integrate_gridpoints(Model& m, const Damping& d, double dt, double* damping_power, double* forcing_power,
-                         EnergyStep* energy = nullptr);
+// non-finite, or -1; adds to adaptive damping's sums when given, and the step's energy
+// increments when given (energy.h).
+int integrate_gridpoints(Model& m, const Damping& d, double dt, AutoDampingSums* sums, EnergyStep* energy = nullptr);
 
 // prepare (prepare.cpp): what preparing a cycle changes, kept so that a cycle refused before its
 // first step leaves the model exactly as it was; and the preparation itself ("" or why not).

@@ -278,6 +278,11 @@ template <class IO, class M>
 auto fields(IO& io, M& x) -> If<M, Damping> {
     io.enumeration(x.mode, static_cast<int>(DampingMode::Off) + 1);
     io(x.local); io(x.rayleigh_fraction); io(x.rayleigh_frequency); io(x.auto_coefficient);
+    // Format 15: adaptive damping's memory of the last step (older files start without it: the
+    // first step after restore keeps the coefficient they saved).
+    if (io.format >= 15) {
+        io(x.auto_after); io(x.auto_inertia);
+    }
 }
 
 // Format 8: the energy account (older files restore with it off).
@@ -1336,6 +1341,8 @@ std::string check_values(const Model& m) {
     c.between(d.rayleigh_fraction, 0, 1, "the Rayleigh damping fraction");
     c.at_least(d.rayleigh_frequency, 0, "the Rayleigh damping frequency");
     c.at_least(d.auto_coefficient, 0, "the adaptive damping coefficient");
+    c.finite(d.auto_after, "the adaptive damping's power of the last step");
+    c.at_least(d.auto_inertia, 0, "the adaptive damping's inertia of the last step");
     // The energy account: finite sums, begun at a step taken.
     const EnergyAccount& e = m.energy;
     for (double x : {e.initial, e.given, e.gravity, e.load, e.velocity, e.damping, e.pending_gravity,

@@ -32,8 +32,9 @@ namespace odec {
 // convex moving as one rigid body (older files have none: their pieces stay glued by their
 // joined joint set, as they were saved); 13: fluid flow in the joints (its settings, fluid and
 // nodes), the hydraulic apertures of joint materials and the flow stage of the profile (older
-// files have no flow); 14: liners and the liners stage of the profile (older files have none).
-constexpr std::uint32_t kSaveFormatVersion = 14;
+// files have no flow); 14: liners and the liners stage of the profile (older files have none);
+// 15: adaptive damping's memory of the last step (older files start without it).
+constexpr std::uint32_t kSaveFormatVersion = 15;
 
 // Write the model to `path`. A model that restore would refuse (a velocity that is not a finite
 // number after a run-away, an index out of range) is not written: save and restore run the

@@ -6,9 +6,9 @@
 // Model: a 10 m cube (one deformable block, x, y and z in [0, 10] m) zoned by 'gen edge 0.5'
 // (37,380 tetrahedral zones, 7,467 gridpoints); density 2500 kg/m^3, E 10 GPa, nu 0.25; gravity
 // 10 m/s^2; the gridpoints of the base (z = 0) held in x, y and z; sides and top free.
-//   odec      static mode (density scaling, local damping 0.8: odec's default static analysis),
-//             'solve ratio 1e-5', large strain (the default); timed: the solve, the model
-//             built and zoned beforehand.
+//   odec      static mode (density scaling), 'solve ratio 1e-5', large strain (the default),
+//             twice: with local damping 0.8 (the default) and with adaptive damping ('damp
+//             auto'); timed: the solve, the model built and zoned beforehand.
 //   CalculiX  odec's gridpoints (where they were zoned) as nodes and its zones as C3D4 elements,
 //             linear elastic, one *STATIC step with *DLOAD GRAV, the nodes odec holds fixed in
 //             all three directions; timed: the whole ccx run (input read, assembly, solution,
@@ -129,39 +129,52 @@ int main(int argc, char** argv) {
                   "new\npoly brick 0 %g 0 %g 0 %g\nprop mat=1 dens=%g ymod=%g prat=%g\ngen edge %g\n"
                   "fix range z -0.001 0.001\ngrav 0 0 %g\n",
                   kSide, kSide, kSide, kDensity, kYoung, kPoisson, edge, -kGravity);
-    Model m;
-    std::ostringstream out, err;
-    Interpreter in(m, command_table(), out, err);
-    in.quiet = true;
-    const double b0 = process_cpu_seconds();
-    const bool built = in.run_text("bench_ccx", text, false);
-    const double build_cpu = process_cpu_seconds() - b0;
-    if (!built) {
-        std::printf("odec could not build the model: %s\n", err.str().c_str());
-        return 1;
+    // odec's two ways, each on a model of its own; the mesh is the same bits in both.
+    struct Run {
+        const char* name = "";
+        const char* damping = "";
+        Model m;
+        double cpu = 0, wall = 0, settlement = 0;
+    };
+    Run runs[2];
+    runs[0].name = "odec, damp local";
+    runs[1].name = "odec, damp auto";
+    runs[1].damping = "damp auto\n";
+    for (Run& r : runs) {
+        std::ostringstream out, err;
+        Interpreter in(r.m, command_table(), out, err);
+        in.quiet = true;
+        const double b0 = process_cpu_seconds();
+        const bool built = in.run_text("bench_ccx", std::string(text) + r.damping, false);
+        const double build_cpu = process_cpu_seconds() - b0;
+        if (!built) {
+            std::printf("odec could not build the model: %s\n", err.str().c_str());
+            return 1;
+        }
+        if (&r == &runs[0]) {
+            std::printf("elastic cube %g m, zone edge %g m: %d zones, %d gridpoints; one thread each; cpu = user + "
+                        "system seconds\n",
+                        kSide, edge, r.m.zones.size(), r.m.gridpoints.size());
+            std::printf("odec model built and zoned (not counted below): cpu %.2f s\n", build_cpu);
+            std::fflush(stdout);
+        }
+        const double c0 = process_cpu_seconds();
+        const auto w0 = std::chrono::steady_clock::now();
+        const bool solved = in.run_text("bench_ccx", "solve ratio 1e-5\n", false);
+        r.cpu = process_cpu_seconds() - c0;
+        r.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
+        if (!solved) {
+            std::printf("%s: solve failed: %s\n", r.name, err.str().c_str());
+            return 1;
+        }
+        for (int i = 0; i < r.m.gridpoints.size(); ++i) r.settlement = std::max(r.settlement, -r.m.gridpoints.disp[i].z());
+        std::printf("%-17s %6ld steps   wall %7.2f s   cpu %7.2f s   largest settlement %.6e m\n", r.name, r.m.step,
+                    r.wall, r.cpu, r.settlement);
+        std::fflush(stdout);
     }
-    std::printf("elastic cube %g m, zone edge %g m: %d zones, %d gridpoints; one thread each; cpu = user + system "
-                "seconds\n",
-                kSide, edge, m.zones.size(), m.gridpoints.size());
-    std::printf("odec model built and zoned (not counted below): cpu %.2f s\n", build_cpu);
-    std::fflush(stdout);
-
-    const double c0 = process_cpu_seconds();
-    const auto w0 = std::chrono::steady_clock::now();
-    const bool solved = in.run_text("bench_ccx", "solve ratio 1e-5\n", false);
-    const double odec_cpu = process_cpu_seconds() - c0;
-    const double odec_wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
-    if (!solved) {
-        std::printf("odec solve failed: %s\n", err.str().c_str());
-        return 1;
-    }
+    const Model& m = runs[0].m;
     const GridpointSet& g = m.gridpoints;
-    double odec_max = 0;
-    for (int i = 0; i < g.size(); ++i) odec_max = std::max(odec_max, -g.disp[i].z());
     const double analytic = kDensity * kGravity * kSide * kSide / (2 * kYoung);
-    std::printf("odec      %6ld steps   wall %7.2f s   cpu %7.2f s   largest settlement %.6e m\n", m.step, odec_wall,
-                odec_cpu, odec_max);
-    std::fflush(stdout);
 
     const std::string ccx = with_ccx ? odec_bench::find_program("ccx") : "";
     if (ccx.empty()) {
@@ -187,11 +200,14 @@ int main(int argc, char** argv) {
             } else {
                 double ccx_max = 0;
                 for (const Vec3& x : u) ccx_max = std::max(ccx_max, -x.z());
-                std::printf("ccx                     wall %7.2f s   cpu %7.2f s   largest settlement %.6e m\n", r.wall,
-                            r.cpu, ccx_max);
-                std::printf("odec - ccx, largest settlement: %.3e m (%.3f%% of ccx's)\n", odec_max - ccx_max,
-                            100.0 * (odec_max - ccx_max) / ccx_max);
-                std::printf("odec / ccx: cpu %.2f, wall %.2f\n", odec_cpu / r.cpu, odec_wall / r.wall);
+                std::printf("%-17s %6s         wall %7.2f s   cpu %7.2f s   largest settlement %.6e m\n", "ccx", "",
+                            r.wall, r.cpu, ccx_max);
+                for (const Run& o : runs) {
+                    std::printf("%s against ccx: largest settlement %+.3e m (%+.3f%% of ccx's); cpu %.2f, wall %.2f "
+                                "times ccx's\n",
+                                o.name, o.settlement - ccx_max, 100.0 * (o.settlement - ccx_max) / ccx_max,
+                                o.cpu / r.cpu, o.wall / r.wall);
+                }
             }
             if (keep) {
                 std::printf("CalculiX files kept in %s\n", dir);

@@ -3,7 +3,8 @@
 // static mode with local damping (the default) and static mode with adaptive damping ('damp
 // auto'). Prints, per model and way: steps, CPU seconds, the timestep, and the answer the
 // example is checked on, beside its analytic value.
-// Usage: bench_static [--quick] [model ...]
+// Usage: bench_static [--quick] [--auto-only] [model ...]
+//        (--auto-only: only static mode with damp auto)
 //        (models: kirsch tunnel-stress prandtl footing-slab jointed-tunnel)
 #include <algorithm>
 #include <chrono>
@@ -77,10 +78,11 @@ double gp_disp(const Model& m, Vec3 x, int k) { return m.gridpoints.disp[find_gr
 } // namespace
 
 int main(int argc, char** argv) {
-    bool quick = false;
+    bool quick = false, auto_only = false;
     std::vector<std::string> only;
     for (int i = 1; i < argc; ++i) {
         if (!std::strcmp(argv[i], "--quick")) quick = true;
+        else if (!std::strcmp(argv[i], "--auto-only")) auto_only = true;
         else only.push_back(argv[i]);
     }
     const std::string ex = std::string(ODEC_SOURCE_DIR) + "/examples/";
@@ -120,6 +122,7 @@ int main(int argc, char** argv) {
             if (at != std::string::npos) text.replace(at, 8, "solve ratio 1e-5 cycles 30000");
         }
         for (Way way : {Way::Dynamic, Way::StaticLocal, Way::StaticAuto}) {
+            if (auto_only && way != Way::StaticAuto) continue;
             Model m;
             std::ostringstream out, err;
             Interpreter in(m, command_table(), out, err);

@@ -275,6 +275,48 @@ TEST(Verification, SameScriptSameBits) {
     EXPECT_EQ(a.model.contacts.sub_sn, b.model.contacts.sub_sn);
 }
 
+// Adaptive damping is set from the frequency of the motion the model shows, at 0.7 of critical.
+// A column of elastic rock 10 m tall on rollers (one-dimensional: constrained modulus M) settling
+// under its weight: its slowest mode has omega = (pi / 2) sqrt(M / rho) / H, and as the column
+// settles into it the coefficient comes to 2 * 0.7 * omega (real masses, dynamic mode). The
+// settlement of the top is rho g H^2 / (2 M). In static mode (density scaling) the same
+// equilibrium takes less than a third of the steps of local damping.
+TEST(Verification, AdaptiveDampingFollowsTheSlowestMode) {
+    const std::string column = "poly brick 0 1 0 1 0 10\nprop mat=1 dens=2000 ymod=1e9 prat=0.25\ngen edge 0.5\n"
+                               "bound xvel 0 range x -0.001 0.001\nbound xvel 0 range x 0.999 1.001\n"
+                               "bound yvel 0 range y -0.001 0.001\nbound yvel 0 range y 0.999 1.001\n"
+                               "bound zvel 0 range z -0.001 0.001\ngrav 0 0 -10\n";
+    const double e = 1e9, nu = 0.25, rho = 2000, h = 10, g = 10;
+    const double m = e * (1 - nu) / ((1 + nu) * (1 - 2 * nu));
+    const double omega = M_PI / 2 * std::sqrt(m / rho) / h, settlement = rho * g * h * h / (2 * m);
+    auto top = [](const odec::Model& model) {
+        double sum = 0;
+        int n = 0;
+        for (int i = 0; i < model.gridpoints.size(); ++i) {
+            if (model.gridpoints.pos[i].z() > 9.99) {
+                sum -= model.gridpoints.disp[i].z();
+                ++n;
+            }
+        }
+        return n > 0 ? sum / n : 0.0;
+    };
+    Session dyn;
+    ASSERT_TRUE(dyn.run("config dyn\n" + column + "damp auto\nsolve ratio 1e-6")) << dyn.error();
+    report("adaptive damping, column on rollers: coefficient against 1.4 omega", dyn.model.damping.auto_coefficient,
+           1.4 * omega, "1/s");
+    report("adaptive damping, column on rollers: settlement of the top", top(dyn.model), settlement, "m");
+    EXPECT_NEAR(dyn.model.damping.auto_coefficient, 1.4 * omega, 0.02 * 1.4 * omega);
+    EXPECT_NEAR(top(dyn.model), settlement, 1e-3 * settlement);
+    Session local, adaptive;
+    ASSERT_TRUE(local.run(column + "solve ratio 1e-6")) << local.error();
+    ASSERT_TRUE(adaptive.run(column + "damp auto\nsolve ratio 1e-6")) << adaptive.error();
+    std::printf("[verification] static mode to ratio 1e-6: local damping %ld steps, adaptive %ld steps\n",
+                local.model.step, adaptive.model.step);
+    EXPECT_NEAR(top(local.model), settlement, 1e-3 * settlement);
+    EXPECT_NEAR(top(adaptive.model), settlement, 1e-3 * settlement);
+    EXPECT_LT(3 * adaptive.model.step, local.model.step);
+}
+
 TEST(Verification, AdaptiveDampingReachesTheSameEquilibrium) {
     Session s;
     ASSERT_TRUE(s.interp.run_text("t.dat", "call '" + kDir + "column-3.dat'", false)) << s.error();
