@@ -445,7 +445,9 @@ void print_max(CommandContext& ctx) {
         // and unbalanced force (the block's own are not integrated).
         if (s.flags[b] & kDeformable) continue;
         take(vel, velocity_at_t(m, b).norm(), b);
-        if (!(s.flags[b] & kFixed)) take(unbal, s.force[b].norm(), b);
+        // A clump's at its first piece (the forces between its pieces cancel).
+        Vec3 f;
+        if (rigid_body_unbalanced(m, b, f)) take(unbal, f.norm(), b);
     }
     for (int c = 0; c < m.contacts.size(); ++c) {
         const ContactInfo ci = contact_info(m, c);

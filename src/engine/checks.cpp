@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/clump.h"
 #include "engine/contact.h"
 #include "engine/cable.h"
 #include "engine/stages.h"
@@ -116,15 +117,65 @@ inline Vec3 free_part(Vec3 f, std::uint8_t held) {
     return f;
 }
 
-} // namespace
-
-double max_unbalanced_force(const Model& m) {
+// Each free rigid body's unbalanced force along its free directions, with the sum of the
+// magnitudes of the forces on it: f(first block, force, scale). Blocks alone first, then the
+// clumps as wholes, each held when any piece is (as integrate_clumps holds it).
+template <class F>
+void each_rigid_body(const Model& m, F&& f) {
     const BlockSet& s = m.blocks;
-    double fmax = 0;
+    bool clumps = false;
     for (int b = 0; b < s.size(); ++b) {
         if (!is_rigid_active(s, b) || (s.flags[b] & kFixed)) continue;
-        fmax = std::max(fmax, free_part(s.force[b], s.vel_bc[b]).norm());
+        if (s.clump[b] != 0) {
+            clumps = true;
+            continue;
+        }
+        f(b, free_part(s.force[b], s.vel_bc[b]), s.force_scale[b]);
     }
+    if (!clumps) return;
+    thread_local ClumpList cl;
+    list_clumps(s, cl);
+    for (int c = 0; c < cl.size(); ++c) {
+        Vec3 force = Vec3::Zero();
+        double scale = 0;
+        std::uint8_t held = 0;
+        bool moves = true;
+        for (int i = cl.offset[c]; i < cl.offset[c + 1]; ++i) {
+            const int b = cl.pieces[i];
+            moves = moves && is_rigid_active(s, b) && !(s.flags[b] & kFixed);
+            force += s.force[b];
+            scale += s.force_scale[b];
+            held = static_cast<std::uint8_t>(held | s.vel_bc[b]);
+        }
+        if (moves) f(cl.pieces[cl.offset[c]], free_part(force, held), scale);
+    }
+}
+
+} // namespace
+
+bool rigid_body_unbalanced(const Model& m, int b, Vec3& force) {
+    const BlockSet& s = m.blocks;
+    if (!is_rigid_active(s, b) || (s.flags[b] & kFixed)) return false;
+    if (s.clump[b] == 0) {
+        force = free_part(s.force[b], s.vel_bc[b]);
+        return true;
+    }
+    const std::vector<int> pieces = clump_pieces(s, b);
+    if (pieces.empty() || pieces.front() != b) return false;
+    Vec3 sum = Vec3::Zero();
+    std::uint8_t held = 0;
+    for (int p : pieces) {
+        if (!is_rigid_active(s, p) || (s.flags[p] & kFixed)) return false;
+        sum += s.force[p];
+        held = static_cast<std::uint8_t>(held | s.vel_bc[p]);
+    }
+    force = free_part(sum, held);
+    return true;
+}
+
+double max_unbalanced_force(const Model& m) {
+    double fmax = 0;
+    each_rigid_body(m, [&](int, const Vec3& f, double) { fmax = std::max(fmax, f.norm()); });
     const GridpointSet& g = m.gridpoints;
     for (int i = 0; i < g.size(); ++i) {
         if (!(g.mass[i] > 0) || g.vel_bc[i] == 7) continue;
@@ -134,13 +185,11 @@ double max_unbalanced_force(const Model& m) {
 }
 
 double unbalanced_ratio(const Model& m) {
-    const BlockSet& s = m.blocks;
     double unbal = 0, total = 0;
-    for (int b = 0; b < s.size(); ++b) {
-        if (!is_rigid_active(s, b) || (s.flags[b] & kFixed)) continue;
-        unbal += s.force[b].norm();
-        total += s.force_scale[b];
-    }
+    each_rigid_body(m, [&](int, const Vec3& f, double scale) {
+        unbal += f.norm();
+        total += scale;
+    });
     const GridpointSet& g = m.gridpoints;
     for (int i = 0; i < g.size(); ++i) {
         if (!(g.mass[i] > 0) || g.vel_bc[i] == 7) continue;

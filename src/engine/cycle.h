@@ -64,9 +64,15 @@ double real_mass_timestep(Model& m, std::string* why = nullptr);
 CycleResult cycle(Model& m, const CycleLimits& limits, const std::atomic<bool>* interrupt = nullptr,
                   const ProgressFn& progress = nullptr, long progress_every = 0);
 
-// Largest unbalanced force over the free blocks, N.
+// The unbalanced force of a rigid body, along the directions no boundary condition holds: a
+// block's own, or for a clump (clump.h) the sum over its pieces, given at its first piece (the
+// forces between the pieces cancel; a piece alone is not integrated). False for a block that
+// is fixed, excavated or deformable, and for a clump's other pieces.
+bool rigid_body_unbalanced(const Model& m, int b, Eigen::Vector3d& force);
+// Largest unbalanced force over the free rigid bodies (blocks and clumps) and gridpoints, N.
 double max_unbalanced_force(const Model& m);
-// Mean unbalanced-force ratio: sum |unbalanced| / sum of the magnitudes of all forces acting.
+// Mean unbalanced-force ratio: sum |unbalanced| / sum of the magnitudes of all forces acting,
+// over the free rigid bodies (blocks and clumps), gridpoints and structural nodes.
 double unbalanced_ratio(const Model& m);
 
 } // namespace odec

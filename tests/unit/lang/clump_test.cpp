@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <sstream>
 #include <string>
@@ -14,6 +15,8 @@
 
 #include "engine/blocks.h"
 #include "engine/clump.h"
+#include "engine/cycle.h"
+#include "engine/verdict.h"
 #include "engine/contact.h"
 #include "engine/energy.h"
 #include "test_util.h"
@@ -186,6 +189,34 @@ TEST(Clump, NoContactsBetweenItsPieces) {
     }
     // Only the foot's piece (or pieces) touches the base.
     for (int b : pieces_of_clump(m)) EXPECT_LT(std::abs(odec::velocity_at_t(m, b).z()), 1e-3);
+}
+
+// A clump at rest is in equilibrium as a whole: its pieces, each loaded by its own weight and the
+// contacts it has, are not (the L block's upright carries its weight down through the foot, which
+// is not a contact: the pieces share no contacts, NoContactsBetweenItsPieces). The unbalanced
+// force and ratio that 'solve' stops on are the clump's; counted piece by piece they stayed near
+// the pieces' weights and 'solve' never ended.
+TEST(Clump, ItsUnbalancedForceIsTheWholeClumps) {
+    Session s;
+    ASSERT_TRUE(s.run("poly brick -1 3 -1 2 -1 0\n" + l_block(0, 0.001) +
+                      "prop mat=1 dens=1000\nprop jmat=1 jkn=1e9 jks=1e9 jfric=40\ngrav 0 0 -10\n"
+                      "fix range z -1 0\nsolve ratio 1e-5"))
+        << s.error();
+    ASSERT_TRUE(s.interp.last_solve);
+    EXPECT_EQ(s.interp.last_solve->outcome, odec::SolveOutcome::Equilibrium);
+    std::printf("[clump] L block on its base: equilibrium after %ld steps\n", s.model.step);
+    EXPECT_LT(odec::unbalanced_ratio(s.model), 1e-5);
+    EXPECT_LT(odec::max_unbalanced_force(s.model), 1e-4 * kMass * 10);
+    // A piece alone carries much of its weight unbalanced, and is not counted on its own.
+    double largest_piece = 0;
+    int reported = 0;
+    for (int b : pieces_of_clump(s.model)) {
+        largest_piece = std::max(largest_piece, s.model.blocks.force[b].norm());
+        Vec3 f;
+        reported += odec::rigid_body_unbalanced(s.model, b, f) ? 1 : 0;
+    }
+    EXPECT_GT(largest_piece, 0.05 * kMass * 10);
+    EXPECT_EQ(reported, 1);
 }
 
 TEST(Clump, FixDeleteAndIniTakeTheWholeClump) {
