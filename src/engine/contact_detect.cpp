@@ -756,7 +756,13 @@ private:
         const std::size_t p = v.size(), n = p + g;
         if (n > v.capacity()) v.reserve(std::max(n, v.capacity() + v.capacity() / (appending ? 2 : 8)));
         v.resize(n);
-        if (at < p) std::move_backward(v.begin() + at, v.begin() + p, v.begin() + n);
+        // Moved as bytes, on the threads when it is much: every array of the set holds plain
+        // numbers (Eigen's 3-vectors are three doubles and nothing else).
+        using T = typename V::value_type;
+        static_assert(std::is_trivially_copyable_v<T> || std::is_same_v<T, Eigen::Vector3d>);
+        if (at < p) {
+            move_bytes_up(reinterpret_cast<char*>(v.data()), at * sizeof(T), p * sizeof(T), g * sizeof(T), thread_count());
+        }
     }
     // Room for one more contact with nk sub-contacts before old contact `next`.
     void room(int nk, int next) {

@@ -1,7 +1,10 @@
 #include "engine/parallel.h"
 
+#include <algorithm>
 #include <cstdlib>
+#include <cstring>
 #include <string>
+#include <vector>
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -50,5 +53,35 @@ int default_thread_count(std::string* why) {
 int thread_count() { return threads_available() ? chosen() : 1; }
 
 void set_thread_count(int n) { chosen() = n < 1 ? 1 : (n > kMaxThreads ? kMaxThreads : n); }
+
+void move_bytes_up(char* data, std::size_t at, std::size_t end, std::size_t by, int threads) {
+    if (end <= at || by == 0) return;
+    const std::size_t len = end - at;
+    // Below a few megabytes one thread moves it faster than a team starts; pieces must be
+    // longer than the shift, so that only the piece below writes over a piece's start.
+    constexpr std::size_t kMinPiece = std::size_t{2} << 20;
+    std::size_t pieces = threads > 1 ? std::min<std::size_t>(static_cast<std::size_t>(threads), len / kMinPiece) : 1;
+    while (pieces > 1 && len / pieces <= by) --pieces;
+    if (pieces <= 1) {
+        std::memmove(data + at + by, data + at, len);
+        return;
+    }
+    const std::size_t step = len / pieces;
+    // The starts of the pieces above the first, before the piece below moves over them.
+    thread_local std::vector<char> heads;
+    heads.resize((pieces - 1) * by);
+    for (std::size_t i = 1; i < pieces; ++i) std::memcpy(heads.data() + (i - 1) * by, data + at + i * step, by);
+    const char* saved = heads.data();
+    parallel_for(static_cast<int>(pieces), threads, true, [&](int i) {
+        const std::size_t lo = at + static_cast<std::size_t>(i) * step;
+        const std::size_t hi = static_cast<std::size_t>(i) + 1 == pieces ? end : lo + step;
+        if (i == 0) {
+            std::memmove(data + lo + by, data + lo, hi - lo);
+        } else {
+            std::memmove(data + lo + 2 * by, data + lo + by, hi - lo - by);
+            std::memcpy(data + lo + by, saved + (static_cast<std::size_t>(i) - 1) * by, by);
+        }
+    });
+}
 
 } // namespace odec

@@ -4,6 +4,7 @@
 // items are taken in fixed chunks whose partial sums are added in order.
 #pragma once
 
+#include <cstddef>
 #include <string>
 
 namespace odec {
@@ -58,5 +59,11 @@ inline int parallel_or(int n, int threads, bool parallel, F&& fn) {
     }
     return bits;
 }
+
+// The bytes [at, end) of `data` moved up by `by` (as memmove would), on `threads` threads when
+// they are many (a pure copy: the same bytes whatever the threads). Each thread moves a piece
+// of its own; the first `by` bytes of each piece but the first, which the piece below
+// overwrites, are read from a copy taken before.
+void move_bytes_up(char* data, std::size_t at, std::size_t end, std::size_t by, int threads);
 
 } // namespace odec
