@@ -432,16 +432,8 @@ int integrate_cables(Model& m, double dt, AutoDampingSums* sums) {
     CableSet& cs = m.cables;
     const Damping& d = m.damping;
     int bad = -1;
-    auto damp = [&](double f, double v, double mass) {
-        switch (d.mode) {
-        case DampingMode::Local: return f - d.local * std::abs(f) * sign(v);
-        case DampingMode::Auto: return f - d.auto_coefficient * mass * v;
-        case DampingMode::Rayleigh:
-            return f - 2.0 * d.rayleigh_fraction * 2.0 * M_PI * d.rayleigh_frequency * mass * v;
-        case DampingMode::Off: break;
-        }
-        return f;
-    };
+    // The model's damping law, as on blocks and gridpoints (stages.h).
+    auto damp = [&](double f, double v, double mass) { return damped_force(d, f, v, mass, dt); };
     for (int c = 0; c < cs.size(); ++c) {
         for (int i = cs.node_offset[c]; i < cs.node_offset[c + 1]; ++i) {
             Vec3 v;

@@ -258,15 +258,7 @@ int integrate_gridpoints(Model& m, const Damping& d, double dt, AutoDampingSums*
                     continue;
                 }
                 const double f = g.force[i][k], vk = g.vel[i][k];
-                double fd = f;
-                switch (d.mode) {
-                case DampingMode::Local: fd = f - d.local * std::abs(f) * sign(vk); break;
-                case DampingMode::Auto: fd = f - d.auto_coefficient * mass * vk; break;
-                case DampingMode::Rayleigh:
-                    fd = f - 2.0 * d.rayleigh_fraction * 2.0 * M_PI * d.rayleigh_frequency * mass * vk;
-                    break;
-                case DampingMode::Off: break;
-                }
+                const double fd = damped_force(d, f, vk, mass, dt);
                 v[k] = vk + fd / mass * kick;
                 if (gather) part.add(mass, f, vk, v[k]);
                 if (energy) {

@@ -159,16 +159,6 @@ void gather(const LinerSet& ls, int e, Vec18& d) {
     }
 }
 
-double damped(const Damping& d, double f, double v, double mass) {
-    switch (d.mode) {
-    case DampingMode::Local: return f - d.local * std::abs(f) * sign(v);
-    case DampingMode::Auto: return f - d.auto_coefficient * mass * v;
-    case DampingMode::Rayleigh: return f - 2.0 * d.rayleigh_fraction * 2.0 * M_PI * d.rayleigh_frequency * mass * v;
-    case DampingMode::Off: break;
-    }
-    return f;
-}
-
 const LinerMaterial& material_of_node(const LinerSet& ls, int i) { return ls.materials[ls.material[ls.liner_of_node(i)]]; }
 
 bool stiffness_fresh(const LinerSet& ls) {
@@ -620,8 +610,8 @@ int integrate_liners(Model& m, double dt, AutoDampingSums* sums) {
         if (!(mass > 0) || !(inertia > 0)) continue;
         for (int k = 0; k < 3; ++k) {
             const double v0 = ls.vel[i][k], w0 = ls.spin[i][k];
-            ls.vel[i][k] += damped(d, ls.force[i][k], v0, mass) / mass * dt;
-            ls.spin[i][k] += damped(d, ls.moment[i][k], w0, inertia) / inertia * dt;
+            ls.vel[i][k] += damped_force(d, ls.force[i][k], v0, mass, dt) / mass * dt;
+            ls.spin[i][k] += damped_force(d, ls.moment[i][k], w0, inertia, dt) / inertia * dt;
             if (sums) {
                 sums->add(mass, ls.force[i][k], v0, ls.vel[i][k]);
                 sums->add(inertia, ls.moment[i][k], w0, ls.spin[i][k]);
