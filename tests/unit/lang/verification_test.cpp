@@ -307,6 +307,15 @@ TEST(Verification, AdaptiveDampingFollowsTheSlowestMode) {
     report("adaptive damping, column on rollers: settlement of the top", top(dyn.model), settlement, "m");
     EXPECT_NEAR(dyn.model.damping.auto_coefficient, 1.4 * omega, 0.02 * 1.4 * omega);
     EXPECT_NEAR(top(dyn.model), settlement, 1e-3 * settlement);
+    // print info says what it is: the coefficient and the frequency it is for, omega / 2 pi.
+    ASSERT_TRUE(dyn.run("print info")) << dyn.error();
+    char line[160];
+    std::snprintf(line, sizeof line, "%.6g 1/s, for %.6g Hz", dyn.model.damping.auto_coefficient,
+                  dyn.model.damping.auto_coefficient / 1.4 / (2 * M_PI));
+    EXPECT_NE(dyn.out.str().find(std::string("damping:    auto (adaptive: 0.7 of critical for the motion the model "
+                                             "shows; now ") + line + ")"),
+              std::string::npos)
+        << dyn.out.str();
     Session local, adaptive;
     ASSERT_TRUE(local.run(column + "solve ratio 1e-6")) << local.error();
     ASSERT_TRUE(adaptive.run(column + "damp auto\nsolve ratio 1e-6")) << adaptive.error();
