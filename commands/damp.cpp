@@ -48,6 +48,9 @@ const CommandSpec& damp_command() {
             } else if (mode == "auto") {
                 d.mode = DampingMode::Auto;
                 d.auto_coefficient = 0;
+                // The estimate starts afresh from the next step (integrate.cpp).
+                d.auto_after = 0;
+                d.auto_inertia = 0;
             } else if (mode == "mass") {
                 d.mode = DampingMode::Rayleigh;
                 d.rayleigh_fraction = a.positional[0].number;
