@@ -599,9 +599,13 @@ void print_info(CommandContext& ctx) {
     switch (d.mode) {
     case DampingMode::Local: o << "local " << num(d.local); break;
     case DampingMode::Auto:
-        // The coefficient is 1.4 omega of the motion the model showed at its last step (integrate.cpp).
-        o << "auto (adaptive: 0.7 of critical for the motion the model shows";
-        if (d.auto_coefficient > 0) o << "; now " << num(d.auto_coefficient) << " 1/s, for " << num(d.auto_coefficient / 1.4 / (2 * M_PI)) << " Hz";
+        // The coefficient is 2 kAutoDampingFraction omega of the motion the model showed at its
+        // last step (integrate.cpp).
+        o << "auto (adaptive: " << num(kAutoDampingFraction) << " of critical for the motion the model shows";
+        if (d.auto_coefficient > 0) {
+            o << "; now " << num(d.auto_coefficient) << " 1/s, for "
+              << num(d.auto_coefficient / (2 * kAutoDampingFraction) / (2 * M_PI)) << " Hz";
+        }
         o << ")";
         break;
     case DampingMode::Rayleigh: o << "Rayleigh, fraction " << num(d.rayleigh_fraction) << " at " << num(d.rayleigh_frequency) << " Hz (mass)"; break;

@@ -117,9 +117,28 @@ inline Vec3 free_part(Vec3 f, std::uint8_t held) {
     return f;
 }
 
+// The unbalanced force of the clump of pieces p[0..n) along its free directions, and the sum of
+// the magnitudes of the forces on its pieces; false when a piece is fixed or excavated (the
+// clump is held as a whole, as integrate_clumps holds it).
+bool clump_unbalanced(const BlockSet& s, const int* p, int n, Vec3& force, double& scale) {
+    Vec3 sum = Vec3::Zero();
+    double sum_scale = 0;
+    std::uint8_t held = 0;
+    for (int i = 0; i < n; ++i) {
+        const int b = p[i];
+        if (!is_rigid_active(s, b) || (s.flags[b] & kFixed)) return false;
+        sum += s.force[b];
+        sum_scale += s.force_scale[b];
+        held = static_cast<std::uint8_t>(held | s.vel_bc[b]);
+    }
+    force = free_part(sum, held);
+    scale = sum_scale;
+    return true;
+}
+
 // Each free rigid body's unbalanced force along its free directions, with the sum of the
 // magnitudes of the forces on it: f(first block, force, scale). Blocks alone first, then the
-// clumps as wholes, each held when any piece is (as integrate_clumps holds it).
+// clumps as wholes.
 template <class F>
 void each_rigid_body(const Model& m, F&& f) {
     const BlockSet& s = m.blocks;
@@ -136,18 +155,10 @@ void each_rigid_body(const Model& m, F&& f) {
     thread_local ClumpList cl;
     list_clumps(s, cl);
     for (int c = 0; c < cl.size(); ++c) {
-        Vec3 force = Vec3::Zero();
-        double scale = 0;
-        std::uint8_t held = 0;
-        bool moves = true;
-        for (int i = cl.offset[c]; i < cl.offset[c + 1]; ++i) {
-            const int b = cl.pieces[i];
-            moves = moves && is_rigid_active(s, b) && !(s.flags[b] & kFixed);
-            force += s.force[b];
-            scale += s.force_scale[b];
-            held = static_cast<std::uint8_t>(held | s.vel_bc[b]);
-        }
-        if (moves) f(cl.pieces[cl.offset[c]], free_part(force, held), scale);
+        const int* p = cl.pieces.data() + cl.offset[c];
+        Vec3 force;
+        double scale;
+        if (clump_unbalanced(s, p, cl.offset[c + 1] - cl.offset[c], force, scale)) f(p[0], force, scale);
     }
 }
 
@@ -162,15 +173,8 @@ bool rigid_body_unbalanced(const Model& m, int b, Vec3& force) {
     }
     const std::vector<int> pieces = clump_pieces(s, b);
     if (pieces.empty() || pieces.front() != b) return false;
-    Vec3 sum = Vec3::Zero();
-    std::uint8_t held = 0;
-    for (int p : pieces) {
-        if (!is_rigid_active(s, p) || (s.flags[p] & kFixed)) return false;
-        sum += s.force[p];
-        held = static_cast<std::uint8_t>(held | s.vel_bc[p]);
-    }
-    force = free_part(sum, held);
-    return true;
+    double scale;
+    return clump_unbalanced(s, pieces.data(), static_cast<int>(pieces.size()), force, scale);
 }
 
 double max_unbalanced_force(const Model& m) {

@@ -29,16 +29,14 @@ namespace {
 // falling freely) shows no frequency and draws the least damping, so the damping does not freeze
 // a mechanism. Explicit viscous damping needs c dt < 2; c is kept within [1e-4, 0.5] / dt. An
 // estimate below zero or not a number (loads changed, a contact opened between the steps)
-// leaves c as it was.
-constexpr double kAutoFraction = 0.7; // of critical: c = 2 * 0.7 * omega
-
+// leaves c as it was. The fraction of critical is kAutoDampingFraction (model.h).
 } // namespace
 
 void adjust_auto_damping(Damping& d, const AutoDampingSums& s, double dt) {
     const double c_max = 0.5 / dt, c_min = 1e-4 / dt;
     if (d.auto_inertia > 0) {
         const double w2 = (d.auto_after - s.before) / (dt * d.auto_inertia);
-        if (std::isfinite(w2) && w2 >= 0) d.auto_coefficient = std::clamp(2 * kAutoFraction * std::sqrt(w2), c_min, c_max);
+        if (std::isfinite(w2) && w2 >= 0) d.auto_coefficient = std::clamp(2 * kAutoDampingFraction * std::sqrt(w2), c_min, c_max);
     }
     // Kept for the next step only when they are numbers (a model running away is stopped by the
     // checks; what it leaves here must still save).

@@ -171,6 +171,10 @@ struct Damping {
     double auto_inertia = 0;
 };
 
+// Adaptive damping's fraction of critical for the frequency the model shows (integrate.cpp):
+// its coefficient is 2 * kAutoDampingFraction * omega.
+constexpr double kAutoDampingFraction = 0.7;
+
 // What adaptive damping (integrate.cpp) gathers over the free degrees of freedom of a step
 // (translations and rotations of blocks and clumps, gridpoints' components), f being the
 // unbalanced force (or moment) of the step and m the inertial mass (or moment): the sums of v.f
