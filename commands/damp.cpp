@@ -51,6 +51,7 @@ const CommandSpec& damp_command() {
                 // The estimate starts afresh from the next step (integrate.cpp).
                 d.auto_after = 0;
                 d.auto_inertia = 0;
+                d.auto_dt = 0;
             } else if (mode == "mass") {
                 d.mode = DampingMode::Rayleigh;
                 d.rayleigh_fraction = a.positional[0].number;

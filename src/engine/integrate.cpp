@@ -35,7 +35,9 @@ namespace {
 void adjust_auto_damping(Damping& d, const AutoDampingSums& s, double dt) {
     const double c_max = 0.5 / dt, c_min = 1e-4 / dt;
     if (d.auto_inertia > 0) {
-        const double w2 = (d.auto_after - s.before) / (dt * d.auto_inertia);
+        // The forces changed by the motion of the last step, made with the last step's timestep.
+        const double moved = d.auto_dt > 0 ? d.auto_dt : dt;
+        const double w2 = (d.auto_after - s.before) / (moved * d.auto_inertia);
         if (std::isfinite(w2) && w2 >= 0) d.auto_coefficient = std::clamp(2 * kAutoDampingFraction * std::sqrt(w2), c_min, c_max);
     }
     // Kept for the next step only when they are numbers (a model running away is stopped by the
@@ -43,6 +45,7 @@ void adjust_auto_damping(Damping& d, const AutoDampingSums& s, double dt) {
     const bool kept = std::isfinite(s.after) && std::isfinite(s.inertia);
     d.auto_after = kept ? s.after : 0.0;
     d.auto_inertia = kept ? s.inertia : 0.0;
+    d.auto_dt = dt;
 }
 
 int integrate(Model& m, double dt, AutoDampingSums* sums) {
@@ -50,7 +53,12 @@ int integrate(Model& m, double dt, AutoDampingSums* sums) {
     // One damping law for blocks and gridpoints.
     const Damping& d = m.damping;
     const bool auto_damp = sums != nullptr;
-    if (d.mode == DampingMode::Auto && !(m.damping.auto_coefficient > 0)) m.damping.auto_coefficient = 0.02 / dt;
+    if (d.mode == DampingMode::Auto) {
+        // A coefficient set at another timestep (`set dt`, or an excavation that changed the
+        // automatic one) is brought within this one's limits: c dt >= 2 would be unstable.
+        double& c = m.damping.auto_coefficient;
+        c = c > 0 ? std::clamp(c, 1e-4 / dt, 0.5 / dt) : 0.02 / dt;
+    }
     // Static mode: the blocks' masses follow their joints as they are this step.
     if (!m.settings.dynamic) scale_block_masses(m, true);
     // Fixed chunks of blocks, whatever the number of threads: their sums are added in order.

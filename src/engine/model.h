@@ -169,6 +169,9 @@ struct Damping {
     // degrees of freedom with the velocities it gave (N m/s), and of m v.v with them (kg m^2/s^2).
     double auto_after = 0;
     double auto_inertia = 0;
+    // s, the timestep of that step, which moved the model by those velocities (0: not known, as
+    // in files of format 15, taken as the timestep of the next step).
+    double auto_dt = 0;
 };
 
 // Adaptive damping's fraction of critical for the frequency the model shows (integrate.cpp):

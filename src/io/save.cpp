@@ -283,6 +283,8 @@ auto fields(IO& io, M& x) -> If<M, Damping> {
     if (io.format >= 15) {
         io(x.auto_after); io(x.auto_inertia);
     }
+    // Format 16: the timestep of that step (older files take the next step's).
+    if (io.format >= 16) io(x.auto_dt);
 }
 
 // Format 8: the energy account (older files restore with it off).
@@ -1343,6 +1345,7 @@ std::string check_values(const Model& m) {
     c.at_least(d.auto_coefficient, 0, "the adaptive damping coefficient");
     c.finite(d.auto_after, "the adaptive damping's power of the last step");
     c.at_least(d.auto_inertia, 0, "the adaptive damping's inertia of the last step");
+    c.at_least(d.auto_dt, 0, "the adaptive damping's timestep of the last step");
     // The energy account: finite sums, begun at a step taken.
     const EnergyAccount& e = m.energy;
     for (double x : {e.initial, e.given, e.gravity, e.load, e.velocity, e.damping, e.pending_gravity,

@@ -33,8 +33,9 @@ namespace odec {
 // joined joint set, as they were saved); 13: fluid flow in the joints (its settings, fluid and
 // nodes), the hydraulic apertures of joint materials and the flow stage of the profile (older
 // files have no flow); 14: liners and the liners stage of the profile (older files have none);
-// 15: adaptive damping's memory of the last step (older files start without it).
-constexpr std::uint32_t kSaveFormatVersion = 15;
+// 15: adaptive damping's memory of the last step (older files start without it); 16: the
+// timestep of that step (older files take the next step's).
+constexpr std::uint32_t kSaveFormatVersion = 16;
 
 // Write the model to `path`. A model that restore would refuse (a velocity that is not a finite
 // number after a run-away, an index out of range) is not written: save and restore run the

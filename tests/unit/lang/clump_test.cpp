@@ -392,12 +392,13 @@ std::string without_clumps(std::string file, const std::vector<int>& clumps) {
     cut(prof + 16 + 8 * (stages - 2), 16, {prof + 4, payload_length_at});
     stages -= 2;
     std::memcpy(&file[prof + 12], &stages, 4);
-    // Format 15 added adaptive damping's memory of the last step, the last 16 bytes of DAMP.
+    // Formats 15 and 16 added adaptive damping's memory of the last step and its timestep, the
+    // last 24 bytes of DAMP.
     const size_t damp = file.find("DAMP", payload_length_at + 8);
     if (damp == std::string::npos || damp > blks) return "";
     std::uint64_t damp_length = 0;
     std::memcpy(&damp_length, &file[damp + 4], 8);
-    cut(damp + 12 + damp_length - 16, 16, {damp + 4, payload_length_at});
+    cut(damp + 12 + damp_length - 24, 24, {damp + 4, payload_length_at});
     const std::uint32_t format = 11;
     std::memcpy(&file[12], &format, 4);
     std::uint64_t h = 0xcbf29ce484222325ull;

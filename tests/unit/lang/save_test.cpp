@@ -462,12 +462,13 @@ TEST_F(Save, Format6AppliedForceRestoresAsALoadAtTheCentroid) {
     const size_t sets = file.find("SETS", payload_length_at + 8);
     const size_t damp = file.find("DAMP", sets);
     ASSERT_TRUE(sets != std::string::npos && damp != std::string::npos && sets < blks);
-    // Format 15 added adaptive damping's memory of the last step, the last 16 bytes of DAMP.
+    // Formats 15 and 16 added adaptive damping's memory of the last step and its timestep, the
+    // last 24 bytes of DAMP.
     std::uint64_t damp_length = 0;
     std::memcpy(&damp_length, &file[damp + 4], 8);
-    file.erase(damp + 12 + damp_length - 16, 16);
-    shrink(damp + 4, 16);
-    shrink(payload_length_at, 16);
+    file.erase(damp + 12 + damp_length - 24, 24);
+    shrink(damp + 4, 24);
+    shrink(payload_length_at, 24);
     file.erase(damp - 8, 8);
     shrink(sets + 4, 8);
     shrink(payload_length_at, 8);
@@ -780,7 +781,7 @@ TEST(SaveLayout, EveryFieldIsSaved) {
     EXPECT_EQ(count_fields<HistorySet>(), 4u) << fix;
     EXPECT_EQ(count_fields<Table>(), 1u) << fix;
     EXPECT_EQ(count_fields<TableSet>(), 1u) << fix;
-    EXPECT_EQ(count_fields<Damping>(), 7u) << fix;
+    EXPECT_EQ(count_fields<Damping>(), 8u) << fix; // format 16: the timestep of the last step
     EXPECT_EQ(count_fields<Settings>(), 10u) << fix;
     EXPECT_EQ(count_fields<Profile>(), 11u) << fix; // 10 stage times and the step count
     EXPECT_EQ(count_fields<InsituRecord>(), 2u) << fix;

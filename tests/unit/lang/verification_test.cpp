@@ -6,6 +6,7 @@
 // analytic one.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -324,6 +325,31 @@ TEST(Verification, AdaptiveDampingFollowsTheSlowestMode) {
     EXPECT_NEAR(top(local.model), settlement, 1e-3 * settlement);
     EXPECT_NEAR(top(adaptive.model), settlement, 1e-3 * settlement);
     EXPECT_LT(3 * adaptive.model.step, local.model.step);
+}
+
+// A coefficient set at one timestep must not be used unchanged at a larger one: at 1e-9 s the
+// least coefficient is 1e-4 / dt = 1e5 1/s, and at the automatic step that would be c dt of about
+// 10, which multiplies every velocity by -9 in one step (explicit viscous damping needs c dt < 2).
+// Brought within the new step's limits (c dt <= 0.5), no velocity can grow by more than gravity
+// gives in the step.
+TEST(Verification, AdaptiveDampingFollowsATimestepChange) {
+    Session s;
+    ASSERT_TRUE(s.run("config dyn\npoly brick 0 1 0 1 0 10\nprop mat=1 dens=2000 ymod=1e9 prat=0.25\n"
+                      "gen edge 0.5\nbound zvel 0 range z -0.001 0.001\ngrav 0 0 -10\ndamp auto\nstep 40\n"
+                      "set dt 1e-9\nstep 2\nset dt auto"))
+        << s.error();
+    EXPECT_GE(s.model.damping.auto_coefficient, 1e5 * (1 - 1e-12));
+    auto fastest = [&] {
+        double v = 0;
+        for (int i = 0; i < s.model.gridpoints.size(); ++i) v = std::max(v, s.model.gridpoints.vel[i].norm());
+        return v;
+    };
+    const double before = fastest();
+    ASSERT_GT(before, 0);
+    ASSERT_TRUE(s.run("step 1")) << s.error();
+    EXPECT_GT(s.model.dt, 1e-6);
+    EXPECT_LE(fastest(), before + 10 * s.model.dt) << "dt " << s.model.dt;
+    EXPECT_LE(s.model.damping.auto_coefficient * s.model.dt, 0.5 * (1 + 1e-12));
 }
 
 TEST(Verification, AdaptiveDampingReachesTheSameEquilibrium) {
