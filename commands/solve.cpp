@@ -195,7 +195,15 @@ const CommandSpec& solve_command() {
                     restore.active = true;
                 } else if (restore.active) {
                     restore.give_back();
-                    if (talk) o << "solve elastic: equilibrium with elastic joints reached; now with their strengths\n";
+                    if (talk && r.reason == StopReason::Ratio) {
+                        o << "solve elastic: equilibrium with elastic joints reached; now with their strengths\n";
+                    } else if (talk) {
+                        // The first stage ran out of its steps or time: what follows starts from a
+                        // model that is still moving, and the user should know.
+                        o << "solve elastic: the elastic stage stopped at its " << (r.reason == StopReason::Time ? "time" : "step")
+                          << " limit after " << r.steps << " steps, short of equilibrium (ratio " << num(unbalanced_ratio(m))
+                          << "); now with their strengths\n";
+                    }
                 }
                 stage_first = m.step;
                 record.begin(m);

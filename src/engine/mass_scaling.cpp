@@ -87,19 +87,25 @@ double total_real_mass(const Model& m) {
     return total;
 }
 
-void real_masses(Model& m) {
+// Dynamic mode: the masses a step uses, the real ones (`block_mass`, `gridpoint_mass`) with
+// those that `mscale` raises (partial_scaling), given to the blocks and gridpoints at once, so
+// that a mass chosen again as it was leaves its velocity as it was (each `step` of a dynamic run
+// chooses them again: momentum must not be lost between commands).
+void give_masses(Model& m, const std::vector<double>& block_mass, const std::vector<double>& gridpoint_mass) {
     BlockSet& s = m.blocks;
     for (int b = 0; b < s.size(); ++b) {
-        if (s.inertial_mass[b] != s.mass[b] || s.inertial_moment[b] != 0) set_block(s, b, s.mass[b], 0.0);
+        if (s.inertial_mass[b] != block_mass[b] || s.inertial_moment[b] != 0) set_block(s, b, block_mass[b], 0.0);
     }
     GridpointSet& g = m.gridpoints;
     for (int i = 0; i < g.size(); ++i) {
-        if (g.inertial_mass[i] != g.mass[i]) set_gridpoint(g, i, g.mass[i]);
+        if (g.inertial_mass[i] != gridpoint_mass[i]) set_gridpoint(g, i, gridpoint_mass[i]);
     }
 }
 
-// Dynamic mode with `mscale dt`: raise what needs it; returns the report's counts.
-void partial_scaling(Model& m, double target, MassScalingReport& r) {
+// Dynamic mode with `mscale dt`: raise what needs it in the masses to be given; returns the
+// report's counts.
+void partial_scaling(Model& m, double target, std::vector<double>& block_mass, std::vector<double>& gridpoint_mass,
+                     MassScalingReport& r) {
     r.min_factor = r.max_factor = 0;
     auto count = [&](double real, double scaled) {
         const double f = scaled / real;
@@ -113,7 +119,7 @@ void partial_scaling(Model& m, double target, MassScalingReport& r) {
         if (!(g.mass[i] > 0) || !(k[i] > 0) || g.vel_bc[i] == 7) continue;
         const double need = k[i] * (target / kGridpointSpan) * (target / kGridpointSpan);
         if (need > g.mass[i]) {
-            set_gridpoint(g, i, need);
+            gridpoint_mass[i] = need;
             count(g.mass[i], need);
             ++r.n_gridpoints;
         }
@@ -126,7 +132,7 @@ void partial_scaling(Model& m, double target, MassScalingReport& r) {
         const double need = k_max * (target / span) * (target / span);
         for (int b = 0; b < s.size(); ++b) {
             if (!moves_as_rigid(s, b) || !(need > s.mass[b])) continue;
-            set_block(s, b, need, 0.0);
+            block_mass[b] = need;
             count(s.mass[b], need);
             ++r.n_blocks;
         }
@@ -251,16 +257,18 @@ std::string choose_timestep_and_masses(Model& m, double rigid_dt, double zone_dt
         const std::string lp = choose_liner_masses(m);
         if (!lp.empty()) return lp;
     } else {
-        real_masses(m);
+        std::vector<double> block_mass = m.blocks.mass, gridpoint_mass = m.gridpoints.mass;
         dt = m.settings.dt_fixed > 0 ? m.settings.dt_fixed : real_dt;
         if (!(dt > 0) && m.flow.on) dt = flow_stable_timestep(m);
         if (!(dt > 0)) {
+            give_masses(m, block_mass, gridpoint_mass);
             return "no timestep: there are no contacts or zones to set one, so give it with 'set dt'";
         }
         if (m.settings.dt_fixed <= 0 && m.settings.mscale_dt > dt) {
-            partial_scaling(m, m.settings.mscale_dt, r);
+            partial_scaling(m, m.settings.mscale_dt, block_mass, gridpoint_mass, r);
             dt = m.settings.mscale_dt;
         }
+        give_masses(m, block_mass, gridpoint_mass);
         m.dt = dt;
         const std::string cp =
             choose_cable_masses(m, m.settings.dt_fixed <= 0 && m.settings.mscale_dt >= dt ? m.settings.mscale_dt : 0.0);

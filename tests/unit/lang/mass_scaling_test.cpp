@@ -129,6 +129,30 @@ TEST(MassScaling, MscaleRaisesOnlyWhatHoldsTheStepDown) {
     EXPECT_NEAR(s.model.dt, real_dt, 1e-9 * real_dt);
 }
 
+// Each 'step' of a dynamic run chooses the masses again; a mass 'mscale' raised is chosen as it
+// was, and its block keeps its momentum: two runs of 50 steps are one of 100, to the bit.
+TEST(MassScaling, MscaleKeepsMomentumFromOneStepCommandToTheNext) {
+    const std::string model = "config dyn\npoly brick 0 2 0 2 -1 0\npoly brick 0 2 0 2 0 0.02\n"
+                              "poly brick 0 2 0 2 0.02 2\nprop mat=1 dens=2500\n"
+                              "prop jmat=1 jkn=1e10 jks=1e10 jfric=40\nfix range z -1 0\ngrav 0 0 -10\nstep 1\n";
+    Session probe;
+    ASSERT_TRUE(probe.run(model)) << probe.error();
+    char target[64];
+    std::snprintf(target, sizeof target, "%.17g", 5 * probe.model.dt);
+    const std::string scaled = model + "mscale " + target + "\nini xvel 0.5 range z 0 2\n";
+    Session once, twice;
+    ASSERT_TRUE(once.run(scaled + "step 100")) << once.error();
+    ASSERT_TRUE(twice.run(scaled + "step 50\nstep 50")) << twice.error();
+    ASSERT_GT(once.model.blocks.inertial_mass[1], once.model.blocks.mass[1]);
+    for (int b = 1; b < 3; ++b) {
+        EXPECT_GT(std::abs(once.model.blocks.vel[b].x()), 0.01) << "block " << b + 1;
+        for (int i = 0; i < 3; ++i) {
+            EXPECT_EQ(twice.model.blocks.vel[b][i], once.model.blocks.vel[b][i]) << "block " << b + 1;
+            EXPECT_EQ(twice.model.blocks.centroid[b][i], once.model.blocks.centroid[b][i]) << "block " << b + 1;
+        }
+    }
+}
+
 // A velocity given with 'ini' is what the static masses start from, not slowed by their choice.
 TEST(MassScaling, AGivenVelocityIsKept) {
     Session s;

@@ -300,3 +300,27 @@ TEST(SolveVerdict, BlockIdsAreListedCompactly) {
     EXPECT_EQ(odec::id_list({1, 2, 3, 4, 9}), "1-4, 9");
     EXPECT_EQ(odec::id_list({1, 3, 5, 7}, 2), "1, 3, ...");
 }
+
+namespace {
+
+// 'solve elastic' says whether its first stage reached equilibrium: a first stage stopped by its
+// step limit says so, with the ratio, instead of announcing an equilibrium it did not reach.
+TEST(SolveVerdict, SolveElasticSaysWhenItsElasticStageFellShort) {
+    Session shortened;
+    shortened.interp.quiet = false;
+    ASSERT_TRUE(shortened.run(std::string(kResting) + "solve elastic cycles 5")) << shortened.error();
+    const std::string out = shortened.out.str();
+    EXPECT_EQ(out.find("equilibrium with elastic joints reached"), std::string::npos) << out;
+    EXPECT_NE(out.find("solve elastic: the elastic stage stopped at its step limit after 5 steps, short of "
+                       "equilibrium (ratio "),
+              std::string::npos)
+        << out;
+    Session full;
+    full.interp.quiet = false;
+    ASSERT_TRUE(full.run(std::string(kResting) + "solve elastic ratio 1e-4")) << full.error();
+    EXPECT_NE(full.out.str().find("solve elastic: equilibrium with elastic joints reached; now with their strengths"),
+              std::string::npos)
+        << full.out.str();
+}
+
+} // namespace
