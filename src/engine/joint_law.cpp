@@ -11,10 +11,12 @@
 //   tension  sn >= -T                       beyond it the joint opens: sn = ss = 0
 // A sub-contact that slips or opens past its strength has failed: its cohesion and
 // tensile strength are gone for good, and under joint model 2 its friction drops to the
-// residual angle. While slipping, the joint dilates: udil grows by |dus| tan(dilation)
-// until the shear displacement reaches zdilation (0: no limit), pushing the blocks apart
-// or, if they are held, raising the normal stress. A joined (glued) contact has no
-// strength limits at all.
+// residual angle. While slipping, the joint dilates by |dus| tan(dilation) while the shear
+// displacement is below zdilation (0: no limit), pushing the blocks apart or, if they are
+// held, raising the normal stress. As in the classical Coulomb slip joint, the dilation
+// follows the direction of shearing: it grows while the increment points the way of the total
+// shear displacement us (riding up the asperities) and shrinks, never below zero, while it
+// points back (riding down them). A joined (glued) contact has no strength limits at all.
 //
 // Each sub-contact carries (sn n + ss) times its area. The force acts at the sub-contact
 // point on block b, and its opposite on block a, each with its moment about the block
@@ -136,7 +138,8 @@ LawParams law_params(const Model& m, int jmat, int jcons) {
                     *dissipated += std::max(0.0, cs.sub_area[k] * 0.5 * (cs.sub_ss[k] + ss).dot(trial - ss) / p.ks);
                 }
                 if (p.tan_dil != 0 && (p.zdil <= 0 || cs.sub_us[k].norm() < p.zdil)) {
-                    const double dil = dus.norm() * p.tan_dil;
+                    const double rise = dus.norm() * p.tan_dil;
+                    const double dil = cs.sub_us[k].dot(dus) >= 0 ? rise : -std::min(rise, cs.sub_udil[k]);
                     cs.sub_udil[k] += dil;
                     if (dissipated) *dissipated -= cs.sub_area[k] * sn * dil;
                 }

@@ -96,3 +96,37 @@ TEST(ContactShear, DilationStopsAtZdil) {
     const double plastic_to_zdil = 200e-6 - 1e6 * std::tan(30 * M_PI / 180) / 1e10;
     EXPECT_NEAR(r.rise, plastic_to_zdil * std::tan(10 * M_PI / 180), 0.02 * plastic_to_zdil * std::tan(10 * M_PI / 180));
 }
+
+// Dilation follows the direction of shearing, as in the classical Coulomb slip joint: it grows
+// while the shear increment points the way of the total shear displacement and shrinks while it
+// points back. Sheared out by u and back to where it started, the specimen has slipped u - ts/ks
+// forward and u - 2 ts/ks back (ts = sn tan phi, the elastic part on each side of the reversal),
+// so it stands (ts/ks) tan psi above where it began, not (2u - 3 ts/ks) tan psi as when every
+// slip dilates.
+TEST(ContactShear, DilationReversesWithTheShear) {
+    Model m;
+    set_material(m, 1, 2000);
+    JointMaterial& j = set_joint(m, 1, 1e10, 1e10, 30);
+    j.dilation = 10;
+    add_fixed(m, make_brick(-0.5, 2.0, -0.5, 1.5, -1, 0));
+    const double sn = 1e6, u = 500e-6;
+    const int top = add_block(m, make_brick(0, 1, 0, 1, -sn / 1e10, 0.002 - sn / 1e10), 0, -1, 1);
+    m.blocks.loads[top].push_back(BlockLoad{LoadKind::Point, 0, Vec3::Zero(), Vec3(0, 0, -sn), Vec3::Zero()});
+    m.blocks.vel_bc[top] = 1;
+    m.blocks.vel_bc_value[top] = Vec3(0.01, 0, 0);
+    ASSERT_EQ(prepare_cycle(m), "");
+    while (m.blocks.disp[top].x() < u) run_steps(m, 1);
+    const double out = m.blocks.disp[top].z();
+    m.blocks.vel_bc_value[top] = Vec3(-0.01, 0, 0);
+    while (m.blocks.disp[top].x() > 0) run_steps(m, 1);
+    const double back = m.blocks.disp[top].z();
+    // Settle under the load at the end of the path.
+    m.blocks.vel_bc_value[top] = Vec3::Zero();
+    run_steps(m, 2000);
+    const double rise = m.blocks.disp[top].z(), elastic = sn * std::tan(30 * M_PI / 180) / 1e10;
+    const double expected = elastic * std::tan(10 * M_PI / 180);
+    std::printf("dilation reversed: rise %.3f um out, %.3f um back, %.3f um settled (analytic %.3f um)\n", out * 1e6,
+                back * 1e6, rise * 1e6, expected * 1e6);
+    EXPECT_NEAR(out, (u - elastic) * std::tan(10 * M_PI / 180), 0.02 * (u - elastic) * std::tan(10 * M_PI / 180));
+    EXPECT_NEAR(rise, expected, 0.05 * expected);
+}
