@@ -58,6 +58,9 @@ enum SubContactFlags : std::uint8_t {
 enum class ContactState : std::uint8_t { Elastic, Slipping, Open, Failed };
 const char* contact_state_name(ContactState s);
 
+// The mark of a gridpoint's sub-contact key (ContactSet::sub_key).
+constexpr std::int64_t kGridpointKey = std::int64_t{1} << 60;
+
 struct ContactSet {
     // ---- per contact (n_contacts) ----
     std::vector<int> id;                  // (n_contacts) user id, 1-based, kept while the contact lives
@@ -87,7 +90,10 @@ struct ContactSet {
     std::vector<std::int64_t> sub_key;    // (n_subs) what the point is (vertex, or pair of edges): the
                                           //          identity that carries its history across refreshes.
                                           //          Sides 0, 1: (side << 61) | vertex; sides 3, 4:
-                                          //          ((side - 3) << 61) | gridpoint; side 2: bit 62 set
+                                          //          ((side - 3) << 61) | kGridpointKey | gridpoint, so
+                                          //          that a gridpoint never takes over the history
+                                          //          of a vertex of the same number when its block
+                                          //          is zoned; side 2: bit 62 set
     std::vector<double> sub_area;         // (n_subs) m^2, share of the contact area (they sum to it)
     std::vector<Eigen::Vector3d> sub_local; // (n_subs) m, point in the owner's body frame (block b for
                                           //          side 1, else block a); sides 3 and 4: where the
@@ -148,7 +154,8 @@ struct ContactSet {
     // The block vertex (sides 0, 1) or gridpoint (sides 3, 4) sub-contact k stands for; -1 for
     // a crossing of edges (side 2).
     int sub_vertex(int k) const {
-        return sub_side[k] == 2 ? -1 : static_cast<int>(sub_key[k] & ((std::int64_t{1} << 61) - 1));
+        if (sub_side[k] == 2) return -1;
+        return static_cast<int>(sub_key[k] & ((sub_side[k] >= 3 ? kGridpointKey : std::int64_t{1} << 61) - 1));
     }
     // The surface triangle sub-contact k meets (sides 3 and 4 against a deformable block), else -1s.
     std::array<int, 3> sub_triangle(int k) const {

@@ -437,6 +437,14 @@ auto fields(IO& io, M& x) -> If<M, ContactSet> {
     } else {
         std::vector<int> owner, vertex;
         io(owner); io(x.sub_side); io(x.sub_key); io(vertex);
+        // Format 16 marks the keys of gridpoints (kGridpointKey); older files have them bare.
+        if (io.format < 16) {
+            for (size_t k = 0; k < x.sub_key.size() && k < x.sub_side.size(); ++k) {
+                if (x.sub_side[k] >= 3 && x.sub_key[k] >= 0 && x.sub_key[k] < (std::int64_t{1} << 62)) {
+                    x.sub_key[k] |= kGridpointKey;
+                }
+            }
+        }
         const size_t ns = x.sub_key.size();
         io.check(owner.size() == ns && vertex.size() == ns && x.sub_side.size() == ns,
                  "the sub-contact arrays differ in length");
@@ -1521,6 +1529,9 @@ std::string check_values(const Model& m) {
                 const int ng = static_cast<int>(m.gridpoints.pos.size());
                 if (!(s.flags[own] & kDeformable) || cs.sub_vertex(i) < 0 || cs.sub_vertex(i) >= ng) {
                     c.fail(w, "a sub-contact gridpoint is out of range");
+                }
+                if (cs.sub_key[i] != ((static_cast<std::int64_t>(side - 3) << 61) | kGridpointKey | cs.sub_vertex(i))) {
+                    c.fail(w, "a sub-contact key does not match its gridpoint");
                 }
                 const std::array<int, 3> t = cs.sub_triangle(i);
                 const bool on_triangle = (s.flags[other] & kDeformable) != 0;

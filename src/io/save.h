@@ -34,7 +34,8 @@ namespace odec {
 // nodes), the hydraulic apertures of joint materials and the flow stage of the profile (older
 // files have no flow); 14: liners and the liners stage of the profile (older files have none);
 // 15: adaptive damping's memory of the last step (older files start without it); 16: the
-// timestep of that step (older files take the next step's).
+// timestep of that step (older files take the next step's), and gridpoints' sub-contact keys
+// marked apart from vertices' (older files' are marked as they are read).
 constexpr std::uint32_t kSaveFormatVersion = 16;
 
 // Write the model to `path`. A model that restore would refuse (a velocity that is not a finite

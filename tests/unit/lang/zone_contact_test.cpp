@@ -2,6 +2,7 @@
 // triangles of other deformable blocks, checked against the statics and the friction law.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -232,3 +233,36 @@ TEST(ZoneContacts, ARegularStackLosesNoLoadToEdgeAndCornerContacts) {
     const double upper_weight = 4 * 2500.0 * 10.0 * 1.0;
     EXPECT_NEAR(mid, upper_weight, 1e-3 * upper_weight);
 }
+
+namespace {
+
+// Zoning a block whose joints carry shear: its gridpoints' sub-contacts start from their own
+// closures, not from the history of the block vertex that has the same number. The middle block
+// is a prism whose vertices 0-3 are on its top face; Gmsh numbers a gridpoint in that face 2,
+// and before the gridpoints' keys were marked apart it took over vertex 2's closure and its
+// shear stress of 5 kPa, at a point 0.76 m from that corner.
+TEST(ZoneContacts, ZoningStartsTheGridpointsFromTheirOwnClosures) {
+    Session s;
+    ASSERT_TRUE(s.run("poly brick 0 2 0 2 -2 -1\n"
+                      "poly prism a (0,0,0) (1,0,0) (1,1,0) (0,1,0) b (0,0,-1) (1,0,-1) (1,1,-1) (0,1,-1)\n"
+                      "poly brick 0 1 0 1 0 1\nprop mat=1 dens=2000 ymod=1e9 prat=0.25\n"
+                      "prop jmat=1 jkn=1e9 jks=1e9 jfric=40\nfix range z -2 -1\ngrav 0 0 -10\n"
+                      "bound xload 5000 range z 0 1\nsolve ratio 1e-6"))
+        << s.error();
+    const ContactSet& cs = s.model.contacts;
+    double sheared = 0;
+    for (int k = 0; k < cs.n_subs(); ++k) sheared = std::max(sheared, cs.sub_ss[k].norm());
+    ASSERT_GT(sheared, 4000);
+    ASSERT_TRUE(s.run("gen edge 0.5 range z -1 0")) << s.error();
+    ensure_contacts_current(s.model, true);
+    int gridpoint_subs = 0;
+    for (int k = 0; k < cs.n_subs(); ++k) {
+        if (cs.sub_side[k] < 3) continue;
+        ++gridpoint_subs;
+        EXPECT_EQ(cs.sub_ss[k].norm(), 0.0) << "gridpoint " << cs.sub_vertex(k) + 1;
+        EXPECT_EQ(cs.sub_us[k].norm(), 0.0) << "gridpoint " << cs.sub_vertex(k) + 1;
+    }
+    EXPECT_GT(gridpoint_subs, 12);
+}
+
+} // namespace
