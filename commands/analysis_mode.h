@@ -41,10 +41,13 @@ inline void report_mass_scaling(CommandContext& ctx) {
         if (r.real_dt > 0) o << " (real masses would need " << num(r.real_dt) << " s)";
         o << "; model time is not real time\n";
     } else if (ctx.model.settings.mscale_dt > 0) {
-        if (r.n_gridpoints == 0 && r.n_blocks == 0) {
+        if (r.n_gridpoints == 0 && r.n_blocks == 0 && r.n_nodes == 0) {
             o << "mscale: no mass needs scaling, the timestep " << num(r.dt) << " s is the real masses' own\n";
         } else {
-            o << "mscale: " << r.n_gridpoints << " gridpoint and " << r.n_blocks << " block masses scaled (factors "
+            o << "mscale: " << r.n_gridpoints << " gridpoint" << (r.n_nodes > 0 ? ", " : " and ") << r.n_blocks
+              << " block";
+            if (r.n_nodes > 0) o << " and " << r.n_nodes << " cable and liner node";
+            o << " masses scaled (factors "
               << num(r.min_factor) << " to " << num(r.max_factor) << "), mass added " << num(r.added) << " kg, "
               << num(r.total > 0 ? 100.0 * r.added / r.total : 0.0) << " % of " << num(r.total)
               << " kg; timestep " << num(r.dt) << " s (real masses would need " << num(r.real_dt) << " s)\n";

@@ -12,7 +12,8 @@ const CommandSpec& mscale_command() {
         c.positional.real("dt", 0, kInf, Limit::Open).or_word("off");
         c.describe("In dynamic mode the timestep is set by the smallest zones and the lightest blocks; a few "
                    "slivers or small blocks can make it many times smaller than the rest need. 'mscale dt' "
-                   "gives just those gridpoints and blocks the mass that lets them take the step dt, "
+                   "gives just those gridpoints, blocks (a block held by stiff grout or a liner's bond "
+                   "too) and cable and liner nodes the mass that lets them take the step dt, "
                    "leaving every other mass real; each cycling command that chooses the masses anew says "
                    "how many were scaled and how much mass was added (a few percent of the model's is "
                    "harmless to its dynamics; much more is not). dt must be larger than the timestep the "

@@ -469,14 +469,17 @@ double liner_critical_timestep(const Model& m) {
     return dt;
 }
 
-std::string choose_liner_masses(Model& m) {
+std::string choose_liner_masses(Model& m, double raise_to) {
     LinerSet& ls = m.liners;
     if (ls.n_nodes() == 0) return "";
     ensure_stiffness(ls);
     const double dt2 = m.dt * m.dt;
     for (int i = 0; i < ls.n_nodes(); ++i) {
         const double kt = ls.stiff_t[i] + bond_stiffness(ls, i);
-        const double mass = m.settings.dynamic ? ls.mass[i] : kt * dt2;
+        // The own step of a node is sqrt(m / kt) (liner_critical_timestep).
+        const double mass = !m.settings.dynamic ? kt * dt2
+                            : raise_to > 0      ? std::max(ls.mass[i], kt * raise_to * raise_to)
+                                                : ls.mass[i];
         const double moment = ls.stiff_r[i] * dt2;
         if (!(mass > 0) || !std::isfinite(mass) || !(moment > 0) || !std::isfinite(moment)) {
             const int c = ls.liner_of_node(i);

@@ -164,8 +164,10 @@ void refresh_liner_stiffness(LinerSet& ls);
 
 // The liners' own stable timestep with real masses (translations), s (0: none).
 double liner_critical_timestep(const Model& m);
-// Inertial masses for the timestep m.dt. Returns "" or why not.
-std::string choose_liner_masses(Model& m);
+// Inertial masses for the timestep m.dt; in dynamic mode the real ones, raised where `mscale`
+// asks for a step (raise_to, s; 0: none) that the node's real mass would not allow. Returns ""
+// or why not.
+std::string choose_liner_masses(Model& m, double raise_to = 0);
 // The bond's stiffness on the rock (into gridpoint k, N/m; rigid blocks kt, kr by index).
 void add_liner_gridpoint_stiffness(const Model& m, std::vector<double>& k);
 void add_liner_block_stiffness(const Model& m, std::vector<double>& kt, std::vector<double>& kr);

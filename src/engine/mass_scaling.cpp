@@ -124,19 +124,38 @@ void partial_scaling(Model& m, double target, std::vector<double>& block_mass, s
             ++r.n_gridpoints;
         }
     }
-    // Blocks: the automatic step is dtfrac * 2 sqrt(m / k) with k the stiffest contact.
+    // Blocks: the automatic step is dtfrac * 2 sqrt(m / k) with k the stiffest contact, and a
+    // block held by the grout of cables or the bond of liners has its own, 0.9 * 2 sqrt(m / kt)
+    // (cable_critical_timestep).
     BlockSet& s = m.blocks;
     const double k_max = stiffest_contact(m);
-    if (k_max > 0) {
-        const double span = 2.0 * m.settings.dtfrac;
-        const double need = k_max * (target / span) * (target / span);
-        for (int b = 0; b < s.size(); ++b) {
-            if (!moves_as_rigid(s, b) || !(need > s.mass[b])) continue;
-            block_mass[b] = need;
-            count(s.mass[b], need);
-            ++r.n_blocks;
-        }
+    const double span = 2.0 * m.settings.dtfrac;
+    const double need_contacts = k_max > 0 ? k_max * (target / span) * (target / span) : 0.0;
+    std::vector<double> kt(s.size(), 0.0), kr(s.size(), 0.0);
+    add_cable_block_stiffness(m, kt, kr);
+    add_liner_block_stiffness(m, kt, kr);
+    for (int b = 0; b < s.size(); ++b) {
+        if (!moves_as_rigid(s, b)) continue;
+        const double need = std::max(need_contacts, kt[b] * (target / 1.8) * (target / 1.8));
+        if (!(need > s.mass[b])) continue;
+        block_mass[b] = need;
+        count(s.mass[b], need);
+        ++r.n_blocks;
     }
+}
+
+// The cable and liner nodes that `mscale` raised (after their masses are chosen).
+void count_raised_nodes(const Model& m, MassScalingReport& r) {
+    auto count = [&](double real, double scaled) {
+        if (!(scaled > real) || !(real > 0)) return;
+        const double f = scaled / real;
+        r.added += scaled - real;
+        r.min_factor = r.min_factor > 0 ? std::min(r.min_factor, f) : f;
+        r.max_factor = std::max(r.max_factor, f);
+        ++r.n_nodes;
+    };
+    for (int i = 0; i < m.cables.n_nodes(); ++i) count(m.cables.mass[i], m.cables.inertial_mass[i]);
+    for (int i = 0; i < m.liners.n_nodes(); ++i) count(m.liners.mass[i], m.liners.inertial_mass[i]);
 }
 
 } // namespace
@@ -270,16 +289,17 @@ std::string choose_timestep_and_masses(Model& m, double rigid_dt, double zone_dt
         }
         give_masses(m, block_mass, gridpoint_mass);
         m.dt = dt;
-        const std::string cp =
-            choose_cable_masses(m, m.settings.dt_fixed <= 0 && m.settings.mscale_dt >= dt ? m.settings.mscale_dt : 0.0);
+        const double raise_to = m.settings.dt_fixed <= 0 && m.settings.mscale_dt >= dt ? m.settings.mscale_dt : 0.0;
+        const std::string cp = choose_cable_masses(m, raise_to);
         if (!cp.empty()) return cp;
-        const std::string lp = choose_liner_masses(m);
+        const std::string lp = choose_liner_masses(m, raise_to);
         if (!lp.empty()) return lp;
+        if (raise_to > 0) count_raised_nodes(m, r);
     }
     r.dt = m.dt;
     const MassScalingReport& old = m.mass_scaling;
     r.fresh = old.fresh || r.is_static != old.is_static || r.dt != old.dt || r.n_gridpoints != old.n_gridpoints ||
-              r.n_blocks != old.n_blocks;
+              r.n_blocks != old.n_blocks || r.n_nodes != old.n_nodes;
     m.mass_scaling = r;
     return "";
 }

@@ -226,6 +226,7 @@ struct MassScalingReport {
     double real_dt = 0;        // s, the timestep real masses would need
     int n_gridpoints = 0;      // mscale: gridpoint masses raised
     int n_blocks = 0;          // mscale: block masses raised
+    int n_nodes = 0;           // mscale: cable and liner node masses raised
     double added = 0;          // kg, mscale: mass added
     double total = 0;          // kg, real mass of what moves
     double min_factor = 0;     // mscale: smallest and largest factor applied to a raised mass
