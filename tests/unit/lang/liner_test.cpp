@@ -307,3 +307,27 @@ TEST(Liner, MscaleRaisesTheNodesThatHoldTheStepDown) {
         EXPECT_LT(ls.vel[i].norm(), 1.0) << "node " << i + 1;
     }
 }
+
+// A liner node whose mass 'mscale' raises keeps its momentum (its kinetic energy never rises
+// from the change), as blocks, gridpoints and cable nodes do.
+TEST(Liner, ARaisedNodeKeepsItsMomentum) {
+    Session s;
+    ASSERT_TRUE(s.run("config dyn\npoly brick 0 2 0 1 0 1\nprop mat=1 dens=2500 ymod=10e9 prat=0.25\ngen edge 0.25\n"
+                      "bound xvel 0 yvel 0 zvel 0 range z -0.01 0.01\n"
+                      "prop mat=2 li_e=30e9 li_nu=0.2 li_thick=0.2 li_dens=10 li_kn=1e12 li_ks=1e12\n"
+                      "liner range z 0.99 1.01 prop 2\nstep 1"))
+        << s.error();
+    LinerSet& ls = s.model.liners;
+    std::vector<double> momentum(ls.n_nodes());
+    for (int i = 0; i < ls.n_nodes(); ++i) {
+        ls.vel[i] = Vec3(1, 0, 0);
+        momentum[i] = ls.inertial_mass[i];
+    }
+    ASSERT_EQ(choose_liner_masses(s.model, 3e-6), "");
+    int raised = 0;
+    for (int i = 0; i < ls.n_nodes(); ++i) {
+        raised += ls.inertial_mass[i] > ls.mass[i];
+        EXPECT_NEAR(ls.inertial_mass[i] * ls.vel[i].x(), momentum[i], 1e-12 * momentum[i]) << "node " << i + 1;
+    }
+    EXPECT_GT(raised, 0);
+}
