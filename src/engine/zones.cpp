@@ -282,7 +282,13 @@ void update_gridpoint_masses(Model& m) {
         const auto& q = z.gp[i];
         const std::vector<Vec3>& x = large ? g.pos : g.ref;
         const TetGeometry t = tet_geometry(x[q[0]], x[q[1]], x[q[2]], x[q[3]]);
-        const double quarter = 0.25 * mat->density * t.volume;
+        // The mass is the zone's as zoned: a zone that has since changed volume in large strain
+        // keeps its mass (and its weight); its stiffness is that of its shape now.
+        const Vec3& r0 = g.ref[q[0]];
+        // The same arithmetic as tet_geometry's volume: the same bits where nothing has moved.
+        const double zoned_volume =
+            large ? (g.ref[q[1]] - r0).dot((g.ref[q[2]] - r0).cross(g.ref[q[3]] - r0)) / 6.0 : t.volume;
+        const double quarter = 0.25 * mat->density * zoned_volume;
         double norms[4], sum = 0;
         for (int k = 0; k < 4; ++k) {
             norms[k] = t.grad[k].norm();
