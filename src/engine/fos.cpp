@@ -270,12 +270,16 @@ void FosBracket::choose() {
         }
         return;
     }
-    if (fail_ - stable_ <= resolution_) {
+    // Found when the bracket is narrow enough, or when it can narrow no more: its ends are
+    // neighbouring numbers, whose midpoint is one of them (a resolution below what a double
+    // holds would repeat that trial for ever).
+    const double mid = 0.5 * (stable_ + fail_);
+    if (fail_ - stable_ <= resolution_ || !(mid > stable_ && mid < fail_)) {
         end_ = End::Found;
         next_ = 0;
         return;
     }
-    next_ = 0.5 * (stable_ + fail_);
+    next_ = mid;
 }
 
 } // namespace odec

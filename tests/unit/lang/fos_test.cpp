@@ -391,6 +391,20 @@ TEST(FosBracket, BracketsByDoublingAndHalvingThenBisects) {
     EXPECT_EQ(never.stable(), odec::kFosFar);
 }
 
+// A resolution finer than a double can hold ends the search where the bracket can narrow no
+// more (its ends neighbours, whose midpoint is one of them), instead of repeating that trial for ever.
+TEST(FosBracket, AResolutionBelowWhatADoubleHoldsStillEnds) {
+    odec::FosBracket b(1e-300, 0, 0);
+    int trials = 0;
+    while (b.next() > 0 && trials < 1000) {
+        b.report(b.next() <= 1.3);
+        ++trials;
+    }
+    EXPECT_EQ(b.end(), odec::FosBracket::End::Found);
+    EXPECT_LT(trials, 100);
+    EXPECT_EQ(std::nextafter(b.stable(), 2.0), b.fails());
+}
+
 TEST(SolveFos, ARangeGivesTheZonesOfTheBlocksItSelectsCopiesOfTheirMaterial) {
     // Two zoned Mohr-Coulomb blocks of one material: a range selecting one gives it a copy of
     // the material that alone is reduced; the other keeps the material as it is; undoing gives
