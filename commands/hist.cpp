@@ -232,7 +232,8 @@ const CommandSpec& hist_command() {
                 const int b = find_block_at(m, h.point);
                 if (b < 0) fail(a.find(what)->loc, "there are no blocks to follow", {"create blocks first"}, "history");
                 h.block_id = m.blocks.id[b];
-                if (m.blocks.flags[b] & kDeformable) h.gridpoint = find_gridpoint_near(m, h.point);
+                // The block's own gridpoint: one across a joint would follow the other block.
+                if (m.blocks.flags[b] & kDeformable) h.gridpoint = find_gridpoint_of_block_near(m, b, h.point);
                 h.body_offset = m.blocks.orientation[b].conjugate() * (h.point - m.blocks.centroid[b]);
             }
             const struct { const char* name; HistoryKind kind; } zone_quantities[] = {

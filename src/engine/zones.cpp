@@ -61,7 +61,32 @@ const Material* zone_material(const Model& m, int z) {
 
 bool is_deformable(const Model& m, int b) { return (m.blocks.flags[b] & kDeformable) != 0; }
 
+namespace {
+
+bool point_history(HistoryKind k) {
+    return (k >= HistoryKind::XDis && k <= HistoryKind::ZVel) || (k >= HistoryKind::XAcc && k <= HistoryKind::ZAcc);
+}
+bool zone_history(HistoryKind k) { return k >= HistoryKind::SXX && k <= HistoryKind::SYZ; }
+
+} // namespace
+
 void zone_blocks(Model& m, const std::vector<int>& blocks, const std::vector<int>& body, const BlockMesh& mesh) {
+    // Histories of points and zones of the blocks zoned (again) follow where their points are now
+    // to the new gridpoints and zones: taken before the old zones go.
+    std::vector<char> zoned(m.blocks.size(), 0);
+    for (int b : blocks) zoned[b] = 1;
+    std::vector<std::pair<size_t, Vec3>> follow;
+    for (size_t i = 0; i < m.histories.items.size(); ++i) {
+        const History& h = m.histories.items[i];
+        if (point_history(h.kind) && h.block_id > 0) {
+            const int b = m.block_index(h.block_id);
+            if (b < 0 || !zoned[b]) continue;
+            follow.emplace_back(i, h.gridpoint >= 0 ? m.gridpoints.pos[h.gridpoint]
+                                                    : Vec3(m.blocks.centroid[b] + m.blocks.orientation[b] * h.body_offset));
+        } else if (zone_history(h.kind) && h.zone >= 0 && zoned[m.zones.block[h.zone]]) {
+            follow.emplace_back(i, zone_centroid(m, h.zone));
+        }
+    }
     remove_zones(m, blocks);
     GridpointSet& g = m.gridpoints;
     ZoneSet& z = m.zones;
@@ -135,6 +160,14 @@ void zone_blocks(Model& m, const std::vector<int>& blocks, const std::vector<int
     z.colored_zones = 0;
     update_gridpoint_masses(m);
     m.geometry_changed = true;
+    for (const auto& [i, x] : follow) {
+        History& h = m.histories.items[i];
+        if (point_history(h.kind)) {
+            h.gridpoint = find_gridpoint_of_block_near(m, m.block_index(h.block_id), x);
+        } else {
+            h.zone = find_zone_at(m, x);
+        }
+    }
 }
 
 void remove_zones(Model& m, const std::vector<int>& blocks) {
@@ -884,6 +917,25 @@ int find_zone_at(const Model& m, const Vec3& p) {
         if (d < best_d) {
             best_d = d;
             best = i;
+        }
+    }
+    return best;
+}
+
+int find_gridpoint_of_block_near(const Model& m, int b, const Vec3& p) {
+    // The corners of its zones (a gridpoint it shares with a block joined to it is its own too).
+    const GridpointSet& g = m.gridpoints;
+    const ZoneSet& z = m.zones;
+    int best = -1;
+    double best_d = std::numeric_limits<double>::infinity();
+    for (int zi = 0; zi < z.size(); ++zi) {
+        if (z.block[zi] != b) continue;
+        for (int i : z.gp[zi]) {
+            const double d = (g.pos[i] - p).squaredNorm();
+            if (d < best_d || (d == best_d && i < best)) {
+                best_d = d;
+                best = i;
+            }
         }
     }
     return best;

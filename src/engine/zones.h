@@ -195,6 +195,8 @@ Vec3 zone_centroid(const Model& m, int z);
 int find_zone_at(const Model& m, const Vec3& x);
 // Index of the gridpoint nearest x, -1 when none.
 int find_gridpoint_near(const Model& m, const Vec3& x);
+// Index of the gridpoint of block b (index) nearest x, -1 when it has none.
+int find_gridpoint_of_block_near(const Model& m, int b, const Vec3& x);
 
 // True when the block is deformable.
 bool is_deformable(const Model& m, int block_index);

@@ -369,3 +369,47 @@ TEST(History, ListAndWriteTakeNoSettings) {
     EXPECT_NE(s.error().find("error: 'ncyc' does not go with 'write'"), std::string::npos) << s.error();
     EXPECT_EQ(s.model.histories.ncyc, 10);
 }
+
+namespace {
+
+// A history of a point or a zone of a block that is zoned, or zoned again, follows the point to
+// the block's new gridpoint and zone nearest where the point is now. A rigid block's point read
+// the frozen rigid motion after 'gen' (velocity and acceleration of the last rigid step, for
+// ever), and a finer 'gen' of a deformable block left its histories reading 0.
+TEST(History, PointAndZoneHistoriesFollowTheirBlockWhenItIsZoned) {
+    odec::test::Session s;
+    ASSERT_TRUE(s.run("poly brick 0 1 0 1 -1 0\npoly brick 0 1 0 1 0 1\nprop mat=1 dens=2000 ymod=1e9 prat=0.25\n"
+                      "prop jmat=1 jkn=1e9 jks=1e9 jfric=40\nfix range z -1 0\ngrav 0 0 -10\n"
+                      "hist zvel 0.5,0.5,1\nstep 20\ngen edge 0.5 range z 0 1\nhist szz 0.5,0.5,0.5"))
+        << s.error();
+    const auto& items = s.model.histories.items;
+    ASSERT_EQ(items.size(), 2u);
+    const int top = s.model.block_index(2);
+    auto on_top = [&](int gp) {
+        for (int z = 0; z < s.model.zones.size(); ++z) {
+            if (s.model.zones.block[z] != top) continue;
+            for (int q : s.model.zones.gp[z]) {
+                if (q == gp) return true;
+            }
+        }
+        return false;
+    };
+    ASSERT_GE(items[0].gridpoint, 0);
+    EXPECT_TRUE(on_top(items[0].gridpoint));
+    EXPECT_LT((s.model.gridpoints.pos[items[0].gridpoint] - Vec3(0.5, 0.5, 1)).norm(), 0.25);
+    // Sampled every step from here: the velocity of a settling continuum, not one frozen number.
+    ASSERT_TRUE(s.run("hist ncyc 1\nstep 5")) << s.error();
+    const std::vector<double>& v = items[0].values;
+    ASSERT_GE(v.size(), 5u);
+    EXPECT_NE(v[v.size() - 1], v[v.size() - 2]);
+    EXPECT_NE(v[v.size() - 2], v[v.size() - 3]);
+    // Zoned again, finer: both histories go on reading their block, not 0.
+    ASSERT_TRUE(s.run("gen edge 0.25 range z 0 1\nstep 10")) << s.error();
+    ASSERT_GE(items[0].gridpoint, 0);
+    EXPECT_TRUE(on_top(items[0].gridpoint));
+    ASSERT_GE(items[1].zone, 0);
+    EXPECT_EQ(s.model.zones.block[items[1].zone], top);
+    EXPECT_NE(items[1].values.back(), 0.0);
+}
+
+} // namespace
