@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "engine/mass_scaling.h"
 #include "engine/model.h"
 #include "engine/stages.h"
 
@@ -78,10 +79,9 @@ void refresh_stiffness(CableSet& cs) {
     }
 }
 
-// A new inertial mass for node i: when it grows, the velocity keeps the momentum (the kinetic
-// energy never rises from the change), as blocks and gridpoints do.
+// A new inertial mass for node i (velocity_factor).
 void set_node_mass(CableSet& cs, int i, double mass) {
-    if (cs.inertial_mass[i] > 0 && mass > cs.inertial_mass[i]) cs.vel[i] *= cs.inertial_mass[i] / mass;
+    cs.vel[i] *= velocity_factor(cs.inertial_mass[i], mass);
     cs.inertial_mass[i] = mass;
 }
 

@@ -60,6 +60,10 @@ const char* contact_state_name(ContactState s);
 
 // The mark of a gridpoint's sub-contact key (ContactSet::sub_key).
 constexpr std::int64_t kGridpointKey = std::int64_t{1} << 60;
+// The key of the sub-contact of gridpoint gp of block a (of_b 0) or b (of_b 1): sides 3 and 4.
+inline std::int64_t gridpoint_sub_key(int of_b, int gp) {
+    return (static_cast<std::int64_t>(of_b) << 61) | kGridpointKey | gp;
+}
 
 struct ContactSet {
     // ---- per contact (n_contacts) ----

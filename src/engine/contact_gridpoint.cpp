@@ -363,7 +363,7 @@ void gridpoint_subcontacts(const Model& m, int a, int b, const CommonPlane& cp, 
             if (!on_flat && !(closure > 0)) continue;
             sub.side = 3 + side;
             sub.gp = gp;
-            sub.key = (static_cast<std::int64_t>(side) << 61) | kGridpointKey | gp;
+            sub.key = gridpoint_sub_key(side, gp);
             sub.area = both ? 0.5 * area : area;
             sub.closure = closure;
             out.push_back(sub);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "engine/mass_scaling.h"
 #include "engine/model.h"
 #include "engine/range.h"
 #include "engine/stages.h"
@@ -487,10 +488,8 @@ std::string choose_liner_masses(Model& m, double raise_to) {
                    " gets no usable mass (" + num_text(mass) + " kg): give its material a density (li_dens), "
                    "a modulus (li_e) and a thickness (li_thick) of sensible size";
         }
-        // A mass that grows keeps the momentum (the kinetic energy never rises from the change),
-        // as blocks, gridpoints and cable nodes do.
-        if (ls.inertial_mass[i] > 0 && mass > ls.inertial_mass[i]) ls.vel[i] *= ls.inertial_mass[i] / mass;
-        if (ls.inertial_moment[i] > 0 && moment > ls.inertial_moment[i]) ls.spin[i] *= ls.inertial_moment[i] / moment;
+        ls.vel[i] *= velocity_factor(ls.inertial_mass[i], mass);
+        ls.spin[i] *= velocity_factor(ls.inertial_moment[i], moment);
         ls.inertial_mass[i] = mass;
         ls.inertial_moment[i] = moment;
     }

@@ -31,10 +31,6 @@ bool moves_as_rigid(const BlockSet& s, int b) {
     return !(s.flags[b] & (kExcavated | kDeformable | kFixed)) && s.mass[b] > 0;
 }
 
-// The velocity that keeps the kinetic energy from rising when the mass goes from m0 to m1:
-// the momentum when it grows, the velocity when it shrinks.
-inline double velocity_factor(double m0, double m1) { return (m0 > 0 && m1 > m0) ? m0 / m1 : 1.0; }
-
 // Inertia a block's rotation uses now, for comparing with a new one (kg m^2).
 double current_moment(const BlockSet& s, int b) {
     if (s.inertial_moment[b] > 0) return s.inertial_moment[b];
@@ -102,17 +98,24 @@ void give_masses(Model& m, const std::vector<double>& block_mass, const std::vec
     }
 }
 
+// The report's share of a mass that `mscale` raised from `real` to `scaled`.
+void count_raised(MassScalingReport& r, double real, double scaled) {
+    const double f = scaled / real;
+    r.added += scaled - real;
+    r.min_factor = r.min_factor > 0 ? std::min(r.min_factor, f) : f;
+    r.max_factor = std::max(r.max_factor, f);
+}
+
+// A block held by the grout of cables or the bond of liners has its own step, 0.9 * 2 sqrt(m / kt)
+// (cable_critical_timestep).
+constexpr double kGroutSpan = 0.9 * 2.0;
+
 // Dynamic mode with `mscale dt`: raise what needs it in the masses to be given; returns the
 // report's counts.
 void partial_scaling(Model& m, double target, std::vector<double>& block_mass, std::vector<double>& gridpoint_mass,
                      MassScalingReport& r) {
     r.min_factor = r.max_factor = 0;
-    auto count = [&](double real, double scaled) {
-        const double f = scaled / real;
-        r.added += scaled - real;
-        r.min_factor = r.min_factor > 0 ? std::min(r.min_factor, f) : f;
-        r.max_factor = std::max(r.max_factor, f);
-    };
+    auto count = [&](double real, double scaled) { count_raised(r, real, scaled); };
     GridpointSet& g = m.gridpoints;
     const std::vector<double> k = gridpoint_stiffness(m);
     for (int i = 0; i < g.size(); ++i) {
@@ -125,8 +128,7 @@ void partial_scaling(Model& m, double target, std::vector<double>& block_mass, s
         }
     }
     // Blocks: the automatic step is dtfrac * 2 sqrt(m / k) with k the stiffest contact, and a
-    // block held by the grout of cables or the bond of liners has its own, 0.9 * 2 sqrt(m / kt)
-    // (cable_critical_timestep).
+    // block held by grout or a liner's bond has its own (kGroutSpan).
     BlockSet& s = m.blocks;
     const double k_max = stiffest_contact(m);
     const double span = 2.0 * m.settings.dtfrac;
@@ -136,7 +138,7 @@ void partial_scaling(Model& m, double target, std::vector<double>& block_mass, s
     add_liner_block_stiffness(m, kt, kr);
     for (int b = 0; b < s.size(); ++b) {
         if (!moves_as_rigid(s, b)) continue;
-        const double need = std::max(need_contacts, kt[b] * (target / 1.8) * (target / 1.8));
+        const double need = std::max(need_contacts, kt[b] * (target / kGroutSpan) * (target / kGroutSpan));
         if (!(need > s.mass[b])) continue;
         block_mass[b] = need;
         count(s.mass[b], need);
@@ -148,10 +150,7 @@ void partial_scaling(Model& m, double target, std::vector<double>& block_mass, s
 void count_raised_nodes(const Model& m, MassScalingReport& r) {
     auto count = [&](double real, double scaled) {
         if (!(scaled > real) || !(real > 0)) return;
-        const double f = scaled / real;
-        r.added += scaled - real;
-        r.min_factor = r.min_factor > 0 ? std::min(r.min_factor, f) : f;
-        r.max_factor = std::max(r.max_factor, f);
+        count_raised(r, real, scaled);
         ++r.n_nodes;
     };
     for (int i = 0; i < m.cables.n_nodes(); ++i) count(m.cables.mass[i], m.cables.inertial_mass[i]);

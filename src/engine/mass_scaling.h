@@ -48,4 +48,9 @@ std::string choose_timestep_and_masses(Model& m, double rigid_dt, double zone_dt
 // sub-contacts (before the first step).
 void scale_block_masses(Model& m, bool from_contact_update);
 
+// The factor of the velocity when an inertial mass goes from m0 to m1, so that the kinetic energy
+// never rises from the change: the momentum is kept when it grows, the velocity when it shrinks
+// (blocks, gridpoints, cable and liner nodes alike).
+inline double velocity_factor(double m0, double m1) { return (m0 > 0 && m1 > m0) ? m0 / m1 : 1.0; }
+
 } // namespace odec

@@ -1530,7 +1530,7 @@ std::string check_values(const Model& m) {
                 if (!(s.flags[own] & kDeformable) || cs.sub_vertex(i) < 0 || cs.sub_vertex(i) >= ng) {
                     c.fail(w, "a sub-contact gridpoint is out of range");
                 }
-                if (cs.sub_key[i] != ((static_cast<std::int64_t>(side - 3) << 61) | kGridpointKey | cs.sub_vertex(i))) {
+                if (cs.sub_key[i] != gridpoint_sub_key(side - 3, cs.sub_vertex(i))) {
                     c.fail(w, "a sub-contact key does not match its gridpoint");
                 }
                 const std::array<int, 3> t = cs.sub_triangle(i);
