@@ -190,7 +190,8 @@ const CommandSpec& bound_command() {
                    "Loads add to gravity and contact forces. Without a range every block is taken. Rigid "
                    "blocks are selected by their centroid; in deformable blocks, velocities and loads act on "
                    "the gridpoints the range selects by their position (a load on each), and 'stress' on the "
-                   "faces of zones on the surface of a continuum whose centre the range selects: each gets the "
+                   "faces of zones on the surface of a continuum that no other block covers (a joint's faces "
+                   "are no boundary) and whose centre the range selects: each gets the "
                    "traction sigma n (n its outward normal; a negative normal stress pushes inward), replacing "
                    "an earlier 'stress' on that face. 'free' removes all of these.\n\n"
                    "On a rigid block a load acts at its centroid, or at 'point' x,y,z: a material point of the "
@@ -397,6 +398,7 @@ const CommandSpec& bound_command() {
                 gy = six("ygrad");
                 gz = six("zgrad");
                 const StressField3 field{tensor(st), {tensor(gx), tensor(gy), tensor(gz)}};
+                const FaceCover cover(m);
                 for (int b = 0; b < s.size(); ++b) {
                     if (s.flags[b] & (kDeformable | kExcavated)) continue;
                     const Polyhedron w = world_shape(m, b);
@@ -406,14 +408,7 @@ const CommandSpec& bound_command() {
                         if (!a.range.contains_point(m, t.centroid, b)) continue;
                         const Vec3 nrm = w.face_normal(f);
                         // A face against another block is no boundary.
-                        const Vec3 probe = t.centroid + nrm * 1e-6 * std::max(1e-3, std::cbrt(s.volume[b]));
-                        bool covered = false;
-                        for (int o = 0; o < s.size() && !covered; ++o) {
-                            if (o == b || (s.flags[o] & kExcavated)) continue;
-                            if ((s.centroid[o] - probe).norm() > 4 * std::cbrt(s.volume[o]) + 4 * std::cbrt(s.volume[b])) continue;
-                            covered = contains_point(world_shape(m, o), probe, 0);
-                        }
-                        if (covered) continue;
+                        if (cover.covered(b, t.centroid, nrm)) continue;
                         const Vec3 r = t.centroid - s.centroid[b];
                         const Vec3 couple = t.moment - r.cross(t.force);
                         if (!t.force.allFinite() || !t.moment.allFinite() || !couple.allFinite()) {

@@ -342,3 +342,126 @@ int find_block_at(const Model& m, const Vec3& x) {
 }
 
 } // namespace odec
+
+namespace odec {
+
+namespace {
+
+// A block's size for the tolerances of FaceCover: the cube root of its volume, or the largest
+// extent of its box when the volume is no positive number.
+double cover_size(double volume, const Vec3& lo, const Vec3& hi) {
+    const double c = std::cbrt(volume);
+    if (std::isfinite(c) && c > 0) return c;
+    const double e = (hi - lo).maxCoeff();
+    return std::isfinite(e) && e > 0 ? e : 0.0;
+}
+
+} // namespace
+
+FaceCover::FaceCover(const Model& m) : m_(m) {
+    const BlockSet& s = m.blocks;
+    const int nb = s.size();
+    shape_.resize(nb);
+    lo_.assign(nb, Vec3::Zero());
+    hi_.assign(nb, Vec3::Zero());
+    std::vector<int> live;
+    std::vector<double> extent;
+    Vec3 glo = Vec3::Constant(std::numeric_limits<double>::infinity()), ghi = -glo;
+    for (int b = 0; b < nb; ++b) {
+        if (s.flags[b] & kExcavated) continue;
+        shape_[b] = world_shape(m, b);
+        if (shape_[b].vertices.empty()) continue;
+        Vec3 lo = shape_[b].vertices[0], hi = lo;
+        for (const Vec3& v : shape_[b].vertices) {
+            lo = lo.cwiseMin(v);
+            hi = hi.cwiseMax(v);
+        }
+        const double tol = 1e-3 * cover_size(s.volume[b], lo, hi);
+        lo -= Vec3::Constant(tol);
+        hi += Vec3::Constant(tol);
+        if (!lo.allFinite() || !hi.allFinite()) continue;
+        lo_[b] = lo;
+        hi_[b] = hi;
+        live.push_back(b);
+        extent.push_back((hi - lo).maxCoeff());
+        glo = glo.cwiseMin(lo);
+        ghi = ghi.cwiseMax(hi);
+    }
+    if (live.empty()) return;
+    // Cells of the median block's size, fewer than about 8 per block in all.
+    std::nth_element(extent.begin(), extent.begin() + extent.size() / 2, extent.end());
+    const Vec3 span = ghi - glo;
+    cell_ = std::max({extent[extent.size() / 2], 1e-9 * span.maxCoeff(), std::numeric_limits<double>::min()});
+    const double budget = 8.0 * static_cast<double>(live.size()) + 64;
+    auto cells = [&](double c) {
+        double n = 1;
+        for (int k = 0; k < 3; ++k) n *= std::max(1.0, std::ceil(span[k] / c));
+        return n;
+    };
+    while (!(cells(cell_) <= budget)) cell_ *= 2;
+    nx_ = static_cast<int>(std::max(1.0, std::ceil(span.x() / cell_)));
+    ny_ = static_cast<int>(std::max(1.0, std::ceil(span.y() / cell_)));
+    nz_ = static_cast<int>(std::max(1.0, std::ceil(span.z() / cell_)));
+    origin_ = glo;
+    // Each block in every cell its box meets (counting sort: blocks in index order per cell).
+    auto range = [&](int b, int lo3[3], int hi3[3]) {
+        const int n[3] = {nx_, ny_, nz_};
+        for (int k = 0; k < 3; ++k) {
+            lo3[k] = std::clamp(static_cast<int>(std::floor((lo_[b][k] - origin_[k]) / cell_)), 0, n[k] - 1);
+            hi3[k] = std::clamp(static_cast<int>(std::floor((hi_[b][k] - origin_[k]) / cell_)), 0, n[k] - 1);
+        }
+    };
+    const size_t n_cells = static_cast<size_t>(nx_) * ny_ * nz_;
+    cell_offset_.assign(n_cells + 1, 0);
+    for (int pass = 0; pass < 2; ++pass) {
+        std::vector<int> fill;
+        if (pass == 1) {
+            for (size_t c = 0; c < n_cells; ++c) cell_offset_[c + 1] += cell_offset_[c];
+            cell_block_.resize(cell_offset_[n_cells]);
+            fill.assign(cell_offset_.begin(), cell_offset_.end() - 1);
+        }
+        for (int b : live) {
+            int lo3[3], hi3[3];
+            range(b, lo3, hi3);
+            for (int i = lo3[0]; i <= hi3[0]; ++i) {
+                for (int j = lo3[1]; j <= hi3[1]; ++j) {
+                    for (int k = lo3[2]; k <= hi3[2]; ++k) {
+                        const size_t c = (static_cast<size_t>(k) * ny_ + j) * nx_ + i;
+                        if (pass == 0) ++cell_offset_[c + 1];
+                        else cell_block_[fill[c]++] = b;
+                    }
+                }
+            }
+        }
+    }
+}
+
+int FaceCover::cell_index(const Vec3& x) const {
+    const int n[3] = {nx_, ny_, nz_};
+    int ijk[3];
+    for (int k = 0; k < 3; ++k) {
+        const double f = std::floor((x[k] - origin_[k]) / cell_);
+        if (!(f >= 0 && f < n[k])) return -1;
+        ijk[k] = static_cast<int>(f);
+    }
+    return (ijk[2] * ny_ + ijk[1]) * nx_ + ijk[0];
+}
+
+bool FaceCover::covered(int block, const Vec3& x, const Vec3& n) const {
+    if (nx_ == 0) return false;
+    const BlockSet& s = m_.blocks;
+    const double size = std::max(1e-3, cover_size(s.volume[block], lo_[block], hi_[block]));
+    const Vec3 probe = x + n * (1e-6 * size);
+    const int c = cell_index(probe);
+    if (c < 0) return false;
+    for (int k = cell_offset_[c]; k < cell_offset_[c + 1]; ++k) {
+        const int o = cell_block_[k];
+        if (o == block) continue;
+        if ((probe.array() < lo_[o].array()).any() || (probe.array() > hi_[o].array()).any()) continue;
+        const double tol = 1e-3 * cover_size(s.volume[o], lo_[o], hi_[o]);
+        if (contains_point(shape_[o], probe, tol)) return true;
+    }
+    return false;
+}
+
+} // namespace odec

@@ -39,6 +39,27 @@ void refresh_world_vertices(Model& m);
 // World shape of one block.
 Polyhedron world_shape(const Model& m, int block_index);
 
+// Whether a face of one block is against another: the point just outside the face at x (outward
+// unit normal n) lies in another block that is not excavated, or within a thousandth of that
+// block's size of it (a joint under compression overlaps; one barely open still faces its
+// partner). 'bound stress' loads only the faces this finds uncovered, rigid or zoned. The
+// blocks' shapes as they stand are taken once, at construction, with a grid of their boxes.
+class FaceCover {
+public:
+    explicit FaceCover(const Model& m);
+    bool covered(int block, const Vec3& x, const Vec3& n) const;
+
+private:
+    const Model& m_;
+    std::vector<Polyhedron> shape_;
+    std::vector<Vec3> lo_, hi_;
+    Vec3 origin_ = Vec3::Zero();
+    double cell_ = 1;
+    int nx_ = 0, ny_ = 0, nz_ = 0;
+    std::vector<int> cell_offset_, cell_block_;
+    int cell_index(const Vec3& x) const;
+};
+
 // Velocity of a block at the time of its position (the integrator stores it half a step back).
 Vec3 velocity_at_t(const Model& m, int block_index);
 // Velocity at t of the material point at `lever` (world vector from the centroid).

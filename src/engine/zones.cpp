@@ -1,5 +1,6 @@
 #include "engine/zones.h"
 
+#include "engine/blocks.h"
 #include "engine/cable.h"
 #include "engine/liner.h"
 
@@ -814,6 +815,7 @@ int apply_boundary_stress(Model& m, const Range& r, const Sym6& s, const Sym6& g
     const GridpointSet& g = m.gridpoints;
     auto& faces = m.stress_boundary.faces;
     std::vector<BoundaryFace> loaded;
+    const FaceCover cover(m);
     for (const auto& [i, k] : boundary_faces(m)) {
         const std::array<int, 3> f = face_corners(z, i, k);
         const Vec3 centre = (g.pos[f[0]] + g.pos[f[1]] + g.pos[f[2]]) / 3.0;
@@ -821,6 +823,8 @@ int apply_boundary_stress(Model& m, const Range& r, const Sym6& s, const Sym6& g
         const auto& q = z.gp[i];
         const TetGeometry t = tet_geometry(g.pos[q[0]], g.pos[q[1]], g.pos[q[2]], g.pos[q[3]]);
         const Vec3 area = -3.0 * t.volume * t.grad[k];  // outward, |area| = face area
+        // A face against another block (a joint, a zoned block on a rigid one) is no boundary.
+        if (cover.covered(z.block[i], centre, area.normalized())) continue;
         const Sym6 st = stress_at(centre, s, gx, gy, gz);
         const Vec3 force(st[0] * area.x() + st[3] * area.y() + st[4] * area.z(),
                          st[3] * area.x() + st[1] * area.y() + st[5] * area.z(),

@@ -132,6 +132,44 @@ TEST(Insitu, AJointBetweenDeformableBlocksStartsAtRest) {
     EXPECT_GT(watch(bare, 1).first_ratio, 1e-3);
 }
 
+// 'bound stress' with no range loads the model's outer faces only: the faces of a joint
+// between zoned blocks, and of a zoned block against a rigid one, are covered by the other
+// block and take no boundary traction (they used to, and the joint lost three quarters of its
+// normal stress within 20 steps). The model of (a), and a zoned block on a rigid one.
+TEST(Insitu, BoundStressWithoutARangeLoadsOnlyTheOuterFaces) {
+    const std::string t = "-6e6 -4e6 -8e6 1e6 -5e5 8e5";
+    Session s;
+    ASSERT_TRUE(s.run(std::string("poly brick 0 2 0 1 0 1\njset dip 50 dd 70 origin 1,0.5,0.5\n") + kRock +
+                      "gen edge 0.25\ninsitu stress " + t + "\nbound stress " + t))
+        << s.error();
+    const Model& m = s.model;
+    // The loaded faces cover the box's surface, 2 (2 + 2 + 1) = 10 m^2, and nothing more.
+    auto loaded_area = [](const Model& mm) {
+        double area = 0;
+        for (const BoundaryFace& f : mm.stress_boundary.faces) {
+            const Vec3& p0 = mm.gridpoints.pos[f.gp[0]];
+            area += 0.5 * (mm.gridpoints.pos[f.gp[1]] - p0).cross(mm.gridpoints.pos[f.gp[2]] - p0).norm();
+        }
+        return area;
+    };
+    EXPECT_NEAR(loaded_area(m), 10.0, 1e-9);
+    const Rest r = watch(s);
+    EXPECT_LT(r.first_ratio, 1e-6);
+    EXPECT_LT(r.fastest, 1e-6);
+    double sn = 0;
+    Vec3 ss;
+    traction({-6e6, -4e6, -8e6, 1e6, -5e5, 8e5}, s.model.contacts.normal[0], sn, ss);
+    for (int k = 0; k < s.model.contacts.n_subs(); ++k) EXPECT_NEAR(s.model.contacts.sub_sn[k], sn, 1e-6 * sn);
+
+    // A zoned cube on a rigid base: its top and sides are loaded (5 m^2), not its base, which
+    // stands on the rigid block.
+    Session r2;
+    ASSERT_TRUE(r2.run(std::string("poly brick -1 2 -1 2 -1 0\npoly brick 0 1 0 1 0 1\n") + kRock +
+                       "gen edge 0.25 range z 0 1\nfix range z -1 0\nbound stress 0 0 -1e6 0 0 0"))
+        << r2.error();
+    EXPECT_NEAR(loaded_area(r2.model), 5.0, 1e-9);
+}
+
 // (b) A tunnel's rings and radial cuts before excavation, under a far-field stress with its
 // traction on the outer faces and plane strain along the axis. First as 'poly tunnel' makes
 // them, joined and zoned as one continuum; then as separate deformable blocks with real
