@@ -74,14 +74,24 @@ std::uint8_t mohr_coulomb_increment(const ZoneMaterialConstants& c, const Sym6& 
         p[2] -= lam * (c.alpha2 - c.alpha1 * c.npsi);
         now = kShearNow;
     } else {
-        const double lam = (p[2] - c.tension) / c.alpha1;
-        p[0] -= lam * c.alpha2;
-        p[1] -= lam * c.alpha2;
-        p[2] = c.tension;
+        // Plastic flow normal to the cut-off planes that are active (associated in tension):
+        // first that of s3 alone; where it leaves s2 beyond the cut-off too, the flow is normal
+        // to both planes s2 = t and s3 = t, and s1 takes alpha2 times the sum of both
+        // multipliers, (f2 + f3) / (alpha1 + alpha2) (clipping s2 instead would drop its
+        // share of s1's correction, and s1 would climb to the cut-off step by step); where
+        // even s1 ends beyond it, all three planes are active: the apex, t t t.
+        const double f3 = p[2] - c.tension, f2 = p[1] - c.tension;
+        const double lam = f3 / c.alpha1;
         now = kTensionNow;
-        // The two other stresses may now be beyond the cut-off too.
-        p[1] = std::min(p[1], c.tension);
-        p[0] = std::min(p[0], c.tension);
+        if (p[1] - lam * c.alpha2 <= c.tension) {
+            p[0] -= lam * c.alpha2;
+            p[1] -= lam * c.alpha2;
+            p[2] = c.tension;
+        } else {
+            p[0] -= c.alpha2 * (f2 + f3) / (c.alpha1 + c.alpha2);
+            p[1] = p[2] = c.tension;
+            if (p[0] > c.tension) p[0] = c.tension;
+        }
     }
     const Mat3 v = eig.eigenvectors();
     const Mat3 r = v * p.asDiagonal() * v.transpose();
