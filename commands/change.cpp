@@ -19,7 +19,8 @@ const CommandSpec& change_command() {
                    "mass and inertia follow its density. Contacts whose centroid is in the range take the "
                    "joint material and joint model, except those of hidden blocks ('hide'); contacts made later take those of the joint plane they "
                    "lie on, or the defaults of 'set jmat' and 'set jcons'. 'cons' sets the zone model of the "
-                   "zones whose centroid is in the range (0 null: the zone carries nothing; 1 elastic; 2 "
+                   "zones whose centroid is in the range (0 null: the zone carries nothing, its stress and "
+                   "plastic state are set to 0, so that a model given to it again starts it unstressed; 1 elastic; 2 "
                    "Mohr-Coulomb, with 'prop coh fric ten dil'), and of the rigid blocks of the range for "
                    "when they are zoned.");
         c.example("change mat=2 range z -10 0");
@@ -77,6 +78,10 @@ const CommandSpec& change_command() {
                     if (m.blocks.flags[m.zones.block[z]] & kExcavated) continue;
                     if (!a.range.contains_point(m, zone_centroid(m, z), m.zones.block[z])) continue;
                     m.zones.model[z] = static_cast<std::uint8_t>(c);
+                    if (c == kZoneNull) {
+                        m.zones.stress[z] = Sym6{0, 0, 0, 0, 0, 0};
+                        m.zones.state[z] = 0;
+                    }
                     ++zones;
                 }
                 m.geometry_changed = true;

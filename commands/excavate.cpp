@@ -1,5 +1,8 @@
+#include <algorithm>
+
 #include "commands.h"
 #include "common.h"
+#include "engine/zones.h"
 
 namespace odec {
 
@@ -10,6 +13,7 @@ void set_excavated(CommandContext& ctx, const Args& a, bool on) {
     int n = 0;
     std::vector<int> blocks = select_blocks(ctx.model, a.range, true);
     take_whole_clumps(ctx, blocks, on ? "excavating" : "filling");
+    std::vector<int> filled;
     for (int b : blocks) {
         const bool was = s.flags[b] & kExcavated;
         if (was == on) continue;
@@ -20,8 +24,25 @@ void set_excavated(CommandContext& ctx, const Args& a, bool on) {
             s.vel[b].setZero();
             s.ang_vel[b].setZero();
             s.half_kick[b] = 1;
+            filled.push_back(b);
         }
         ++n;
+    }
+    // A filled block is new material: its zones start unstressed and elastic, its gridpoints at rest.
+    if (!filled.empty()) {
+        std::sort(filled.begin(), filled.end());
+        ZoneSet& z = ctx.model.zones;
+        for (int i = 0; i < z.size(); ++i) {
+            if (!std::binary_search(filled.begin(), filled.end(), z.block[i])) continue;
+            z.stress[i] = Sym6{0, 0, 0, 0, 0, 0};
+            z.state[i] = 0;
+        }
+        GridpointSet& g = ctx.model.gridpoints;
+        for (int i = 0; i < g.size(); ++i) {
+            if (!std::binary_search(filled.begin(), filled.end(), g.block[i])) continue;
+            g.vel[i].setZero();
+            g.half_kick[i] = 1;
+        }
     }
     ctx.model.geometry_changed = true;
     if (!ctx.interp.quiet) ctx.out << (on ? "excavated " : "filled ") << n << " blocks\n";
@@ -34,7 +55,7 @@ const CommandSpec& excavate_command() {
         CommandSpec c("excavate", 3, "null blocks: they leave the model but are kept for 'fill'");
         c.range();
         c.describe("Excavated blocks carry no load and make no contacts; 'fill' brings them back where "
-                   "they were, at rest. This is how a cavern is excavated in stages. A clump (the blocks of a solid that "
+                   "they were, at rest; a zoned block comes back as new material, its zones unstressed. This is how a cavern is excavated in stages. A clump (the blocks of a solid that "
                    "is not convex, 'poly') is excavated and filled whole when the range selects any of its blocks.");
         c.example("excavate range cylinder 0,-10,0 0,10,0 3");
         c.handle([](CommandContext& ctx, const Args& a) {

@@ -253,7 +253,8 @@ void set_zone_stress(Model& m, const Range& r, const StressField& f, const std::
     set.resize(z.size(), 0);
     for (int i = 0; i < z.size(); ++i) {
         const int b = z.block[i];
-        if (m.blocks.flags[b] & kExcavated) continue;
+        // Excavated blocks and null zones carry no stress.
+        if ((m.blocks.flags[b] & kExcavated) || z.model[i] == kZoneNull) continue;
         if (!only.empty() && !only[b]) continue;
         const Vec3 c = zone_centroid(m, i);
         if (!r.contains_point(m, c, b)) continue;

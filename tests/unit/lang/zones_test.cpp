@@ -290,3 +290,36 @@ TEST(Zones, AZoneKeepsItsMassWhenItsVolumeChanges) {
 }
 
 } // namespace
+
+// A null zone ('change cons=0') carries no stress: its stress and plastic state go to 0, 'insitu'
+// leaves it alone, and given a model again it starts unstressed. A filled block ('excavate',
+// then 'fill') is new material: its zones start unstressed too. Before, both came back with the
+// stress they had when they were removed.
+TEST(Zones, NullZonesAndFilledBlocksStartUnstressed) {
+    Session s;
+    ASSERT_TRUE(s.run("poly brick 0 1 0 1 0 1\npoly brick 0 1 0 1 1 2\nprop mat=1 dens=2500 k=1e10 g=1e10\n"
+                      "gen edge 0.5\ninsitu stress 0 0 -5e6 0 0 0\nchange cons=0 range z 0.5 1\n"))
+        << s.error();
+    const ZoneSet& z = s.model.zones;
+    auto upper = [&](int i) { return zone_centroid(s.model, i).z() > 1; };
+    auto nulled = [&](int i) {
+        const double c = zone_centroid(s.model, i).z();
+        return c > 0.5 && c < 1;
+    };
+    int n_null = 0;
+    for (int i = 0; i < z.size(); ++i) {
+        if (nulled(i)) {
+            ++n_null;
+            EXPECT_EQ(z.stress[i][2], 0.0);
+        } else {
+            EXPECT_EQ(z.stress[i][2], -5e6);
+        }
+    }
+    EXPECT_GT(n_null, 0);
+    ASSERT_TRUE(s.run("insitu stress 0 0 -7e6 0 0 0\nchange cons=1\nexcavate range z 1 2\nfill range z 1 2")) << s.error();
+    for (int i = 0; i < z.size(); ++i) {
+        const double want = nulled(i) || upper(i) ? 0.0 : -7e6;
+        EXPECT_EQ(z.stress[i][2], want) << "zone " << i;
+        EXPECT_EQ(z.model[i], kZoneElastic);
+    }
+}
