@@ -209,6 +209,28 @@ std::vector<int> replace_by_pieces(Model& m, int b, const std::vector<Polyhedron
         h.block_id = s.id[out[best]];
         h.body_offset = x - s.centroid[out[best]];
     }
+    // Cable and liner nodes tied to the parent's material points stay tied to those points, now
+    // in the piece that holds them and in its frame (the grout or bond keeps its force and slip:
+    // the rock there is the same). A node whose point is in no piece keeps the parent's id with
+    // the point's lever from the first piece: the tie no longer stands, and the next attach finds
+    // the node the rock that holds it now.
+    auto retie = [&](std::vector<int>& host_block, std::vector<Vec3>& host_lever,
+                     const std::vector<std::array<int, 4>>& host_gp) {
+        const int parent = s.id[b];
+        for (size_t i = 0; i < host_block.size(); ++i) {
+            if (host_block[i] != parent || host_gp[i][0] >= 0) continue;
+            const Vec3 x = c_parent + q_parent * host_lever[i];
+            int best = -1;
+            for (size_t k = 0; k < pieces.size() && best < 0; ++k) {
+                if (contains_point(pieces[k], x - origin, 1e-9)) best = static_cast<int>(k);
+            }
+            const int piece = out[best < 0 ? 0 : best];
+            host_block[i] = s.id[piece];
+            host_lever[i] = x - s.centroid[piece]; // the pieces' body frames are the world axes
+        }
+    };
+    retie(m.cables.host_block, m.cables.host_lever, m.cables.host_gp);
+    retie(m.liners.host_block, m.liners.host_lever, m.liners.host_gp);
     return out;
 }
 

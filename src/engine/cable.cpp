@@ -250,9 +250,19 @@ void attach_cable_nodes(Model& m) {
     // A node keeps its tie while it stands (it follows its material point wherever the grout has
     // let it slip); one whose rock was deleted, excavated, cut away or zoned anew, and one in no
     // rock, is tied to whatever holds it now.
+    // The grout of a node whose rock is gone (deleted or excavated: the node is then free, or
+    // grouted anew into what holds it now, a filled block) starts again from nothing; a node
+    // whose block was only zoned again keeps its grout's force and slip: the rock is the same.
     for (int i = 0; i < cs.n_nodes(); ++i) {
         if (cs.host_block[i] > 0 && tie_holds(m, i)) continue;
+        const int was = cs.host_block[i] > 0 ? m.block_index(cs.host_block[i]) : -1;
+        const bool same_rock = was >= 0 && !(m.blocks.flags[was] & kExcavated);
         attach_node(m, i);
+        if (!same_rock || cs.host_block[i] != m.blocks.id[was]) {
+            cs.grout_force[i] = 0;
+            cs.slip[i] = 0;
+            cs.state[i] &= static_cast<std::uint8_t>(~(kGroutSlipNow | kGroutSlipPast));
+        }
     }
     refresh_stiffness(cs);
 }

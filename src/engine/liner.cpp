@@ -440,9 +440,18 @@ std::string liners_problem(const Model& m) {
 
 void attach_liner_nodes(Model& m) {
     LinerSet& ls = m.liners;
+    // As cables' grout (attach_cable_nodes): the bond of a node whose rock is gone (deleted or
+    // excavated) starts again from nothing; one whose block was only zoned again keeps it.
     for (int i = 0; i < ls.n_nodes(); ++i) {
         if (ls.host_block[i] > 0 && rock_tie_holds(m, ls.host_block[i], ls.host_lever[i], ls.host_gp[i])) continue;
+        const int was = ls.host_block[i] > 0 ? m.block_index(ls.host_block[i]) : -1;
+        const bool same_rock = was >= 0 && !(m.blocks.flags[was] & kExcavated);
         find_rock_tie(m, ls.pos[i], ls.host_block[i], ls.host_lever[i], ls.host_gp[i], ls.host_w[i]);
+        if (!same_rock || ls.host_block[i] != m.blocks.id[was]) {
+            ls.bond_n[i] = 0;
+            ls.bond_s[i].setZero();
+            ls.state[i] = 0;
+        }
     }
     build_liner_stiffness(ls);
 }
