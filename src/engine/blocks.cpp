@@ -258,7 +258,9 @@ void remove_blocks(Model& m, std::vector<int> idx) {
         }
         v.resize(w);
     });
-    m.contacts.clear();
+    // The joints between the blocks that stay keep their state (they used to be found afresh,
+    // every joint of the model losing its in-situ load, shear and damage).
+    renumber_contacts(m, &new_index, nullptr);
     m.geometry_changed = true;
 }
 

@@ -174,6 +174,12 @@ struct ContactSet {
 // areas), when some block has moved more than a fraction of ctol since the last time, or
 // the model changed (Model::geometry_changed).
 void detect_contacts(Model& m);
+// After blocks were removed or gridpoints renumbered (new_block[b], new_gp[g]: the new index, -1
+// gone; null: unchanged): the contacts between two remaining blocks keep their state (ids,
+// sub-contact histories), renumbered; a contact with a block gone goes, and a gridpoint's
+// sub-contact goes with its gridpoint or with a corner of the triangle it meets (detection makes
+// it again from the geometry). What is derived from the contacts is made again.
+void renumber_contacts(Model& m, const std::vector<int>* new_block, const std::vector<int>* new_gp);
 // For commands and FISH between steps: the contacts of the model as it stands (and, with_surface,
 // the zones' contact surface), found now unless they already are (Model::contacts_current).
 void ensure_contacts_current(Model& m, bool with_surface);

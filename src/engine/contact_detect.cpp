@@ -1356,6 +1356,93 @@ double contact_tolerance(const Model& m) {
     return n > 0 && sum > 0 ? 0.05 * sum / n : 1e-3;
 }
 
+void renumber_contacts(Model& m, const std::vector<int>* new_block, const std::vector<int>* new_gp) {
+    ContactSet& cs = m.contacts;
+    const int nc = cs.size(), ns = cs.n_subs();
+    auto mapped = [](const std::vector<int>* map, int i) {
+        return map == nullptr ? i : (i >= 0 && i < static_cast<int>(map->size()) ? (*map)[i] : -1);
+    };
+    std::vector<char> keep_c(nc, 1), keep_s(ns, 1);
+    for (int c = 0; c < nc; ++c) {
+        keep_c[c] = mapped(new_block, cs.block_a[c]) >= 0 && mapped(new_block, cs.block_b[c]) >= 0;
+        for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
+            if (!keep_c[c]) {
+                keep_s[k] = 0;
+                continue;
+            }
+            if (cs.sub_side[k] < 3 || new_gp == nullptr) continue;
+            const int g = mapped(new_gp, cs.sub_vertex(k));
+            bool ok = g >= 0;
+            if (ok) cs.sub_key[k] = gridpoint_sub_key(cs.sub_side[k] - 3, g);
+            if (!cs.sub_tri.empty()) {
+                for (int& q : cs.sub_tri[k]) {
+                    if (q < 0) continue;
+                    q = mapped(new_gp, q);
+                    ok = ok && q >= 0;
+                }
+            }
+            keep_s[k] = ok;
+        }
+    }
+    // Compact, keeping the order (so a < b stays true of every pair).
+    std::vector<int> offset(1, 0);
+    for (int c = 0; c < nc; ++c) {
+        if (!keep_c[c]) continue;
+        int n = 0;
+        for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) n += keep_s[k];
+        offset.push_back(offset.back() + n);
+    }
+    each_contact_array(cs, [&](auto& v) {
+        if (static_cast<int>(v.size()) != nc) {
+            v.clear();
+            return;
+        }
+        size_t w = 0;
+        for (int c = 0; c < nc; ++c) {
+            if (keep_c[c]) v[w++] = std::move(v[c]);
+        }
+        v.resize(w);
+    });
+    each_sub_array(cs, !cs.sub_tri.empty(), [&](auto& v) {
+        size_t w = 0;
+        for (int k = 0; k < ns; ++k) {
+            if (keep_s[k]) v[w++] = std::move(v[k]);
+        }
+        v.resize(w);
+    });
+    cs.sub_offset = std::move(offset);
+    if (new_block != nullptr) {
+        for (int& b : cs.block_a) b = (*new_block)[b];
+        for (int& b : cs.block_b) b = (*new_block)[b];
+        const int nb = static_cast<int>(new_block->size());
+        auto per_block = [&](auto& v) {
+            if (static_cast<int>(v.size()) != nb) {
+                v.clear();
+                return;
+            }
+            size_t w = 0;
+            for (int b = 0; b < nb; ++b) {
+                if ((*new_block)[b] >= 0) v[w++] = std::move(v[b]);
+            }
+            v.resize(w);
+        };
+        per_block(cs.ref_centroid);
+        per_block(cs.ref_orientation);
+        per_block(cs.geo_centroid);
+        per_block(cs.geo_orientation);
+        per_block(cs.radius);
+        per_block(cs.joint_kt);
+        per_block(cs.joint_kr);
+    }
+    // What is derived from the contacts is made again.
+    cs.surface_ready = false;
+    cs.colored = false;
+    cs.color_order.clear();
+    cs.color_offset.clear();
+    ++cs.revision;
+    m.flow.invalidate();
+}
+
 void detect_contacts(Model& m) {
     // Unknown (a restored model, contacts made elsewhere): looked at every step until rebuilt.
     if (m.contacts.free_motion.size() != static_cast<size_t>(m.contacts.size())) {

@@ -230,6 +230,10 @@ void remove_zones(Model& m, const std::vector<int>& blocks) {
     for (auto& q : z.gp) {
         for (int& c : q) c = new_index[c];
     }
+    // Gridpoint sub-contacts follow their gridpoints to the new numbers (before, those of the
+    // other zoned blocks kept the old numbers: another gridpoint's history, or one out of range
+    // that 'save' refused until the next step).
+    renumber_contacts(m, nullptr, &new_index);
     // Loaded faces lose those of the removed zones.
     auto& faces = m.stress_boundary.faces;
     size_t fw = 0;
