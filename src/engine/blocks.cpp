@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "engine/parallel.h"
+#include "engine/zones.h"
 
 namespace odec {
 
@@ -311,6 +312,14 @@ Polyhedron world_shape(const Model& m, int b) {
 }
 
 Vec3 velocity_at_t(const Model& m, int b) {
+    if (m.blocks.flags[b] & kDeformable) {
+        // A zoned block moves with its gridpoints: the mean velocity of its corners, as its
+        // displacement is the mean of theirs (refresh_deformable_vertices).
+        const auto& corners = m.blocks.corner_gp[b];
+        Vec3 v = Vec3::Zero();
+        for (int g : corners) v += gridpoint_velocity_at_t(m, g);
+        return corners.empty() ? v : Vec3(v / static_cast<double>(corners.size()));
+    }
     if ((m.blocks.flags[b] & kFixed) && !m.blocks.vel_bc[b]) return Vec3::Zero();
     if (m.blocks.half_kick[b]) return m.blocks.vel[b];
     return m.blocks.vel[b] + 0.5 * m.dt * m.blocks.accel[b];

@@ -226,16 +226,14 @@ VtkPolyhedronMesh blocks_mesh(const Model& m) {
         const int base = static_cast<int>(mesh.points.size());
         Vec3 v = velocity_at_t(m, b);
         if (bs.flags[b] & kDeformable) {
-            // Its corners are gridpoints: their own motion, and the block's velocity their mean.
+            // Its corners are gridpoints: their own motion (the block's velocity is their mean,
+            // velocity_at_t).
             const auto& corners = bs.corner_gp[b];
-            v.setZero();
             for (size_t k = 0; k < corners.size(); ++k) {
                 mesh.points.push_back(shape.vertices[k]);
                 point_disp.push_back(m.gridpoints.disp[corners[k]]);
                 point_vel.push_back(gridpoint_velocity_at_t(m, corners[k]));
-                v += point_vel.back();
             }
-            if (!corners.empty()) v /= static_cast<double>(corners.size());
         } else {
             for (int k = 0; k < shape.n_vertices(); ++k) {
                 const Vec3& x = shape.vertices[k];

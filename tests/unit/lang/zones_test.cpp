@@ -6,8 +6,10 @@
 #include <cmath>
 #include <string>
 
+#include "engine/blocks.h"
 #include "engine/contact.h"
 #include "engine/zones.h"
+#include "fish/runtime.h"
 #include "test_util.h"
 
 using odec::test::Session;
@@ -322,4 +324,21 @@ TEST(Zones, NullZonesAndFilledBlocksStartUnstressed) {
         EXPECT_EQ(z.stress[i][2], want) << "zone " << i;
         EXPECT_EQ(z.model[i], kZoneElastic);
     }
+}
+
+// A zoned block's velocity (print block, FISH b_vel, the export, plots) is that of its gridpoints,
+// as its displacement is: a zoned cube falling freely moves at g t (it read 0 in 'print block'
+// and b_vel while the export gave the gridpoints' mean).
+TEST(Zones, AZonedBlockMovesWithItsGridpoints) {
+    Session s;
+    ASSERT_TRUE(s.run("config dynamic\npoly brick 0 1 0 1 0 1\nprop mat=1 dens=2500 k=1e10 g=1e10\ngen edge 0.5\n"
+                      "grav 0 0 -10\ndamp off\nset dt 2e-5\nstep 500\n"
+                      "def v\n  v = b_zvel(b_near(0.5,0.5,0.5))\nend\n@v"))
+        << s.error();
+    const double t = s.model.time;
+    EXPECT_NEAR(t, 0.01, 1e-12);
+    EXPECT_NEAR(velocity_at_t(s.model, 0).z(), -10 * t, 1e-9);
+    const odec::fish::Symbol* v = s.interp.fish().find("v");
+    ASSERT_NE(v, nullptr);
+    EXPECT_NEAR(v->value.number(), -10 * t, 1e-9);
 }
