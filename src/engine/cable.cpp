@@ -387,7 +387,8 @@ void cable_forces(Model& m, double dt) {
                 st |= kCableYieldTensionNow | kCableYieldPast;
             } else if (f < -p.ycomp) {
                 f = -p.ycomp;
-                st |= kCableYieldCompNow | kCableYieldPast;
+                // A cable that carries no compression (ycomp 0) goes slack: it does not yield.
+                if (p.ycomp > 0) st |= kCableYieldCompNow | kCableYieldPast;
             }
             cs.axial[seg] = f;
             cs.seg_state[seg] = st;
