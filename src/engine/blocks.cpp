@@ -194,13 +194,17 @@ std::vector<int> replace_by_pieces(Model& m, int b, const std::vector<Polyhedron
     }
     // The histories of the parent's material points follow them into the piece that holds them
     // (the nearest piece by centroid for a point outside the parent), in its frame.
+    // The piece holding the parent's material point x (world), or -1.
+    auto piece_holding = [&](const Vec3& x) {
+        for (size_t k = 0; k < pieces.size(); ++k) {
+            if (contains_point(pieces[k], x - origin, 1e-9)) return static_cast<int>(k);
+        }
+        return -1;
+    };
     for (History& h : m.histories.items) {
         if (h.block_id != s.id[b] || h.gridpoint != -1) continue;
         const Vec3 x = c_parent + q_parent * h.body_offset;
-        int best = -1;
-        for (size_t k = 0; k < pieces.size() && best < 0; ++k) {
-            if (contains_point(pieces[k], x - origin, 1e-9)) best = static_cast<int>(k);
-        }
+        int best = piece_holding(x);
         if (best < 0) {
             best = 0;
             for (size_t k = 1; k < pieces.size(); ++k) {
@@ -221,10 +225,7 @@ std::vector<int> replace_by_pieces(Model& m, int b, const std::vector<Polyhedron
         for (size_t i = 0; i < host_block.size(); ++i) {
             if (host_block[i] != parent || host_gp[i][0] >= 0) continue;
             const Vec3 x = c_parent + q_parent * host_lever[i];
-            int best = -1;
-            for (size_t k = 0; k < pieces.size() && best < 0; ++k) {
-                if (contains_point(pieces[k], x - origin, 1e-9)) best = static_cast<int>(k);
-            }
+            const int best = piece_holding(x);
             const int piece = out[best < 0 ? 0 : best];
             host_block[i] = s.id[piece];
             host_lever[i] = x - s.centroid[piece]; // the pieces' body frames are the world axes
@@ -373,10 +374,6 @@ int find_block_at(const Model& m, const Vec3& x) {
     }
     return best;
 }
-
-} // namespace odec
-
-namespace odec {
 
 namespace {
 

@@ -171,6 +171,11 @@ bool rock_tie_holds(const Model& m, int block_id, const Vec3& lever, const std::
     return false;
 }
 
+bool rock_tie_kept(const Model& m, int old_block_id, int new_block_id) {
+    const int was = old_block_id > 0 ? m.block_index(old_block_id) : -1;
+    return was >= 0 && !(m.blocks.flags[was] & kExcavated) && new_block_id == old_block_id;
+}
+
 int add_cable(Model& m, const Vec3& p1, const Vec3& p2, int n_segments, int mat, double pretension,
               std::string& why) {
     CableSet& cs = m.cables;
@@ -249,16 +254,14 @@ void attach_cable_nodes(Model& m) {
     CableSet& cs = m.cables;
     // A node keeps its tie while it stands (it follows its material point wherever the grout has
     // let it slip); one whose rock was deleted, excavated, cut away or zoned anew, and one in no
-    // rock, is tied to whatever holds it now.
-    // The grout of a node whose rock is gone (deleted or excavated: the node is then free, or
-    // grouted anew into what holds it now, a filled block) starts again from nothing; a node
-    // whose block was only zoned again keeps its grout's force and slip: the rock is the same.
+    // rock, is tied to whatever holds it now. The grout of a node whose rock is gone (deleted or
+    // excavated: the node is then free, or grouted anew into a filled block) starts again from
+    // nothing; one whose block was only zoned again keeps its force and slip.
     for (int i = 0; i < cs.n_nodes(); ++i) {
         if (cs.host_block[i] > 0 && tie_holds(m, i)) continue;
-        const int was = cs.host_block[i] > 0 ? m.block_index(cs.host_block[i]) : -1;
-        const bool same_rock = was >= 0 && !(m.blocks.flags[was] & kExcavated);
+        const int was = cs.host_block[i];
         attach_node(m, i);
-        if (!same_rock || cs.host_block[i] != m.blocks.id[was]) {
+        if (!rock_tie_kept(m, was, cs.host_block[i])) {
             cs.grout_force[i] = 0;
             cs.slip[i] = 0;
             cs.state[i] &= static_cast<std::uint8_t>(~(kGroutSlipNow | kGroutSlipPast));

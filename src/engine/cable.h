@@ -127,6 +127,10 @@ void find_rock_tie(const Model& m, const Vec3& x, int& block_id, Vec3& lever, st
                    std::array<double, 4>& w);
 // Whether such a tie still stands (its block neither deleted, excavated nor zoned anew).
 bool rock_tie_holds(const Model& m, int block_id, const Vec3& lever, const std::array<int, 4>& gp);
+// Whether a node re-tied from block old_block_id (0: none) to block new_block_id is in the same
+// rock as before: its old block still stands (not deleted or excavated: only zoned again, or cut)
+// and holds it again. Grout and bond forces are kept only then.
+bool rock_tie_kept(const Model& m, int old_block_id, int new_block_id);
 // Velocity of the tied material point at t - dt/2; `index` receives the block's index (-1: none).
 Vec3 rock_tie_velocity(const Model& m, int block_id, const Vec3& lever, const std::array<int, 4>& gp,
                        const std::array<double, 4>& w, int& index);

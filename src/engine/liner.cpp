@@ -444,10 +444,9 @@ void attach_liner_nodes(Model& m) {
     // excavated) starts again from nothing; one whose block was only zoned again keeps it.
     for (int i = 0; i < ls.n_nodes(); ++i) {
         if (ls.host_block[i] > 0 && rock_tie_holds(m, ls.host_block[i], ls.host_lever[i], ls.host_gp[i])) continue;
-        const int was = ls.host_block[i] > 0 ? m.block_index(ls.host_block[i]) : -1;
-        const bool same_rock = was >= 0 && !(m.blocks.flags[was] & kExcavated);
+        const int was = ls.host_block[i];
         find_rock_tie(m, ls.pos[i], ls.host_block[i], ls.host_lever[i], ls.host_gp[i], ls.host_w[i]);
-        if (!same_rock || ls.host_block[i] != m.blocks.id[was]) {
+        if (!rock_tie_kept(m, was, ls.host_block[i])) {
             ls.bond_n[i] = 0;
             ls.bond_s[i].setZero();
             ls.state[i] = 0;
