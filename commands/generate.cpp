@@ -27,6 +27,9 @@ constexpr double kMaxZones = 5e7;
 // Zones of a bounded session's budget (Interpreter::Limits::zone_budget) that one `gen` costs at
 // least.
 constexpr long long kGenZoneCharge = 250;
+// A block is zoned only where its coordinates resolve it, and the zones' edge, to a millionth
+// (up to 4.5e9 times that size from the origin).
+constexpr double kResolvedFraction = 1e-6;
 
 int find_root(std::vector<int>& parent, int i) {
     while (parent[i] != i) {
@@ -299,6 +302,26 @@ const CommandSpec& generate_command() {
             // zones of the budget, zoned or not, so that a FISH loop of small or failing ones
             // ends as well (2,000 of a few zones each forked a process of 700 MB 2,000 times).
             if (budget >= 0) budget = std::max<long long>(0, budget - kGenZoneCharge);
+            // A block whose coordinates no longer resolve its shape (one that has run away to
+            // 1e19 m, say, where neighbouring doubles are kilometres apart) cannot be zoned: its
+            // corners are one point, or nearly, and the mesher would never finish.
+            for (size_t k = 0; k < blocks.size(); ++k) {
+                const int b = blocks[k];
+                const Polyhedron w = world_shape(m, b);
+                Vec3 lo, hi;
+                w.bounds(lo, hi);
+                const double across = (hi - lo).norm();
+                const double far = std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff());
+                const double fine = far * std::numeric_limits<double>::epsilon();
+                const double feature = std::min(across, edges[k]);
+                if (std::isfinite(far) && fine <= kResolvedFraction * feature) continue;
+                fail(a.loc,
+                     "block " + std::to_string(m.blocks.id[b]) + " lies " + num(far) +
+                         " m from the origin, where coordinates are no finer than " + num(fine) + " m: its shape (" +
+                         num(across) + " m across) and zones of " + num(edges[k]) + " m are lost there",
+                     {"a block gets there by running away: look at its velocity ('print block') and at the loads"},
+                     "generate");
+            }
             // Bodies: joined blocks of the range that share a whole face deform as one.
             const std::vector<int> clumps_before = m.blocks.clump;
             const int clumps_ended = dissolve_clumps(m, blocks);

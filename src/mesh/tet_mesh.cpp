@@ -7,6 +7,7 @@
 #include <gmshc.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -340,11 +341,17 @@ void mesh_with(const Gmsh& g, const std::vector<Polyhedron>& solids, const std::
         }
     }
     g.clear(&ierr);
+}
+
+// The mesh improved where its zones are poor (mesh/tet_improve.h), and its quality measured.
+// In the parent: only Gmsh runs in the child.
+void improve_and_measure(TetMesh& out) {
     improve_tets(out.nodes, out.tets, kImproveBelow);
+    const size_t n_solids = out.tets.size();
     double worst = 1, sum = 0;
     long count = 0;
-    out.solid_worst.assign(solids.size(), 1.0);
-    for (size_t s = 0; s < solids.size(); ++s) {
+    out.solid_worst.assign(n_solids, 1.0);
+    for (size_t s = 0; s < n_solids; ++s) {
         for (const auto& t : out.tets[s]) {
             const double q = radius_ratio(out.nodes[t[0]], out.nodes[t[1]], out.nodes[t[2]], out.nodes[t[3]]);
             out.solid_worst[s] = std::min(out.solid_worst[s], q);
@@ -368,8 +375,9 @@ void mesh_with(const Gmsh& g, const std::vector<Polyhedron>& solids, const std::
 //
 // What the child writes: a status byte (0: a mesh follows; 1: an error message follows, as a
 // u64 length and its bytes), then the nodes (u64 n, 3 n doubles), the solids (u64 n), and for
-// each its tetrahedra (u64 n, 4 n int32), corner nodes and face surfaces (u64 n, n int32 each)
-// and its worst quality (a double), and last the worst and mean quality (2 doubles).
+// each its tetrahedra (u64 n, 4 n int32), corner nodes and face surfaces (u64 n, n int32 each).
+// The parent improves the poor zones and measures the quality: odec's own code runs there, where
+// a fault in it is the session's to see, and the child runs only Gmsh.
 
 bool write_bytes(int fd, const void* p, size_t n) {
     const char* c = static_cast<const char*>(p);
@@ -451,10 +459,7 @@ void send_ints(ChildOut& o, const std::vector<int>& v) {
             }
             send_ints(o, mesh.corner_node[s]);
             send_ints(o, mesh.face_surface[s]);
-            o.raw(mesh.solid_worst[s]);
         }
-        o.raw(mesh.worst_quality);
-        o.raw(mesh.mean_quality);
     }
     o.flush();
     ::close(fd);
@@ -549,6 +554,7 @@ std::string mesh_solids(const std::vector<Polyhedron>& solids, const std::vector
     if (interrupt && interrupt->load()) return "interrupted before meshing";
     int fds[2];
     if (::pipe2(fds, O_CLOEXEC) != 0) return std::string("the mesher cannot start: ") + std::strerror(errno);
+    const pid_t parent = ::getpid();
     const pid_t child = ::fork();
     if (child < 0) {
         const int e = errno;
@@ -560,6 +566,13 @@ std::string mesh_solids(const std::vector<Polyhedron>& solids, const std::vector
         ::close(fds[0]);
         // Ctrl-C is the parent's to judge: it kills this process when it wants it stopped.
         ::signal(SIGINT, SIG_IGN);
+        // A fatal signal ends the child as the system ends a process, whatever handlers the
+        // parent set (a fuzzer's or a sanitizer's): the parent reports it as the mesher's crash.
+        for (int sig : {SIGABRT, SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGTRAP}) ::signal(sig, SIG_DFL);
+        // And the mesher dies with the parent: a session killed while it meshes (a time limit,
+        // a closed terminal) must not leave it running on.
+        ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+        if (::getppid() != parent) ::_exit(4);
         child_main(fds[1], g, solids, edges, tol);
     }
     ::close(fds[1]);
@@ -584,7 +597,6 @@ std::string mesh_solids(const std::vector<Polyhedron>& solids, const std::vector
             out.tets.resize(n_solids);
             out.corner_node.resize(n_solids);
             out.face_surface.resize(n_solids);
-            out.solid_worst.resize(n_solids);
             const auto n_nodes = static_cast<std::int64_t>(out.nodes.size());
             for (size_t s = 0; s < n_solids; ++s) {
                 out.tets[s].resize(in.count(16));
@@ -599,10 +611,7 @@ std::string mesh_solids(const std::vector<Polyhedron>& solids, const std::vector
                     if (q < 0 || q >= n_nodes) throw ChildFailed{};
                 }
                 out.face_surface[s] = in.ints();
-                out.solid_worst[s] = in.raw<double>();
             }
-            out.worst_quality = in.raw<double>();
-            out.mean_quality = in.raw<double>();
         }
     } catch (const Interrupted&) {
         why = "interrupted: the blocks were not zoned";
@@ -623,7 +632,11 @@ std::string mesh_solids(const std::vector<Polyhedron>& solids, const std::vector
     if (why == "the mesher failed" && WIFSIGNALED(wstatus) && WTERMSIG(wstatus) != SIGKILL) {
         why = "the mesher crashed (signal " + std::to_string(WTERMSIG(wstatus)) + ", " + strsignal(WTERMSIG(wstatus)) + ")";
     }
-    if (!why.empty()) out = TetMesh();
+    if (!why.empty()) {
+        out = TetMesh();
+        return why;
+    }
+    improve_and_measure(out);
     return why;
 }
 

@@ -3,14 +3,22 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <iterator>
 #include <new>
 #include <stdexcept>
+#include <string>
+#include <vector>
+#include <dirent.h>
+#include <fcntl.h>
+#include <signal.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "lang/decl.h"
+#include "../time_scale.h"
 #include "test_util.h"
 
 using odec::test::Session;
@@ -226,4 +234,77 @@ TEST(Robustness, LogGoesOnWhenTheScreenFails) {
     ASSERT_NE(last, std::string::npos) << log;
     EXPECT_NE(log.find("40 of 40 blocks", last), std::string::npos) << log.substr(last);
     std::remove(path.c_str());
+}
+
+TEST(Robustness, ABlockThatRanAwayIsNotZoned) {
+    // The fuzzing campaign's hang: a block that has run away to 2.45e19 m, where neighbouring
+    // doubles are kilometres apart, has all its corners at one point, and the mesher never
+    // finished with it. 'gen' refuses it, naming the block, and the model stays as it was.
+    Session s;
+    ASSERT_TRUE(s.run("poly brick 0 1 0 1 0 1\nprop mat=1 dens=2600 ymod=1e9 prat=0.25\nset dt 0.01\n"
+                      "def push\n  b_yvel(block_head) = 2.45e21\nend\n@push\nstep 1\n"));
+    EXPECT_FALSE(s.run("gen edge 1"));
+    EXPECT_NE(s.error().find("t.dat:1:1: error: block 1 lies 2.45e+19 m from the origin, where coordinates are no "
+                             "finer than 5440.09 m"),
+              std::string::npos)
+        << s.error();
+    EXPECT_EQ(s.model.zones.size(), 0);
+    EXPECT_EQ(s.model.gridpoints.size(), 0);
+    // Far from the origin but resolved (a 1 m block at 2e8 m: doubles 3e-8 m apart), it is zoned.
+    Session far;
+    ASSERT_TRUE(far.run("poly brick 0 1 0 1 0 1\nprop mat=1 dens=2600 ymod=1e9 prat=0.25\nset dt 1\n"
+                        "def push\n  b_yvel(block_head) = 2e8\nend\n@push\nstep 1\ngen edge 0.5\n"))
+        << far.error();
+    EXPECT_GT(far.model.zones.size(), 0);
+}
+
+TEST(Robustness, TheMesherDiesWithTheSession) {
+    // A session killed while Gmsh meshes (a time limit, a closed terminal) must not leave the
+    // mesher's process running on: the campaign's time-out left one at full speed for ten
+    // minutes. The mesher is a fork of odec, so it carries odec's command line, with this
+    // script's unique name in it.
+    const std::string script = temp_path("mesh-" + std::to_string(getpid()) + ".dat");
+    write_file(script, "poly brick 0 1 0 1 0 1\ngen edge 0.012\n");
+    const pid_t pid = fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+        const int null = open("/dev/null", O_WRONLY);
+        dup2(null, 1);
+        dup2(null, 2);
+        execl(ODEC_BINARY, ODEC_BINARY, "--quiet", script.c_str(), static_cast<char*>(nullptr));
+        _exit(127);
+    }
+    // The processes whose command line names the script.
+    auto running = [&] {
+        std::vector<int> found;
+        DIR* d = opendir("/proc");
+        if (!d) return found;
+        while (dirent* e = readdir(d)) {
+            const int p = std::atoi(e->d_name);
+            if (p <= 0) continue;
+            std::ifstream f("/proc/" + std::string(e->d_name) + "/cmdline", std::ios::binary);
+            const std::string cmd((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+            if (cmd.find(script) != std::string::npos) found.push_back(p);
+        }
+        closedir(d);
+        return found;
+    };
+    // Wait until the mesher runs (two processes), then kill the session.
+    bool meshing = false;
+    for (int i = 0; i < 300 * odec::test::time_scale() && !meshing; ++i) {
+        usleep(20000);
+        meshing = running().size() >= 2;
+    }
+    kill(pid, SIGKILL);
+    waitpid(pid, nullptr, 0);
+    ASSERT_TRUE(meshing) << "the mesher never started";
+    std::vector<int> left;
+    for (int i = 0; i < 100; ++i) {
+        left = running();
+        if (left.empty()) break;
+        usleep(20000);
+    }
+    for (int p : left) kill(p, SIGKILL); // not left running after the test
+    EXPECT_TRUE(left.empty()) << left.size() << " mesher process(es) outlived the session";
+    std::remove(script.c_str());
 }
