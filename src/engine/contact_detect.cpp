@@ -696,18 +696,20 @@ public:
         if (e < 0) return OldRef{};
         return OldRef{static_cast<int>(e + gc_), static_cast<int>(old_off_[e] + gk_), static_cast<int>(old_off_[e + 1] + gk_)};
     }
-    // Old contact e next, as it is. Everything before it was written or read already, so it
-    // only moves down.
-    void put_kept(int e) {
+    // Old contacts e .. e + r - 1 next, as they are. Everything before them was written or
+    // read already, so they only move down; they lie together, as they will once written, so
+    // each array moves in one piece (on the threads when it is long: the same bytes).
+    void put_kept(int e, int r) {
         const OldRef o = old(e);
-        const int n = o.k1 - o.k0;
+        const long k1 = old_off_[e + r] + gk_;
+        const int threads = thread_count();
         if (o.c != wc_) {
-            each_contact_array(cs_, [&](auto& v) { v[wc_] = v[o.c]; });
+            each_contact_array(cs_, [&](auto& v) { move_down(v, o.c, o.c + r, o.c - wc_, threads); });
         }
         if (o.k0 != wk_) {
-            each_sub_array(cs_, tri_, [&](auto& v) { std::copy(v.begin() + o.k0, v.begin() + o.k1, v.begin() + wk_); });
+            each_sub_array(cs_, tri_, [&](auto& v) { move_down(v, o.k0, k1, o.k0 - wk_, threads); });
         }
-        advance(n);
+        for (int i = 0; i < r; ++i) advance(old_off_[e + i + 1] - old_off_[e + i]);
     }
     // Contact f of x next, with its id taken now when it is new; `next` is the first old
     // contact still to be read (-1: none), which it must not overwrite.
@@ -749,6 +751,13 @@ private:
     template <class V>
     static void trim(V& v) {
         if (v.capacity() > v.size() + v.size() / 8 + 1024) v.shrink_to_fit();
+    }
+    // The elements [from, to) of v moved down by `by`.
+    template <class V>
+    static void move_down(V& v, long from, long to, long by, int threads) {
+        using T = typename V::value_type;
+        static_assert(std::is_trivially_copyable_v<T> || std::is_same_v<T, Eigen::Vector3d>);
+        move_bytes_down(reinterpret_cast<char*>(v.data()), from * sizeof(T), to * sizeof(T), by * sizeof(T), threads);
     }
     // v one longer by g elements inserted at `at`, what was there moved up.
     template <class V>
@@ -1702,8 +1711,12 @@ void detect_contacts(Model& m) {
             for (; pi < np && (plan[pi] >= 0 || ~plan[pi] < j1); ++pi) {
                 const int e = plan[pi];
                 if (e >= 0) {
+                    // A run of kept contacts, old contacts e, e + 1, ...: written in one move.
                     colouring_holds = colouring_holds && e == rw.written();
-                    rw.put_kept(e);
+                    int r = 1;
+                    while (pi + r < np && plan[pi + r] == e + r) ++r;
+                    rw.put_kept(e, r);
+                    pi += r - 1;
                     continue;
                 }
                 const int f = fresh[~e - j0];

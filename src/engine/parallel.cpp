@@ -84,4 +84,32 @@ void move_bytes_up(char* data, std::size_t at, std::size_t end, std::size_t by, 
     });
 }
 
+void move_bytes_down(char* data, std::size_t at, std::size_t end, std::size_t by, int threads) {
+    if (end <= at || by == 0) return;
+    const std::size_t len = end - at;
+    constexpr std::size_t kMinPiece = std::size_t{2} << 20;
+    std::size_t pieces = threads > 1 ? std::min<std::size_t>(static_cast<std::size_t>(threads), len / kMinPiece) : 1;
+    while (pieces > 1 && len / pieces <= by) --pieces;
+    if (pieces <= 1) {
+        std::memmove(data + at - by, data + at, len);
+        return;
+    }
+    const std::size_t step = len / pieces;
+    // The ends of the pieces below the last, before the piece above moves over them.
+    thread_local std::vector<char> tails;
+    tails.resize((pieces - 1) * by);
+    for (std::size_t i = 0; i + 1 < pieces; ++i) std::memcpy(tails.data() + i * by, data + at + (i + 1) * step - by, by);
+    const char* saved = tails.data();
+    parallel_for(static_cast<int>(pieces), threads, true, [&](int i) {
+        const std::size_t lo = at + static_cast<std::size_t>(i) * step;
+        const std::size_t hi = static_cast<std::size_t>(i) + 1 == pieces ? end : lo + step;
+        if (static_cast<std::size_t>(i) + 1 == pieces) {
+            std::memmove(data + lo - by, data + lo, hi - lo);
+        } else {
+            std::memmove(data + lo - by, data + lo, hi - lo - by);
+            std::memcpy(data + hi - 2 * by, saved + static_cast<std::size_t>(i) * by, by);
+        }
+    });
+}
+
 } // namespace odec

@@ -65,5 +65,9 @@ inline int parallel_or(int n, int threads, bool parallel, F&& fn) {
 // of its own; the first `by` bytes of each piece but the first, which the piece below
 // overwrites, are read from a copy taken before.
 void move_bytes_up(char* data, std::size_t at, std::size_t end, std::size_t by, int threads);
+// The bytes [at, end) of `data` moved down by `by` (to at - by, as memmove would), on `threads`
+// threads when they are many, the mirror of move_bytes_up: the last `by` bytes of each piece
+// but the last, which the piece above overwrites, are read from a copy taken before.
+void move_bytes_down(char* data, std::size_t at, std::size_t end, std::size_t by, int threads);
 
 } // namespace odec

@@ -1,4 +1,4 @@
-// move_bytes_up (parallel.h): the same bytes as memmove, on any number of threads, for shifts
+// move_bytes_up and move_bytes_down (parallel.h): the same bytes as memmove, on any number of threads, for shifts
 // from one byte to as long as a piece, and ranges from empty to many pieces long.
 #include <gtest/gtest.h>
 
@@ -41,6 +41,32 @@ TEST(MoveBytes, SameBytesAsMemmoveOnAnyNumberOfThreads) {
         for (int threads : {1, 2, 3, 4}) {
             std::vector<char> got = start;
             odec::move_bytes_up(got.data(), c.at, c.end, c.by, threads);
+            EXPECT_TRUE(got == want) << "size " << c.size << " at " << c.at << " end " << c.end << " by " << c.by
+                                     << " threads " << threads;
+        }
+    }
+}
+
+TEST(MoveBytes, DownSameBytesAsMemmoveOnAnyNumberOfThreads) {
+    const std::size_t mb = std::size_t{1} << 20;
+    struct Case {
+        std::size_t size, at, end, by;
+    };
+    const Case cases[] = {
+        {100, 10, 10, 5},                           // nothing to move
+        {100, 10, 60, 7},                           // small: one piece
+        {20 * mb, 3, 16 * mb + 5, 1},               // a byte down, several pieces
+        {20 * mb, 24 * 1000 + 8, 17 * mb, 24 * 1000 + 8}, // some thousand records down, to the start
+        {24 * mb, 4 * mb, 20 * mb + 17, 4 * mb - 1},  // by close to a piece of four
+        {30 * mb, 9 * mb + 1, 29 * mb, 9 * mb},     // by longer than a piece of four: fewer pieces
+    };
+    for (const Case& c : cases) {
+        const std::vector<char> start = pattern(c.size);
+        std::vector<char> want = start;
+        std::memmove(want.data() + c.at - c.by, want.data() + c.at, c.end - c.at);
+        for (int threads : {1, 2, 3, 4}) {
+            std::vector<char> got = start;
+            odec::move_bytes_down(got.data(), c.at, c.end, c.by, threads);
             EXPECT_TRUE(got == want) << "size " << c.size << " at " << c.at << " end " << c.end << " by " << c.by
                                      << " threads " << threads;
         }
