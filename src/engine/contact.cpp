@@ -4,9 +4,11 @@
 
 #include <algorithm>
 #include <limits>
+#include <vector>
 
 #include "engine/blocks.h"
 #include "engine/model.h"
+#include "engine/parallel.h"
 #include "engine/range.h"
 
 namespace odec {
@@ -153,10 +155,30 @@ int contact_without_joint_properties(const Model& m, bool loaded_only) {
     bool any_defined = false;
     for (const JointMaterial& j : m.joint_materials) any_defined = any_defined || j.defined;
     if (!any_defined) return -1;
-    for (int c = 0; c < cs.size(); ++c) {
+    auto without = [&](int c) {
         const int jm = cs.jmat[c];
-        if (jm > 0 && jm < n_jmat && m.joint_materials[jm].defined) continue;
-        if (loaded_only ? cs.gap[c] < 0 : jm > 0) return c;
+        if (jm > 0 && jm < n_jmat && m.joint_materials[jm].defined) return false;
+        return loaded_only ? cs.gap[c] < 0 : jm > 0;
+    };
+    // The first such contact of each chunk, on the threads (the run-away checks ask after
+    // every step); the lowest chunk's is the one.
+    constexpr int kChunk = 8192;
+    const int nc = cs.size();
+    const int nch = (nc + kChunk - 1) / kChunk;
+    thread_local std::vector<int> buffer;
+    buffer.assign(nch, -1);
+    int* first = buffer.data(); // this thread's buffer, for the others too
+    parallel_for(nch, thread_count(), nc >= 4 * kParallelMinItems, [&](int ch) {
+        const int c1 = std::min(nc, (ch + 1) * kChunk);
+        for (int c = ch * kChunk; c < c1; ++c) {
+            if (without(c)) {
+                first[ch] = c;
+                return;
+            }
+        }
+    });
+    for (int ch = 0; ch < nch; ++ch) {
+        if (first[ch] >= 0) return first[ch];
     }
     return -1;
 }

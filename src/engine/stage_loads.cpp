@@ -32,20 +32,21 @@ double block_applied_force_bound(const Model& m, int b) {
 
 void apply_loads(Model& m) {
     BlockSet& s = m.blocks;
-    for (int b = 0; b < s.size(); ++b) {
+    // Each block on its own: on the threads when they are many.
+    parallel_for(s.size(), thread_count(), s.size() >= kParallelMinBlocks, [&](int b) {
         const Vec3 w = s.mass[b] * m.gravity;
         if (s.loads[b].empty()) {
             s.force[b] = w;
             s.moment[b].setZero();
             s.force_scale[b] = w.norm();
-            continue;
+            return;
         }
         Vec3 f, mom;
         block_applied_load(m, b, m.time, f, mom);
         s.force[b] = w + f;
         s.moment[b] = mom;
         s.force_scale[b] = w.norm() + f.norm();
-    }
+    });
 }
 
 } // namespace odec

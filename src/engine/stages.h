@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "engine/model.h"
+#include "engine/parallel.h"
 
 namespace odec {
 
@@ -216,55 +217,99 @@ struct EnergyWatch {
     // block is passing through the other), or -1; `depth` receives that closure.
     int sunk(const Model& m, double& depth) const {
         const ContactSet& cs = m.contacts;
-        for (int c = 0; c < cs.size(); ++c) {
-            const int a = cs.block_a[c], b = cs.block_b[c];
-            const double limit = 0.5 * std::min(size[a], size[b]);
+        const int nc = cs.size();
+        auto deep = [&](int c) {
+            const double limit = 0.5 * std::min(size[cs.block_a[c]], size[cs.block_b[c]]);
             for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
-                if (cs.sub_un[k] > limit) {
-                    depth = cs.sub_un[k];
-                    return c;
-                }
+                if (cs.sub_un[k] > limit) return k;
+            }
+            return -1;
+        };
+        // The first such contact of each chunk, on the threads; the lowest chunk's is the one.
+        constexpr int kChunk = 4096;
+        const int nch = (nc + kChunk - 1) / kChunk;
+        thread_local std::vector<int> buffer;
+        buffer.assign(nch, -1);
+        int* first = buffer.data(); // this thread's buffer, for the others too
+        parallel_for(nch, thread_count(), nc >= kParallelMinItems, [&](int ch) {
+            const int c1 = std::min(nc, (ch + 1) * kChunk);
+            for (int c = ch * kChunk; c < c1 && first[ch] < 0; ++c) {
+                if (deep(c) >= 0) first[ch] = c;
+            }
+        });
+        for (int ch = 0; ch < nch; ++ch) {
+            if (const int c = first[ch]; c >= 0) {
+                depth = cs.sub_un[deep(c)];
+                return c;
             }
         }
         return -1;
     }
 
+    // What check() sums over one chunk of blocks.
+    struct Part {
+        double boundary = 0, applied = 0, work = 0, ke = 0, ke_max = -1;
+        int worst = -1, jumper = -1;
+    };
+    std::vector<Part> parts;   // (chunks of blocks) buffer of check()
+
     int check(const Model& m, double& energy, double& available, int& jumper) {
         jumper = -1;
         const BlockSet& s = m.blocks;
+        // The blocks in fixed chunks, on the threads; the chunks' sums added in order, so
+        // that the totals do not depend on the threads.
+        constexpr int kChunk = 512;
+        const int n = s.size();
+        const int nch = (n + kChunk - 1) / kChunk;
+        parts.assign(nch, Part{});
+        parallel_for(nch, thread_count(), n >= kParallelMinBlocks, [&](int ch) {
+            Part& p = parts[ch];
+            const int b1 = std::min(n, (ch + 1) * kChunk);
+            for (int b = ch * kChunk; b < b1; ++b) {
+                if (s.flags[b] & kExcavated) continue;
+                // The applied loads of the step just taken (at its start time).
+                Vec3 applied = Vec3::Zero(), applied_moment = Vec3::Zero();
+                if (!s.loads[b].empty()) block_applied_load(m, b, m.time - m.dt, applied, applied_moment);
+                if (s.vel_bc[b]) {
+                    const Vec3 load = s.mass[b] * m.gravity + applied;
+                    p.boundary += m.dt * (std::abs(s.force[b].dot(s.vel[b])) + std::abs(load.dot(s.vel[b])));
+                }
+                if ((s.flags[b] & kFixed) || !(s.mass[b] > 0)) continue;
+                p.applied += m.dt * (applied.dot(s.vel[b]) + applied_moment.dot(s.ang_vel[b]));
+                // The pore pressure in the joints works on the blocks as a load does (flow.h).
+                if (m.flow.on && static_cast<int>(m.flow.block_force.size()) == s.size()) {
+                    p.applied += m.dt * (m.flow.block_force[b].dot(s.vel[b]) + m.flow.block_moment[b].dot(s.ang_vel[b]));
+                }
+                // Moving more than half its size in one step, a block jumps past the blocks in
+                // its way: contact detection cannot see them.
+                // (Its largest component first, which neither overflows nor underflows; then the
+                // squared length, cheaper than a scaled norm. NaN compares as not larger.)
+                if (p.jumper < 0 && neighbours) {
+                    const Vec3 d = s.vel[b] * m.dt;
+                    const double half = 0.5 * size[b];
+                    if (d.cwiseAbs().maxCoeff() > half || d.squaredNorm() > half * half) p.jumper = b;
+                }
+                const double e = kinetic_energy(s, b);
+                p.ke += e;
+                if (!(e <= p.ke_max)) {
+                    p.ke_max = e;
+                    p.worst = b;
+                }
+                p.work += (s.mass[b] * m.gravity).dot(s.centroid[b] - start[b]);
+            }
+        });
         double work = 0, ke = 0, ke_max = -1;
         int worst = -1;
-        for (int b = 0; b < s.size(); ++b) {
-            if (s.flags[b] & kExcavated) continue;
-            // The applied loads of the step just taken (at its start time).
-            Vec3 applied = Vec3::Zero(), applied_moment = Vec3::Zero();
-            if (!s.loads[b].empty()) block_applied_load(m, b, m.time - m.dt, applied, applied_moment);
-            if (s.vel_bc[b]) {
-                const Vec3 load = s.mass[b] * m.gravity + applied;
-                boundary_work += m.dt * (std::abs(s.force[b].dot(s.vel[b])) + std::abs(load.dot(s.vel[b])));
+        for (const Part& p : parts) {
+            boundary_work += p.boundary;
+            applied_work += p.applied;
+            work += p.work;
+            ke += p.ke;
+            if (jumper < 0) jumper = p.jumper;
+            if (p.worst >= 0 && !(p.ke_max <= ke_max)) {
+                ke_max = p.ke_max;
+                worst = p.worst;
             }
-            if ((s.flags[b] & kFixed) || !(s.mass[b] > 0)) continue;
-            applied_work += m.dt * (applied.dot(s.vel[b]) + applied_moment.dot(s.ang_vel[b]));
-            // The pore pressure in the joints works on the blocks as a load does (flow.h).
-            if (m.flow.on && static_cast<int>(m.flow.block_force.size()) == s.size()) {
-                applied_work += m.dt * (m.flow.block_force[b].dot(s.vel[b]) + m.flow.block_moment[b].dot(s.ang_vel[b]));
-            }
-            // Moving more than half its size in one step, a block jumps past the blocks in
-            // its way: contact detection cannot see them.
-            // (Its largest component first, which neither overflows nor underflows; then the
-            // squared length, cheaper than a scaled norm. NaN compares as not larger.)
-            if (jumper < 0 && neighbours) {
-                const Vec3 d = s.vel[b] * m.dt;
-                const double half = 0.5 * size[b];
-                if (d.cwiseAbs().maxCoeff() > half || d.squaredNorm() > half * half) jumper = b;
-            }
-            const double e = kinetic_energy(s, b);
-            ke += e;
-            if (!(e <= ke_max)) {
-                ke_max = e;
-                worst = b;
-            }
-            work += (s.mass[b] * m.gravity).dot(s.centroid[b] - start[b]);
         }
         work += applied_work;
         // Cable nodes driven at a velocity work on the cables and, through them, the rock.
