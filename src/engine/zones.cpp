@@ -570,16 +570,18 @@ void zone_forces(Model& m, double dt) {
         if (bf.table != 0) factors.emplace(bf.table, 0.0);
     }
     for (auto& [n, f] : factors) f = m.table_factor(n);
-    parallel_for(ng, threads, ng >= kParallelMinItems, [&](int i) {
+    // Each gridpoint's force starts as its weight and loads; pass 1 below neither reads nor
+    // writes it, so in the parallel region it is set with the first pass.
+    auto init = [&](int i) {
         const Vec3 w = g.mass[i] * grav;
         const Vec3 applied = g.applied_table[i] == 0 ? g.applied[i] : Vec3(factors.at(g.applied_table[i]) * g.applied[i]);
         g.force[i] = w + applied + g.traction[i];
         g.force_scale[i] = w.norm() + applied.norm() + g.traction[i].norm();
         g.nmd_volume[i] = 0;
         g.nmd_rate[i] = 0;
-    });
-    // The loaded faces that follow a table (those without are in `traction`).
-    if (!factors.empty()) {
+    };
+    // The loaded faces that follow a table (those without are in `traction`), after `init`.
+    auto table_faces = [&] {
         for (const BoundaryFace& bf : m.stress_boundary.faces) {
             if (bf.table == 0) continue;
             const Vec3 f = factors.at(bf.table) * bf.force / 3.0;
@@ -588,9 +590,13 @@ void zone_forces(Model& m, double dt) {
                 g.force_scale[c] += f.norm();
             }
         }
-    }
+    };
     const int nz = z.size();
-    if (nz == 0) return;
+    if (nz == 0) {
+        parallel_for(ng, threads, ng >= kParallelMinItems, init);
+        if (!factors.empty()) table_faces();
+        return;
+    }
     const bool large = m.settings.large_strain;
     // In large strain the zones follow their corners; in small strain their geometry is that
     // of the model when zoned, computed once.
@@ -699,6 +705,7 @@ void zone_forces(Model& m, double dt) {
         for (int c = 0; c < n_colors; ++c) {
             const int lo = z.color_offset[c], hi = z.color_offset[c + 1];
             if (c == n_colors - 1) {
+                if (lo == hi) continue; // no zone found no colour: no barrier either
 #pragma omp single
                 for (int k = lo; k < hi; ++k) chunk_range(order[k], pass);
                 continue;
@@ -707,11 +714,19 @@ void zone_forces(Model& m, double dt) {
             for (int k = lo; k < hi; ++k) chunk_range(order[k], pass);
         }
     };
+    // One parallel region a step: the gridpoints' start, pass 1, the averages, the loaded faces
+    // that follow a table, pass 2.
     auto passes = [&] {
+#pragma omp for schedule(static)
+        for (int i = 0; i < ng; ++i) init(i);
         by_colour(pass1);
 #pragma omp for schedule(static)
         for (int i = 0; i < ng; ++i) {
             if (g.nmd_volume[i] > 0) g.nmd_rate[i] /= g.nmd_volume[i];
+        }
+        if (!factors.empty()) {
+#pragma omp single
+            table_faces();
         }
         by_colour(pass2);
     };
