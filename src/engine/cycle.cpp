@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include "engine/blocks.h"
 #include "engine/cable.h"
@@ -40,10 +41,12 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
         return true;
     };
     if (step_limit_reached()) return res;
-    PrepareUndo undo(m);
+    // Kept only until the cycling is accepted: its copies (the contact set when the geometry
+    // changed, the masses and velocities) are given back before the first step.
+    std::optional<PrepareUndo> undo(std::in_place, m);
     const std::string problem = prepare_cycle_once(m);
     if (!problem.empty()) {
-        undo.undo(m);
+        undo->undo(m);
         res.reason = StopReason::Error;
         res.message = problem;
         return res;
@@ -54,9 +57,10 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
         res.reason = StopReason::Error;
         res.message = "a time of " + num_text(lim.max_time) + " s is more than 2e9 steps of " + num_text(m.dt) +
                       " s, the most one command may take (" + num_text(kMaxSteps * m.dt) + " s)";
-        undo.undo(m);
+        undo->undo(m);
         return res;
     }
+    undo.reset();
     const double t_start = m.time;
     Profile& prof = m.profile;
     EnergyWatch watch;
