@@ -135,6 +135,25 @@ void run(int n, long steps) {
                 "peak %.0f bytes per sub-contact above the blocks\n",
                 rss_start / 1e6, peak_cut / 1e6, peak_detect / 1e6, peak_cycle / 1e6, rss_end / 1e6, rss_blocks / 1e6, peak / 1e6,
                 peak / m.blocks.size(), (std::max(peak_detect, peak_cycle) - rss_blocks) / ns);
+    {
+        // What the contact set's own arrays hold (their capacity), apart from the buffers
+        // and the per-block state the figures above include.
+        const ContactSet& cs = m.contacts;
+        auto bytes = [](const auto& v) { return static_cast<double>(v.capacity() * sizeof(v[0])); };
+        const double per_contact = bytes(cs.id) + bytes(cs.block_a) + bytes(cs.block_b) + bytes(cs.normal) +
+                                   bytes(cs.point) + bytes(cs.gap) + bytes(cs.jmat) + bytes(cs.jcons) +
+                                   bytes(cs.joined) + bytes(cs.sub_offset) + bytes(cs.free_motion) +
+                                   bytes(cs.color_order);
+        const double per_sub = bytes(cs.sub_side) + bytes(cs.sub_key) + bytes(cs.sub_area) + bytes(cs.sub_local) +
+                               bytes(cs.sub_tri) + bytes(cs.sub_un) + bytes(cs.sub_udil) + bytes(cs.sub_sn) +
+                               bytes(cs.sub_us) + bytes(cs.sub_ss) + bytes(cs.sub_flags);
+        int carrying = 0;
+        for (int c = 0; c < cs.size(); ++c) carrying += cs.sub_offset[c + 1] > cs.sub_offset[c];
+        std::printf("  contact set arrays: %.1f MB per-contact (%.0f B a contact), %.1f MB per-sub-contact (%.0f B a "
+                    "sub-contact); %d of %d contacts carry sub-contacts (%.2f each); %.0f B per sub-contact in all\n",
+                    per_contact / 1e6, per_contact / std::max(1, cs.size()), per_sub / 1e6, per_sub / ns, carrying,
+                    cs.size(), static_cast<double>(cs.n_subs()) / std::max(1, carrying), (per_contact + per_sub) / ns);
+    }
     std::printf("  unbalanced ratio %.3g, largest unbalanced force %.3g N\n", unbalanced_ratio(m),
                 max_unbalanced_force(m));
 }
