@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <limits>
-#include <vector>
 
 #include "engine/blocks.h"
 #include "engine/model.h"
@@ -160,27 +159,9 @@ int contact_without_joint_properties(const Model& m, bool loaded_only) {
         if (jm > 0 && jm < n_jmat && m.joint_materials[jm].defined) return false;
         return loaded_only ? cs.gap[c] < 0 : jm > 0;
     };
-    // The first such contact of each chunk, on the threads (the run-away checks ask after
-    // every step); the lowest chunk's is the one.
-    constexpr int kChunk = 8192;
+    // Looked for on the threads: the run-away checks ask after every step.
     const int nc = cs.size();
-    const int nch = (nc + kChunk - 1) / kChunk;
-    thread_local std::vector<int> buffer;
-    buffer.assign(nch, -1);
-    int* first = buffer.data(); // this thread's buffer, for the others too
-    parallel_for(nch, thread_count(), nc >= 4 * kParallelMinItems, [&](int ch) {
-        const int c1 = std::min(nc, (ch + 1) * kChunk);
-        for (int c = ch * kChunk; c < c1; ++c) {
-            if (without(c)) {
-                first[ch] = c;
-                return;
-            }
-        }
-    });
-    for (int ch = 0; ch < nch; ++ch) {
-        if (first[ch] >= 0) return first[ch];
-    }
-    return -1;
+    return parallel_first(nc, 8192, thread_count(), nc >= 4 * kParallelMinItems, without);
 }
 
 int join_blocks(Model& m, const std::vector<int>& block_indices) {

@@ -54,14 +54,20 @@ int thread_count() { return threads_available() ? chosen() : 1; }
 
 void set_thread_count(int n) { chosen() = n < 1 ? 1 : (n > kMaxThreads ? kMaxThreads : n); }
 
-void move_bytes_up(char* data, std::size_t at, std::size_t end, std::size_t by, int threads) {
-    if (end <= at || by == 0) return;
-    const std::size_t len = end - at;
-    // Below a few megabytes one thread moves it faster than a team starts; pieces must be
-    // longer than the shift, so that only the piece below writes over a piece's start.
+// How many pieces a move of len bytes by `by` takes on `threads` threads. Below a few megabytes
+// one thread moves it faster than a team starts; pieces must be longer than the shift, so that
+// only the neighbouring piece writes over a piece's end.
+static std::size_t move_pieces(std::size_t len, std::size_t by, int threads) {
     constexpr std::size_t kMinPiece = std::size_t{2} << 20;
     std::size_t pieces = threads > 1 ? std::min<std::size_t>(static_cast<std::size_t>(threads), len / kMinPiece) : 1;
     while (pieces > 1 && len / pieces <= by) --pieces;
+    return pieces;
+}
+
+void move_bytes_up(char* data, std::size_t at, std::size_t end, std::size_t by, int threads) {
+    if (end <= at || by == 0) return;
+    const std::size_t len = end - at;
+    const std::size_t pieces = move_pieces(len, by, threads);
     if (pieces <= 1) {
         std::memmove(data + at + by, data + at, len);
         return;
@@ -87,9 +93,7 @@ void move_bytes_up(char* data, std::size_t at, std::size_t end, std::size_t by, 
 void move_bytes_down(char* data, std::size_t at, std::size_t end, std::size_t by, int threads) {
     if (end <= at || by == 0) return;
     const std::size_t len = end - at;
-    constexpr std::size_t kMinPiece = std::size_t{2} << 20;
-    std::size_t pieces = threads > 1 ? std::min<std::size_t>(static_cast<std::size_t>(threads), len / kMinPiece) : 1;
-    while (pieces > 1 && len / pieces <= by) --pieces;
+    const std::size_t pieces = move_pieces(len, by, threads);
     if (pieces <= 1) {
         std::memmove(data + at - by, data + at, len);
         return;

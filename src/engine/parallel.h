@@ -4,8 +4,10 @@
 // items are taken in fixed chunks whose partial sums are added in order.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <string>
+#include <vector>
 
 namespace odec {
 
@@ -58,6 +60,30 @@ inline int parallel_or(int n, int threads, bool parallel, F&& fn) {
         for (int i = 0; i < n; ++i) bits |= fn(i);
     }
     return bits;
+}
+
+// The lowest i in [0, n) for which pred(i) holds, or -1: in fixed chunks of `chunk`, on
+// `threads` threads when `parallel`, each chunk its first; the lowest chunk's is the answer, the
+// same whatever the threads.
+template <class P>
+inline int parallel_first(int n, int chunk, int threads, bool parallel, P&& pred) {
+    const int nch = (n + chunk - 1) / chunk;
+    thread_local std::vector<int> buffer;
+    buffer.assign(nch, -1);
+    int* first = buffer.data(); // this thread's buffer, written by the others too
+    parallel_for(nch, threads, parallel, [&](int ch) {
+        const int hi = std::min(n, (ch + 1) * chunk);
+        for (int i = ch * chunk; i < hi; ++i) {
+            if (pred(i)) {
+                first[ch] = i;
+                return;
+            }
+        }
+    });
+    for (int ch = 0; ch < nch; ++ch) {
+        if (first[ch] >= 0) return first[ch];
+    }
+    return -1;
 }
 
 // The bytes [at, end) of `data` moved up by `by` (as memmove would), on `threads` threads when

@@ -225,25 +225,11 @@ struct EnergyWatch {
             }
             return -1;
         };
-        // The first such contact of each chunk, on the threads; the lowest chunk's is the one.
-        constexpr int kChunk = 4096;
-        const int nch = (nc + kChunk - 1) / kChunk;
-        thread_local std::vector<int> buffer;
-        buffer.assign(nch, -1);
-        int* first = buffer.data(); // this thread's buffer, for the others too
-        parallel_for(nch, thread_count(), nc >= kParallelMinItems, [&](int ch) {
-            const int c1 = std::min(nc, (ch + 1) * kChunk);
-            for (int c = ch * kChunk; c < c1 && first[ch] < 0; ++c) {
-                if (deep(c) >= 0) first[ch] = c;
-            }
-        });
-        for (int ch = 0; ch < nch; ++ch) {
-            if (const int c = first[ch]; c >= 0) {
-                depth = cs.sub_un[deep(c)];
-                return c;
-            }
-        }
-        return -1;
+        // The first such contact, looked for on the threads.
+        const int c = parallel_first(nc, 4096, thread_count(), nc >= kParallelMinItems, [&](int i) { return deep(i) >= 0; });
+        if (c < 0) return -1;
+        depth = cs.sub_un[deep(c)];
+        return c;
     }
 
     // What check() sums over one chunk of blocks.
