@@ -25,7 +25,7 @@ const char* contact_state_name(ContactState s) {
 void ContactSet::clear() {
     id.clear(); block_a.clear(); block_b.clear(); normal.clear(); point.clear(); gap.clear();
     jmat.clear(); jcons.clear(); joined.clear(); free_motion.clear(); sub_offset.assign(1, 0);
-    sub_side.clear(); sub_key.clear(); sub_area.clear();
+    sub_key.clear(); sub_area.clear();
     sub_local.clear(); sub_un.clear(); sub_udil.clear(); sub_sn.clear(); sub_us.clear(); sub_ss.clear();
     sub_flags.clear(); sub_tri.clear();
     detected = false;
@@ -60,7 +60,7 @@ ContactInfo contact_info(const Model& m, int c, bool touch_area) {
         x += w * sub_point(m, c, k);
         area += w;
         sn += w * cs.sub_sn[k];
-        un += w * (cs.sub_un[k] + cs.sub_udil[k]);
+        un += w * (cs.sub_un[k] + cs.sub_dilation(k));
         ss += w * cs.sub_ss[k];
         us += w * cs.sub_us[k];
         any_slip |= (cs.sub_flags[k] & kSubSlip) != 0;
@@ -100,7 +100,7 @@ Vec3 contact_centroid(const Model& m, int c) {
 
 Vec3 sub_point(const Model& m, int c, int k) {
     const ContactSet& cs = m.contacts;
-    const int side = cs.sub_side[k];
+    const int side = cs.sub_side(k);
     if (side >= 3) return m.gridpoints.pos[cs.sub_vertex(k)];
     const int owner = side == 1 ? cs.block_b[c] : cs.block_a[c];
     return m.blocks.centroid[owner] + m.blocks.orientation[owner] * cs.sub_local[k];

@@ -85,12 +85,8 @@ struct ContactSet {
                                           //          all: no more than its gap); -infinity: unknown
 
     // ---- per sub-contact (n_subs) ----
-    // Its contact is the one whose sub_offset range holds it (sub_owner), and the vertex or
-    // gridpoint it stands for is in its key (sub_vertex): neither is stored.
-    std::vector<std::uint8_t> sub_side;   // (n_subs) 0: vertex of block a, 1: vertex of block b,
-                                          //          2: where an edge of one crosses an edge of the other,
-                                          //          3: gridpoint of deformable block a pressing on b,
-                                          //          4: gridpoint of deformable block b pressing on a
+    // Its contact is the one whose sub_offset range holds it (sub_owner), its side and the vertex
+    // or gridpoint it stands for are in its key (sub_side, sub_vertex): none is stored.
     std::vector<std::int64_t> sub_key;    // (n_subs) what the point is (vertex, or pair of edges): the
                                           //          identity that carries its history across refreshes.
                                           //          Sides 0, 1: (side << 61) | vertex; sides 3, 4:
@@ -109,7 +105,10 @@ struct ContactSet {
                                           //          of the surface triangle the gridpoint meets; else
                                           //          -1 (read through sub_triangle)
     std::vector<double> sub_un;           // (n_subs) m, normal closure (> 0 compressed), from motion
-    std::vector<double> sub_udil;         // (n_subs) m, dilation accumulated while slipping
+    std::vector<double> sub_udil;         // (n_subs, or empty while all are 0) m, dilation accumulated
+                                          //          while slipping (read through sub_dilation): kept
+                                          //          once a joint material has dilation (update_contacts)
+                                          //          or a sub-contact has some
     std::vector<double> sub_sn;           // (n_subs) Pa, normal stress, compression positive
     std::vector<Eigen::Vector3d> sub_us;  // (n_subs) m, shear displacement of b relative to a
     std::vector<Eigen::Vector3d> sub_ss;  // (n_subs) Pa, shear stress on b (opposes its slip)
@@ -157,10 +156,23 @@ struct ContactSet {
     int n_subs() const { return static_cast<int>(sub_key.size()); }
     // The block vertex (sides 0, 1) or gridpoint (sides 3, 4) sub-contact k stands for; -1 for
     // a crossing of edges (side 2).
-    int sub_vertex(int k) const {
-        if (sub_side[k] == 2) return -1;
-        return static_cast<int>(sub_key[k] & ((sub_side[k] >= 3 ? kGridpointKey : std::int64_t{1} << 61) - 1));
+    int sub_vertex(int k) const { return key_vertex(sub_key[k]); }
+    // What sub-contact k stands for: 0, a vertex of block a; 1, a vertex of block b; 2, where an
+    // edge of one crosses an edge of the other; 3, a gridpoint of deformable block a pressing on
+    // b; 4, a gridpoint of deformable block b pressing on a.
+    int sub_side(int k) const { return key_side(sub_key[k]); }
+    static int key_side(std::int64_t key) {
+        if ((key >> 62) & 1) return 2;
+        const int of_b = static_cast<int>((key >> 61) & 1);
+        return (key & kGridpointKey) ? 3 + of_b : of_b;
     }
+    static int key_vertex(std::int64_t key) {
+        const int side = key_side(key);
+        if (side == 2) return -1;
+        return static_cast<int>(key & ((side >= 3 ? kGridpointKey : std::int64_t{1} << 61) - 1));
+    }
+    // The dilation of sub-contact k, m.
+    double sub_dilation(int k) const { return sub_udil.empty() ? 0.0 : sub_udil[k]; }
     // The surface triangle sub-contact k meets (sides 3 and 4 against a deformable block), else -1s.
     std::array<int, 3> sub_triangle(int k) const {
         return sub_tri.empty() ? std::array<int, 3>{-1, -1, -1} : sub_tri[k];

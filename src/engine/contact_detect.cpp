@@ -599,7 +599,7 @@ bool corner_carried(const ContactSet& x, int k0, int k1, const std::vector<Vec3>
                     int vertex, const Vec3& nrm, double snap) {
     const Vec3& p = wv[off[side] + vertex];
     for (int k = k0; k < k1; ++k) {
-        const int sk = x.sub_side[k];
+        const int sk = x.sub_side(k);
         if (sk > 1) continue;
         const int vk = corner_vertex(x.sub_key[k]);
         if (sk == side) {
@@ -615,7 +615,7 @@ bool corner_carried(const ContactSet& x, int k0, int k1, const std::vector<Vec3>
 void clear_arrays(ContactSet& x) {
     x.id.clear(); x.block_a.clear(); x.block_b.clear(); x.normal.clear(); x.point.clear(); x.gap.clear();
     x.jmat.clear(); x.jcons.clear(); x.joined.clear(); x.free_motion.clear(); x.sub_offset.assign(1, 0);
-    x.sub_side.clear(); x.sub_key.clear();
+    x.sub_key.clear();
     x.sub_area.clear(); x.sub_local.clear(); x.sub_un.clear(); x.sub_udil.clear(); x.sub_sn.clear();
     x.sub_us.clear(); x.sub_ss.clear(); x.sub_flags.clear(); x.sub_tri.clear();
 }
@@ -626,25 +626,26 @@ void each_contact_array(ContactSet& x, F&& f) {
     f(x.id); f(x.block_a); f(x.block_b); f(x.normal); f(x.point); f(x.gap); f(x.jmat); f(x.jcons); f(x.joined);
     f(x.free_motion);
 }
-// f applied to each per-sub-contact array of x, the triangles too when `tri`.
+// f applied to each per-sub-contact array of x, the triangles too when `tri` and the dilations
+// when `dil`.
 template <class F>
-void each_sub_array(ContactSet& x, bool tri, F&& f) {
-    f(x.sub_side); f(x.sub_key); f(x.sub_area); f(x.sub_local); f(x.sub_un); f(x.sub_udil); f(x.sub_sn);
+void each_sub_array(ContactSet& x, bool tri, bool dil, F&& f) {
+    f(x.sub_key); f(x.sub_area); f(x.sub_local); f(x.sub_un); f(x.sub_sn);
     f(x.sub_us); f(x.sub_ss); f(x.sub_flags);
     if (tri) f(x.sub_tri);
+    if (dil) f(x.sub_udil);
 }
 
 constexpr std::array<int, 3> kNoTri = {-1, -1, -1};
 
 // sub_tri is kept only once some sub-contact has a triangle: then it has an entry for each
 // sub-contact (-1s for those without).
-void push_sub(ContactSet& to, int side, std::int64_t key, double area, const Vec3& local,
+void push_sub(ContactSet& to, std::int64_t key, double area, const Vec3& local,
               const std::array<int, 3>& tri = kNoTri) {
     if (tri[0] >= 0 || !to.sub_tri.empty()) {
         to.sub_tri.resize(to.sub_key.size(), kNoTri);
         to.sub_tri.push_back(tri);
     }
-    to.sub_side.push_back(static_cast<std::uint8_t>(side));
     to.sub_key.push_back(key);
     to.sub_area.push_back(area);
     to.sub_local.push_back(local);
@@ -683,7 +684,8 @@ int take_id(ContactSet& cs, int id) { return id > 0 ? id : cs.next_id++; }
 // the result is the same arrays whatever the gaps were.
 class Rewrite {
 public:
-    Rewrite(ContactSet& cs, std::vector<int>& old_off) : cs_(cs), old_off_(old_off), tri_(!cs.sub_tri.empty()) {
+    Rewrite(ContactSet& cs, std::vector<int>& old_off)
+        : cs_(cs), old_off_(old_off), tri_(!cs.sub_tri.empty()), dil_(!cs.sub_udil.empty()) {
         old_off_.swap(cs_.sub_offset); // the old offsets; cs.sub_offset is written anew
         if (old_off_.empty()) old_off_.assign(1, 0);
         cs_.sub_offset.clear();
@@ -707,7 +709,7 @@ public:
             each_contact_array(cs_, [&](auto& v) { move_down(v, o.c, o.c + r, o.c - wc_, threads); });
         }
         if (o.k0 != wk_) {
-            each_sub_array(cs_, tri_, [&](auto& v) { move_down(v, o.k0, k1, o.k0 - wk_, threads); });
+            each_sub_array(cs_, tri_, dil_, [&](auto& v) { move_down(v, o.k0, k1, o.k0 - wk_, threads); });
         }
         for (int i = 0; i < r; ++i) advance(old_off_[e + i + 1] - old_off_[e + i]);
     }
@@ -719,6 +721,10 @@ public:
             tri_ = true;
             cs_.sub_tri.assign(cs_.sub_key.size(), kNoTri);
         }
+        if (!x.sub_udil.empty() && !dil_) {
+            dil_ = true;
+            cs_.sub_udil.assign(cs_.sub_key.size(), 0.0);
+        }
         room(n, next);
         const int c = wc_;
         cs_.id[c] = take_id(cs_, x.id[f]); cs_.block_a[c] = x.block_a[f]; cs_.block_b[c] = x.block_b[f];
@@ -726,11 +732,12 @@ public:
         cs_.jmat[c] = x.jmat[f]; cs_.jcons[c] = x.jcons[f]; cs_.joined[c] = x.joined[f]; cs_.free_motion[c] = x.free_motion[f];
         for (int i = 0; i < n; ++i) {
             const int j = j0 + i, k = wk_ + i;
-            cs_.sub_side[k] = x.sub_side[j]; cs_.sub_key[k] = x.sub_key[j]; cs_.sub_area[k] = x.sub_area[j];
-            cs_.sub_local[k] = x.sub_local[j]; cs_.sub_un[k] = x.sub_un[j]; cs_.sub_udil[k] = x.sub_udil[j];
+            cs_.sub_key[k] = x.sub_key[j]; cs_.sub_area[k] = x.sub_area[j];
+            cs_.sub_local[k] = x.sub_local[j]; cs_.sub_un[k] = x.sub_un[j];
             cs_.sub_sn[k] = x.sub_sn[j]; cs_.sub_us[k] = x.sub_us[j]; cs_.sub_ss[k] = x.sub_ss[j];
             cs_.sub_flags[k] = x.sub_flags[j];
             if (tri_) cs_.sub_tri[k] = x.sub_triangle(j);
+            if (dil_) cs_.sub_udil[k] = x.sub_dilation(j);
         }
         advance(n);
     }
@@ -738,7 +745,7 @@ public:
     // large (a pass that dropped many contacts), so that passes do not reallocate step by step.
     void finish() {
         each_contact_array(cs_, [&](auto& v) { v.resize(wc_); trim(v); });
-        each_sub_array(cs_, tri_, [&](auto& v) { v.resize(wk_); trim(v); });
+        each_sub_array(cs_, tri_, dil_, [&](auto& v) { v.resize(wk_); trim(v); });
         trim(cs_.sub_offset);
     }
 
@@ -786,7 +793,7 @@ private:
         }
         if (wk_ + nk > lk) {
             const long g = wk_ + nk - lk + (next >= 0 ? (pk - lk) / 32 : pk / 2) + 256;
-            each_sub_array(cs_, tri_, [&](auto& v) { open(v, lk, g, next < 0); });
+            each_sub_array(cs_, tri_, dil_, [&](auto& v) { open(v, lk, g, next < 0); });
             if (next >= 0) gk_ += g;
         }
     }
@@ -796,6 +803,7 @@ private:
     long gc_ = 0, gk_ = 0; // how far the unread old state has been moved up
     int wc_ = 0, wk_ = 0;  // contacts and sub-contacts written
     bool tri_;             // the set has triangles (sub_tri)
+    bool dil_;             // the set has dilations (sub_udil)
 };
 
 // Carry a tangential vector onto the tangent plane of the new normal, keeping its length.
@@ -867,6 +875,14 @@ struct Detector {
         return tag;
     }
 
+    // The dilation of the sub-contact just pushed to `next`: sub_udil is kept once some sub-contact
+    // has one (then it has an entry for each).
+    void push_dilation(double udil) {
+        if (udil == 0 && next.sub_udil.empty()) return;
+        next.sub_udil.resize(next.sub_key.size() - 1, 0.0);
+        next.sub_udil.push_back(udil);
+    }
+
     // The history of the sub-contact just pushed to `next`: that of old sub-contact k (its
     // shear turned onto the new plane), or, for a new one (k < 0), the closure the geometry
     // shows. A point that slides with the overlap (`moving`) keeps no closure of its own.
@@ -877,14 +893,14 @@ struct Detector {
             // is not a closure across the new one; they take what the geometry shows.
             if (plane_turned) moving = true;
             next.sub_un.push_back(moving ? closure : cs.sub_un[k]);
-            next.sub_udil.push_back(moving ? 0.0 : cs.sub_udil[k]);
+            push_dilation(moving ? 0.0 : cs.sub_dilation(k));
             next.sub_sn.push_back(cs.sub_sn[k]);
             next.sub_us.push_back(retangent(cs.sub_us[k], normal));
             next.sub_ss.push_back(retangent(cs.sub_ss[k], normal));
             next.sub_flags.push_back(cs.sub_flags[k] & ~(kSubNew | kSubFresh));
         } else {
             next.sub_un.push_back(closure);
-            next.sub_udil.push_back(0);
+            push_dilation(0);
             next.sub_sn.push_back(0);
             next.sub_us.push_back(Vec3::Zero());
             next.sub_ss.push_back(Vec3::Zero());
@@ -901,7 +917,7 @@ struct Detector {
     // once, and that energy was never put in.
     void push_inherited(int k, double closure, const Vec3& normal) {
         next.sub_un.push_back(closure);
-        next.sub_udil.push_back(cs.sub_udil[k]);
+        push_dilation(cs.sub_dilation(k));
         next.sub_sn.push_back(0);
         next.sub_us.push_back(retangent(cs.sub_us[k], normal));
         double kn = 0, ten = 0;
@@ -909,7 +925,7 @@ struct Detector {
             kn = jm->kn;
             ten = (cs.sub_flags[k] & kSubFailed) ? 0.0 : jm->tension;
         }
-        const double sn = kn * (closure + cs.sub_udil[k]);
+        const double sn = kn * (closure + cs.sub_dilation(k));
         const bool opens = !next.joined.back() && (sn < -ten || (sn <= 0 && ten <= 0));
         next.sub_ss.push_back(opens ? Vec3(Vec3::Zero()) : retangent(cs.sub_ss[k], normal));
         next.sub_flags.push_back(static_cast<std::uint8_t>((cs.sub_flags[k] & kSubFailed) | kSubFresh));
@@ -935,8 +951,8 @@ struct Detector {
         double hi = 0;
         for (int j = old.k0; j < old.k1; ++j) hi = std::max(hi, cs.sub_area[j]);
         for (int j = old.k0; j < old.k1; ++j) {
-            if (cs.sub_side[j] > 2 || cs.sub_area[j] < 1e-3 * hi) continue;
-            const int owner = cs.sub_side[j] == 1 ? b : a;
+            if (cs.sub_side(j) > 2 || cs.sub_area[j] < 1e-3 * hi) continue;
+            const int owner = cs.sub_side(j) == 1 ? b : a;
             const double d = (m.blocks.centroid[owner] + m.blocks.orientation[owner] * cs.sub_local[j] - x).squaredNorm();
             if (d < best_d) {
                 best_d = d;
@@ -1010,7 +1026,7 @@ struct Detector {
         const int k_end = old.k1;
         for (const GridpointSub& gs : gsubs) {
             while (k < k_end && cs.sub_key[k] < gs.key) ++k;
-            push_sub(next, gs.side, gs.key, gs.area, gs.local, gs.tri);
+            push_sub(next, gs.key, gs.area, gs.local, gs.tri);
             push_history(k < k_end && cs.sub_key[k] == gs.key ? k : -1, gs.closure, false, cp.normal);
         }
         next.sub_offset.push_back(next.n_subs());
@@ -1036,7 +1052,7 @@ struct Detector {
             push_header(a, b, oc, va, vb, cp);
             const int first = next.n_subs();
             for (int k = old.k0; k < old.k1; ++k) {
-                push_sub(next, cs.sub_side[k], cs.sub_key[k], cs.sub_area[k], cs.sub_local[k]);
+                push_sub(next, cs.sub_key[k], cs.sub_area[k], cs.sub_local[k]);
                 push_history(k, cs.sub_un[k], false, cp.normal);
             }
             next.free_motion.back() = clearance(a, b, cp.normal, first);
@@ -1080,7 +1096,7 @@ struct Detector {
             const int side = key_side(ns.key);
             const int owner = side == 1 ? b : a;
             const Vec3 local = rot[side == 1 ? 1 : 0].transpose() * (ns.x - s.centroid[owner]);
-            push_sub(next, side, ns.key, ns.area, local);
+            push_sub(next, ns.key, ns.area, local);
             const bool moving = on_touch_line(ns.key);
             const bool kept = k < k_end && cs.sub_key[k] == ns.key; // the same point as before
             born.push_back(!kept || moving || plane_turned);
@@ -1103,8 +1119,8 @@ struct Detector {
             // (a kick). Kept, its own closure finds it landing again; a refresh drops it once it
             // has lifted clear.
             for (int j = old.k0; j < old.k1; ++j) {
-                if (cs.sub_side[j] > 1 || !(cs.sub_un[j] + cs.sub_udil[j] > -1e-6 * tol)) continue;
-                push_sub(next, cs.sub_side[j], cs.sub_key[j], cs.sub_area[j], cs.sub_local[j]);
+                if (cs.sub_side(j) > 1 || !(cs.sub_un[j] + cs.sub_dilation(j) > -1e-6 * tol)) continue;
+                push_sub(next, cs.sub_key[j], cs.sub_area[j], cs.sub_local[j]);
                 push_history(j, cs.sub_un[j], false, cp.normal);
             }
         }
@@ -1134,19 +1150,19 @@ struct Detector {
             return area * ((un > 0 ? kn * un * un : 0.0) + ss.squaredNorm() / ks);
         };
         double e_old = 0, e_keep = 0, e_changed = 0;
-        for (int j = old.k0; j < old.k1; ++j) e_old += e(cs.sub_area[j], cs.sub_un[j] + cs.sub_udil[j], cs.sub_ss[j]);
+        for (int j = old.k0; j < old.k1; ++j) e_old += e(cs.sub_area[j], cs.sub_un[j] + cs.sub_dilation(j), cs.sub_ss[j]);
         for (int i = 0; i < static_cast<int>(born.size()); ++i) {
             const int q = first + i;
             if (!born[i] && next.sub_area[q] > (1 + 1e-9) * old_area[i]) born[i] = 1;
-            (born[i] ? e_changed : e_keep) += e(next.sub_area[q], next.sub_un[q] + next.sub_udil[q], next.sub_ss[q]);
+            (born[i] ? e_changed : e_keep) += e(next.sub_area[q], next.sub_un[q] + next.sub_dilation(q), next.sub_ss[q]);
         }
         if (!(e_changed > 0 && e_keep + e_changed > kRebuildGrowth * e_old)) return;
         const double f = std::sqrt(std::max(0.0, e_old - e_keep) / e_changed);
         for (int i = 0; i < static_cast<int>(born.size()); ++i) {
             if (!born[i]) continue;
             const int q = first + i;
-            const double c = next.sub_un[q] + next.sub_udil[q];
-            if (c > 0) next.sub_un[q] = f * c - next.sub_udil[q];
+            const double c = next.sub_un[q] + next.sub_dilation(q);
+            if (c > 0) next.sub_un[q] = f * c - next.sub_dilation(q);
             next.sub_ss[q] *= f;
         }
     }
@@ -1379,10 +1395,10 @@ void renumber_contacts(Model& m, const std::vector<int>* new_block, const std::v
                 keep_s[k] = 0;
                 continue;
             }
-            if (cs.sub_side[k] < 3 || new_gp == nullptr) continue;
+            if (cs.sub_side(k) < 3 || new_gp == nullptr) continue;
             const int g = mapped(new_gp, cs.sub_vertex(k));
             bool ok = g >= 0;
-            if (ok) cs.sub_key[k] = gridpoint_sub_key(cs.sub_side[k] - 3, g);
+            if (ok) cs.sub_key[k] = gridpoint_sub_key(cs.sub_side(k) - 3, g);
             if (!cs.sub_tri.empty()) {
                 for (int& q : cs.sub_tri[k]) {
                     if (q < 0) continue;
@@ -1412,7 +1428,7 @@ void renumber_contacts(Model& m, const std::vector<int>* new_block, const std::v
         }
         v.resize(w);
     });
-    each_sub_array(cs, !cs.sub_tri.empty(), [&](auto& v) {
+    each_sub_array(cs, !cs.sub_tri.empty(), !cs.sub_udil.empty(), [&](auto& v) {
         size_t w = 0;
         for (int k = 0; k < ns; ++k) {
             if (keep_s[k]) v[w++] = std::move(v[k]);
@@ -1581,7 +1597,7 @@ void detect_contacts(Model& m) {
                 bool tracked = false;
                 for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
                     tracked |= on_touch_line(cs.sub_key[k]);
-                    deepest = std::max(deepest, cs.sub_un[k] + cs.sub_udil[k]);
+                    deepest = std::max(deepest, cs.sub_un[k] + cs.sub_dilation(k));
                 }
                 grown_of[c] = tracked && motion_of[a] + motion_of[b] > 0.25 * deepest + 1e-3 * cs.ctol;
             });

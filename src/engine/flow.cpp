@@ -117,8 +117,8 @@ std::uint64_t contact_shape(const Model& m) {
         mix(static_cast<std::uint64_t>(cs.sub_offset[c + 1] - cs.sub_offset[c]));
         for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
             mix(static_cast<std::uint64_t>(cs.sub_key[k]));
-            mix(cs.sub_side[k]);
-            if (cs.sub_side[k] >= 3) {
+            mix(cs.sub_side(k));
+            if (cs.sub_side(k) >= 3) {
                 const std::array<int, 3> t = cs.sub_triangle(k);
                 mix(static_cast<std::uint64_t>(static_cast<std::uint32_t>(t[0])) << 32 | static_cast<std::uint32_t>(t[1]));
                 mix(static_cast<std::uint32_t>(t[2]));
@@ -354,7 +354,7 @@ void flow_sync(Model& m) {
             sub_of_gp[0].clear();
             sub_of_gp[1].clear();
             for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
-                if (cs.sub_side[k] == 3 || cs.sub_side[k] == 4) sub_of_gp[cs.sub_side[k] - 3].emplace(cs.sub_vertex(k), k);
+                if (cs.sub_side(k) == 3 || cs.sub_side(k) == 4) sub_of_gp[cs.sub_side(k) - 3].emplace(cs.sub_vertex(k), k);
             }
             // The nodes sub-contact k would follow, or false.
             // The nodes sub-contact k would follow: the corners of the triangle it meets that are
@@ -363,7 +363,7 @@ void flow_sync(Model& m) {
             auto leaders = [&](int k, std::pair<int, double> by[3]) {
                 const std::array<int, 3> tri = cs.sub_triangle(k);
                 if (tri[0] < 0) return 0;
-                const auto& other = sub_of_gp[cs.sub_side[k] == 3 ? 1 : 0];
+                const auto& other = sub_of_gp[cs.sub_side(k) == 3 ? 1 : 0];
                 int in = 0;
                 double sum = 0;
                 for (int i = 0; i < 3; ++i) {
@@ -381,7 +381,7 @@ void flow_sync(Model& m) {
             long can[2] = {0, 0}, all[2] = {0, 0};
             std::pair<int, double> by[3];
             for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
-                const int side = cs.sub_side[k] - 3;
+                const int side = cs.sub_side(k) - 3;
                 if (side < 0 || side > 1) continue;
                 ++all[side];
                 can[side] += leaders(k, by) == 3;
@@ -396,7 +396,7 @@ void flow_sync(Model& m) {
             else side = can[0] * all[1] > can[1] * all[0] ? 3 : 4;
             follower_side[c] = static_cast<std::int8_t>(side);
             for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
-                if (cs.sub_side[k] != side) continue;
+                if (cs.sub_side(k) != side) continue;
                 const int node = f.sub_node[k];
                 if (node < 0 || f.fixed[node] || !follows[node].empty()) continue;
                 if (leaders(k, by) == 0) continue;
@@ -483,7 +483,7 @@ void flow_sync(Model& m) {
     for (int c = 0; c < cs.size(); ++c) {
         if (!flow_contact(m, c) || !gridpoint_contact(m, c)) continue;
         for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
-            const int side = cs.sub_side[k];
+            const int side = cs.sub_side(k);
             if (side == 3) subs_of_block[cs.block_a[c]].push_back(k);
             else if (side == 4) subs_of_block[cs.block_b[c]].push_back(k);
         }
@@ -495,8 +495,8 @@ void flow_sync(Model& m) {
     for (int c = 0; c < cs.size(); ++c) {
         if (!flow_contact(m, c) || !gridpoint_contact(m, c)) continue;
         for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
-            if (cs.sub_side[k] < 3) continue;
-            const bool of_a = cs.sub_side[k] == 3;
+            if (cs.sub_side(k) < 3) continue;
+            const bool of_a = cs.sub_side(k) == 3;
             const Vec3 toward = of_a ? Vec3(-cs.normal[c]) : cs.normal[c]; // the partner's outward normal
             const std::array<int, 3> tri = cs.sub_triangle(k);
             if (tri[0] >= 0) {
@@ -520,9 +520,9 @@ void flow_sync(Model& m) {
         gp_subs.clear();
         for (int k : subs_of_block[blk]) {
             const int c = cs.sub_owner(k);
-            const bool of_a = cs.sub_side[k] == 3;
+            const bool of_a = cs.sub_side(k) == 3;
             const int other = of_a ? cs.block_b[c] : cs.block_a[c];
-            const double scale = (bs.flags[other] & kDeformable) && follower_side[c] == cs.sub_side[k] ? 0.0 : 1.0;
+            const double scale = (bs.flags[other] & kDeformable) && follower_side[c] == cs.sub_side(k) ? 0.0 : 1.0;
             gp_subs[cs.sub_vertex(k)].push_back({k, scale, of_a ? cs.normal[c] : Vec3(-cs.normal[c])});
         }
         edges.clear();
@@ -592,9 +592,9 @@ void flow_sync(Model& m) {
     // water does not push a second time on faces its own joints already wet.
     f.sub_wet.assign(ns, 1.0);
     for (int k = 0; k < ns; ++k) {
-        if (cs.sub_side[k] < 3 || f.sub_node[k] < 0) continue;
+        if (cs.sub_side(k) < 3 || f.sub_node[k] < 0) continue;
         const int c = cs.sub_owner(k);
-        const int other = cs.sub_side[k] == 3 ? cs.block_b[c] : cs.block_a[c];
+        const int other = cs.sub_side(k) == 3 ? cs.block_b[c] : cs.block_a[c];
         const double wet = wet_area[k] * ((bs.flags[other] & kDeformable) ? 0.5 : 1.0);
         f.sub_wet[k] = cs.sub_area[k] > 0 ? std::min(1.0, wet / cs.sub_area[k]) : 0.0;
     }
@@ -782,7 +782,7 @@ std::string flow_step(Model& m, double dt) {
             for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
                 const int node = f.sub_node[k];
                 if (node < 0 || !(f.pp[node] > 0) || !(cs.sub_area[k] > 0)) continue;
-                const bool of_a = cs.sub_side[k] == 3;
+                const bool of_a = cs.sub_side(k) == 3;
                 const int gp = cs.sub_vertex(k), o = of_a ? b : a;
                 const Vec3 fg = (of_a ? -1.0 : 1.0) * f.pp[node] * cs.sub_area[k] * f.sub_wet[k] * n; // on the gridpoint
                 const double fn = fg.norm();

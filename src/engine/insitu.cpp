@@ -231,7 +231,7 @@ int load_sub(ContactSet& cs, int k, const Vec3& n, const Vec3& traction_on_b, do
     cs.sub_sn[k] = sn;
     cs.sub_ss[k] = ss;
     cs.sub_un[k] = sn / kn; // the closure that carries it (the springs' stress: effective)
-    cs.sub_udil[k] = 0;
+    if (!cs.sub_udil.empty()) cs.sub_udil[k] = 0;
     cs.sub_us[k].setZero();
     cs.sub_flags[k] = flags;
     return result;
@@ -241,7 +241,7 @@ void unload_sub(ContactSet& cs, int k) {
     cs.sub_sn[k] = 0;
     cs.sub_ss[k].setZero();
     cs.sub_un[k] = 0;
-    cs.sub_udil[k] = 0;
+    if (!cs.sub_udil.empty()) cs.sub_udil[k] = 0;
     cs.sub_us[k].setZero();
     cs.sub_flags[k] = (cs.sub_flags[k] & kSubFailed) | kSubOpen;
 }
@@ -342,7 +342,7 @@ void load_contacts(Model& m, const Range& r, const StressField& f, const std::ve
             const Vec3 x = sub_point(m, c, k);
             at[k - k0] = x;
             if (!(cs.sub_area[k] > 0)) continue;
-            if (cs.sub_side[k] < 3) {
+            if (cs.sub_side(k) < 3) {
                 // A vertex of the contact polygon between rigid blocks: where their faces overlap.
                 const Eigen::Vector2d u(e1.dot(x - p0), e2.dot(x - p0));
                 for (const Poly2& q : overlap) {
@@ -357,7 +357,7 @@ void load_contacts(Model& m, const Range& r, const StressField& f, const std::ve
                 around.build(m);
                 around_built = true;
             }
-            const bool of_a = cs.sub_side[k] == 3;
+            const bool of_a = cs.sub_side(k) == 3;
             const int own = of_a ? a : b, other = of_a ? b : a;
             const Vec3 out = of_a ? n : Vec3(-n);
             const FlatFaces& partner = of_a ? fb : fa;

@@ -75,7 +75,7 @@ LawParams law_params(const Model& m, int jmat, int jcons) {
 [[gnu::always_inline]] inline Vec3 joint_step(ContactSet& cs, int k, const LawParams& p, bool joined, const Vec3& nrm, const Vec3& du,
                        double* dissipated = nullptr) {
     std::uint8_t flags = cs.sub_flags[k];
-    const double sn_old = cs.sub_sn[k], un_old = cs.sub_un[k] + cs.sub_udil[k];
+    const double sn_old = cs.sub_sn[k], un_old = cs.sub_un[k] + cs.sub_dilation(k);
     Vec3 dus = Vec3::Zero();
     if (flags & kSubNew) {
         // Its closure was measured from the geometry at t: the step is already in it.
@@ -101,7 +101,7 @@ LawParams law_params(const Model& m, int jmat, int jcons) {
         double coh = failed ? 0.0 : p.coh;
         const double ten = failed ? 0.0 : p.ten;
         double tan_phi = failed ? p.tan_res : p.tan_phi;
-        sn = p.kn * (cs.sub_un[k] + cs.sub_udil[k]);
+        sn = p.kn * (cs.sub_un[k] + cs.sub_dilation(k));
         if (sn < -ten || (sn <= 0 && ten <= 0)) {
             if (dissipated && p.ks > 0) {
                 // Never below zero: where the step's own shear work is more than the spring held
@@ -111,7 +111,7 @@ LawParams law_params(const Model& m, int jmat, int jcons) {
             if (dissipated && sn < -ten && ten > 0 && p.kn > 0) {
                 // Broken in tension: the normal work of the step less the change of what the
                 // spring held (all of it).
-                const double un_new = cs.sub_un[k] + cs.sub_udil[k];
+                const double un_new = cs.sub_un[k] + cs.sub_dilation(k);
                 *dissipated += cs.sub_area[k] * (0.5 * sn_old * (un_new - un_old) + 0.5 * sn_old * sn_old / p.kn);
             }
             // Open: past its tensile strength, which (if any) is lost with cohesion.
@@ -139,7 +139,7 @@ LawParams law_params(const Model& m, int jmat, int jcons) {
                 }
                 if (p.tan_dil != 0 && (p.zdil <= 0 || cs.sub_us[k].norm() < p.zdil)) {
                     const double rise = dus.norm() * p.tan_dil;
-                    const double dil = cs.sub_us[k].dot(dus) >= 0 ? rise : -std::min(rise, cs.sub_udil[k]);
+                    const double dil = cs.sub_us[k].dot(dus) >= 0 ? rise : -std::min(rise, cs.sub_dilation(k));
                     cs.sub_udil[k] += dil;
                     if (dissipated) *dissipated -= cs.sub_area[k] * sn * dil;
                 }
@@ -262,10 +262,14 @@ void update_contacts(Model& m, double dt) {
     thread_local std::vector<LawParams> params;
     const int n_jmat = static_cast<int>(m.joint_materials.size());
     params.resize(2 * std::max(1, n_jmat));
+    bool dilation = false;
     for (int j = 0; j < n_jmat; ++j) {
         params[2 * j] = law_params(m, j, 1);
         params[2 * j + 1] = law_params(m, j, 2);
+        dilation = dilation || params[2 * j].tan_dil != 0;
     }
+    // The sub-contacts' dilations are kept once some joint can dilate (ContactSet::sub_udil).
+    if (dilation && cs.sub_udil.empty()) cs.sub_udil.assign(cs.n_subs(), 0.0);
     const LawParams none;
     // The threads reach the caller's thread_local arrays through these pointers (a thread_local
     // named inside the parallel loop would be each worker's own, empty).
@@ -313,7 +317,7 @@ void update_contacts(Model& m, double dt) {
         Vec3 fb = Vec3::Zero(), ma = Vec3::Zero(), mb = Vec3::Zero();
         double scale = 0, kt = 0, kra = 0, krb = 0;
         for (int q = cs.sub_offset[c]; q < cs.sub_offset[c + 1]; ++q) {
-            const int owner = cs.sub_side[q] == 1 ? b : a;
+            const int owner = cs.sub_side(q) == 1 ? b : a;
             const Vec3 x = s.centroid[owner] + rot_of[owner] * cs.sub_local[q];
             const Vec3 ra = x - ca, rb = x - cb;
             const Vec3 f = joint_step(cs, q, p, joined, nrm, moved(b, rb) - moved(a, ra), dissipation ? dissipation + c : nullptr);
@@ -370,7 +374,7 @@ void update_contacts(Model& m, double dt) {
             const double kj = std::max(p.kn, p.ks);
             // Gridpoints against the other block's surface (contact_gridpoint.h).
             for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
-                const bool of_a = cs.sub_side[k] == 3;
+                const bool of_a = cs.sub_side(k) == 3;
                 const int gp = cs.sub_vertex(k);
                 const int o = of_a ? b : a;
                 const std::array<int, 3> tri = cs.sub_triangle(k);

@@ -193,7 +193,7 @@ struct EnergyWatch {
             if (jm <= 0 || jm >= n_jmat || !m.joint_materials[jm].defined) continue;
             const JointMaterial& j = m.joint_materials[jm];
             for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
-                const double u = cs.sub_un[k] + cs.sub_udil[k];
+                const double u = cs.sub_un[k] + cs.sub_dilation(k);
                 double un = u > 0 ? u : (cs.joined[c] ? -u : std::min(-u, j.kn > 0 ? j.tension / j.kn : 0.0));
                 if (!(un >= 0)) un = 0;
                 double e = 0.5 * j.kn * un * un;

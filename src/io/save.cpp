@@ -420,39 +420,60 @@ std::vector<int> sub_owners(const ContactSet& x) {
 // Each sub-contact's vertex or gridpoint (ContactSet::sub_vertex), -1 where its side is missing.
 std::vector<int> sub_vertices(const ContactSet& x) {
     std::vector<int> vertex(x.sub_key.size(), -1);
-    for (size_t k = 0; k < vertex.size() && k < x.sub_side.size(); ++k) vertex[k] = x.sub_vertex(static_cast<int>(k));
+    for (size_t k = 0; k < vertex.size(); ++k) vertex[k] = x.sub_vertex(static_cast<int>(k));
     return vertex;
 }
 
-// A sub-contact's contact and its vertex are not kept in memory (they follow from the offsets and
-// the key), but the file has them: they are written as they derive, and on reading they must be
-// what they derive to. The triangles are kept only once some sub-contact has one; the file has
+// Each sub-contact's side (ContactSet::sub_side), as the file has it.
+std::vector<std::uint8_t> sub_sides(const ContactSet& x) {
+    std::vector<std::uint8_t> side(x.sub_key.size());
+    for (size_t k = 0; k < side.size(); ++k) side[k] = static_cast<std::uint8_t>(x.sub_side(static_cast<int>(k)));
+    return side;
+}
+
+// A sub-contact's contact, side and vertex are not kept in memory (they follow from the offsets
+// and the key), but the file has them: they are written as they derive, and on reading they must
+// be what they derive to. The triangles are kept only once some sub-contact has one; the file has
 // them for every sub-contact.
 template <class IO, class M>
 auto fields(IO& io, M& x) -> If<M, ContactSet> {
     io(x.id); io(x.block_a); io(x.block_b); io(x.normal); io(x.point); io(x.gap);
     io(x.jmat); io(x.jcons); io(x.joined); io(x.sub_offset);
     if constexpr (std::is_const_v<M>) {
-        io(sub_owners(x)); io(x.sub_side); io(x.sub_key); io(sub_vertices(x));
+        io(sub_owners(x)); io(sub_sides(x)); io(x.sub_key); io(sub_vertices(x));
     } else {
         std::vector<int> owner, vertex;
-        io(owner); io(x.sub_side); io(x.sub_key); io(vertex);
+        std::vector<std::uint8_t> side;
+        io(owner); io(side); io(x.sub_key); io(vertex);
         // Format 16 marks the keys of gridpoints (kGridpointKey); older files have them bare.
         if (io.format < 16) {
-            for (size_t k = 0; k < x.sub_key.size() && k < x.sub_side.size(); ++k) {
-                if (x.sub_side[k] >= 3 && x.sub_key[k] >= 0 && x.sub_key[k] < (std::int64_t{1} << 62)) {
+            for (size_t k = 0; k < x.sub_key.size() && k < side.size(); ++k) {
+                if (side[k] >= 3 && x.sub_key[k] >= 0 && x.sub_key[k] < (std::int64_t{1} << 62)) {
                     x.sub_key[k] |= kGridpointKey;
                 }
             }
         }
         const size_t ns = x.sub_key.size();
-        io.check(owner.size() == ns && vertex.size() == ns && x.sub_side.size() == ns,
+        io.check(owner.size() == ns && vertex.size() == ns && side.size() == ns,
                  "the sub-contact arrays differ in length");
         io.check(!sub_offsets_whole(x) || owner == sub_owners(x), "a sub-contact belongs to another contact");
+        io.check(side == sub_sides(x), "a sub-contact side does not match its key");
         io.check(vertex == sub_vertices(x), "a sub-contact vertex or gridpoint does not match its key");
     }
     io(x.sub_area); io(x.sub_local);
-    io(x.sub_un); io(x.sub_udil); io(x.sub_sn); io(x.sub_us); io(x.sub_ss); io(x.sub_flags);
+    io(x.sub_un);
+    // The dilations are kept only once some sub-contact has one; the file has them for every
+    // sub-contact.
+    if constexpr (std::is_const_v<M>) {
+        if (x.sub_udil.empty()) io(std::vector<double>(x.sub_key.size(), 0.0));
+        else io(x.sub_udil);
+    } else {
+        io(x.sub_udil);
+        if (std::all_of(x.sub_udil.begin(), x.sub_udil.end(), [](double u) { return u == 0 && !std::signbit(u); })) {
+            std::vector<double>().swap(x.sub_udil);
+        }
+    }
+    io(x.sub_sn); io(x.sub_us); io(x.sub_ss); io(x.sub_flags);
     // Format 4: contacts of deformable blocks (older files have rigid sub-contacts only).
     if (io.format >= 4) {
         if constexpr (std::is_const_v<M>) {
@@ -1176,8 +1197,8 @@ std::string check_consistent(const Model& m) {
         return "the contact arrays differ in length";
     }
     const size_t ns = c.sub_key.size();
-    if (c.sub_side.size() != ns ||
-        c.sub_area.size() != ns || c.sub_local.size() != ns || c.sub_un.size() != ns || c.sub_udil.size() != ns ||
+    if (c.sub_area.size() != ns || c.sub_local.size() != ns || c.sub_un.size() != ns ||
+        (!c.sub_udil.empty() && c.sub_udil.size() != ns) ||
         c.sub_sn.size() != ns || c.sub_us.size() != ns || c.sub_ss.size() != ns || c.sub_flags.size() != ns ||
         (!c.sub_tri.empty() && c.sub_tri.size() != ns)) {
         return "the sub-contact arrays differ in length";
@@ -1516,7 +1537,7 @@ std::string check_values(const Model& m) {
         if (cs.jcons[k] < 1 || cs.jcons[k] > 2) c.fail(w, "the joint model is out of range");
         if (cs.joined[k] > 1) c.fail(w, "a flag is out of range");
         for (int i = cs.sub_offset[k]; i < cs.sub_offset[k + 1] && c.ok(); ++i) {
-            const int side = cs.sub_side[i];
+            const int side = cs.sub_side(i);
             const int a = cs.block_a[k], b = cs.block_b[k];
             const bool deformable_pair = ((s.flags[a] | s.flags[b]) & kDeformable) != 0;
             // Right after 'gen' (geometry_changed) a pair of zoned blocks still has the vertex
@@ -1550,7 +1571,7 @@ std::string check_values(const Model& m) {
             c.at_least(cs.sub_area[i], 0, w, "a sub-contact area");
             c.vec(cs.sub_local[i], w, "a sub-contact point");
             c.finite(cs.sub_un[i], w, "a normal closure");
-            c.finite(cs.sub_udil[i], w, "a dilation");
+            c.finite(cs.sub_dilation(i), w, "a dilation");
             c.finite(cs.sub_sn[i], w, "a normal stress");
             c.vec(cs.sub_us[i], w, "a shear displacement");
             c.vec(cs.sub_ss[i], w, "a shear stress");

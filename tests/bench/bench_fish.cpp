@@ -40,12 +40,10 @@ int main(int argc, char** argv) {
         c.joined.push_back(0);
         c.sub_offset.push_back(4 * k);
         for (int s = 0; s < 4; ++s) {
-            c.sub_side.push_back(0);
             c.sub_key.push_back(s);
             c.sub_area.push_back(0.25);
             c.sub_local.push_back(Eigen::Vector3d::Zero());
             c.sub_un.push_back(0);
-            c.sub_udil.push_back(0);
             c.sub_sn.push_back(1000.0);
             c.sub_us.push_back(Eigen::Vector3d::Zero());
             c.sub_ss.push_back(Eigen::Vector3d::Zero());

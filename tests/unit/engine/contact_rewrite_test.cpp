@@ -62,7 +62,6 @@ TEST(ContactRewrite, APassRebuildingEveryContactFindsWhatAFreshDetectionFinds) {
     EXPECT_EQ(a.block_a, f.block_a);
     EXPECT_EQ(a.block_b, f.block_b);
     EXPECT_EQ(a.sub_key, f.sub_key);
-    EXPECT_EQ(a.sub_side, f.sub_side);
     EXPECT_EQ(a.jmat, f.jmat);
     // The old contacts kept their ids, the new ones took the next ones: all different.
     std::vector<int> ids = a.id;

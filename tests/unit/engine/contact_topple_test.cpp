@@ -59,7 +59,7 @@ ToppleFigures topple(double kn) {
         double elastic = 0;
         const ContactSet& cs = m.contacts;
         for (int k = 0; k < cs.n_subs(); ++k) {
-            const double un = std::max(0.0, cs.sub_un[k] + cs.sub_udil[k]);
+            const double un = std::max(0.0, cs.sub_un[k] + cs.sub_dilation(k));
             elastic += cs.sub_area[k] * (0.5 * j.kn * un * un + 0.5 * cs.sub_ss[k].squaredNorm() / j.ks);
         }
         const double work = mass * m.gravity.dot(c - c0);

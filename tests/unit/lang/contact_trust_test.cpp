@@ -176,7 +176,7 @@ TEST(ContactTrust, JointedCubeContactsAreConsistent) {
         }
         bool all_closed = ci.n_subs > 0;
         for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
-            const double closure = cs.sub_un[k] + cs.sub_udil[k];
+            const double closure = cs.sub_un[k] + cs.sub_dilation(k);
             if (cs.sub_flags[k] & odec::kSubOpen) {
                 EXPECT_EQ(cs.sub_sn[k], 0) << "open sub-contact " << k << " of contact " << ci.id;
                 EXPECT_EQ(cs.sub_ss[k].norm(), 0) << "open sub-contact " << k << " of contact " << ci.id;
@@ -332,9 +332,9 @@ TEST(ContactTrust, ACrossingDeeperThanAGrazingCornerCarriesTheContact) {
     ASSERT_EQ(cs.size(), 1);
     double deepest = 0, deepest_corner = -1;
     for (int k = cs.sub_offset[0]; k < cs.sub_offset[1]; ++k) {
-        const double closure = cs.sub_un[k] + cs.sub_udil[k];
+        const double closure = cs.sub_un[k] + cs.sub_dilation(k);
         deepest = std::max(deepest, closure);
-        if (cs.sub_side[k] < 2) deepest_corner = std::max(deepest_corner, closure);
+        if (cs.sub_side(k) < 2) deepest_corner = std::max(deepest_corner, closure);
     }
     EXPECT_NEAR(deepest, -cs.gap[0], 0.05 * -cs.gap[0]);
     EXPECT_GT(deepest, 5e-4);

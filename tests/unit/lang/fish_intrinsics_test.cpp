@@ -615,5 +615,5 @@ TEST(FishIntrinsics, CxNdisIsTheClosureEveryOtherRouteGives) {
     // The joint did dilate: the faces' overlap is well below the closure.
     const odec::ContactSet& cs = s.model.contacts;
     ASSERT_GT(cs.n_subs(), 0);
-    EXPECT_GT(cs.sub_udil[0], 1e-5);
+    EXPECT_GT(cs.sub_dilation(0), 1e-5);
 }

@@ -321,7 +321,7 @@ void gridpoint_uplift(const odec::Model& m, int blk, Eigen::Vector3d& force, Eig
     moment.setZero();
     for (int c = 0; c < cs.size(); ++c) {
         for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
-            const int side = cs.sub_side[k];
+            const int side = cs.sub_side(k);
             if (side < 3 || f.sub_node[k] < 0) continue;
             const int owner = side == 3 ? cs.block_a[c] : cs.block_b[c];
             if (owner != blk) continue;

@@ -59,7 +59,7 @@ TEST(ZoneContacts, RigidBaseCarriesADeformableBlock) {
     EXPECT_NEAR(ci.normal_disp, sigma / 1e11, 1e-3 * sigma / 1e11);
     // Every sub-contact is a gridpoint of the deformable block pressing on the rigid face.
     for (int k = 0; k < m.contacts.n_subs(); ++k) {
-        EXPECT_EQ(m.contacts.sub_side[k], 4);
+        EXPECT_EQ(m.contacts.sub_side(k), 4);
         EXPECT_EQ(m.contacts.sub_triangle(k)[0], -1);
     }
     const int top = find_gridpoint_near(m, Vec3(0.5, 0.5, 1.0));
@@ -92,8 +92,8 @@ TEST(ZoneContacts, DeformableBlocksCarryEachOther) {
     // Both blocks' gridpoints press on the other's surface triangles.
     bool side3 = false, side4 = false;
     for (int k = m.contacts.sub_offset[upper]; k < m.contacts.sub_offset[upper + 1]; ++k) {
-        side3 |= m.contacts.sub_side[k] == 3;
-        side4 |= m.contacts.sub_side[k] == 4;
+        side3 |= m.contacts.sub_side(k) == 3;
+        side4 |= m.contacts.sub_side(k) == 4;
         EXPECT_GE(m.contacts.sub_triangle(k)[0], 0);
         EXPECT_NEAR(m.contacts.sub_local[k].sum(), 1.0, 1e-9); // weights of a point in its triangle
     }
@@ -257,7 +257,7 @@ TEST(ZoneContacts, ZoningStartsTheGridpointsFromTheirOwnClosures) {
     ensure_contacts_current(s.model, true);
     int gridpoint_subs = 0;
     for (int k = 0; k < cs.n_subs(); ++k) {
-        if (cs.sub_side[k] < 3) continue;
+        if (cs.sub_side(k) < 3) continue;
         ++gridpoint_subs;
         EXPECT_EQ(cs.sub_ss[k].norm(), 0.0) << "gridpoint " << cs.sub_vertex(k) + 1;
         EXPECT_EQ(cs.sub_us[k].norm(), 0.0) << "gridpoint " << cs.sub_vertex(k) + 1;
@@ -284,7 +284,7 @@ TEST(ZoneContacts, GridpointHistoriesFollowTheirGridpointsWhenOthersAreRenumbere
         ensure_contacts_current(s.model, true);
         std::vector<std::pair<Vec3, double>> out;
         for (int k = 0; k < cs.n_subs(); ++k) {
-            if (cs.sub_side[k] == 4) out.emplace_back(s.model.gridpoints.pos[cs.sub_vertex(k)], cs.sub_sn[k]);
+            if (cs.sub_side(k) == 4) out.emplace_back(s.model.gridpoints.pos[cs.sub_vertex(k)], cs.sub_sn[k]);
         }
         std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) {
             return std::lexicographical_compare(a.first.data(), a.first.data() + 3, b.first.data(), b.first.data() + 3);
