@@ -61,8 +61,8 @@ ContactInfo contact_info(const Model& m, int c, bool touch_area) {
         area += w;
         sn += w * cs.sub_sn[k];
         un += w * (cs.sub_un[k] + cs.sub_dilation(k));
-        ss += w * cs.sub_ss[k];
-        us += w * cs.sub_us[k];
+        ss += w * cs.sub_shear_stress(c, k);
+        us += w * cs.sub_shear_disp(c, k);
         any_slip |= (cs.sub_flags[k] & kSubSlip) != 0;
         all_open &= (cs.sub_flags[k] & kSubOpen) != 0;
         any_failed |= (cs.sub_flags[k] & kSubFailed) != 0;

@@ -65,6 +65,14 @@ inline std::int64_t gridpoint_sub_key(int of_b, int gp) {
     return (static_cast<std::int64_t>(of_b) << 61) | kGridpointKey | gp;
 }
 
+// The shear axes of a contact plane of unit normal n: e1 and e2 = n x e1 in the plane, fixed by
+// n alone, so that a shear vector held on them means the same whatever its history.
+inline void shear_axes(const Eigen::Vector3d& n, Eigen::Vector3d& e1, Eigen::Vector3d& e2) {
+    const Eigen::Vector3d ref = std::abs(n.x()) < 0.6 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+    e1 = (ref - ref.dot(n) * n).normalized();
+    e2 = n.cross(e1);
+}
+
 struct ContactSet {
     // ---- per contact (n_contacts) ----
     std::vector<int> id;                  // (n_contacts) user id, 1-based, kept while the contact lives
@@ -110,8 +118,12 @@ struct ContactSet {
                                           //          once a joint material has dilation (update_contacts)
                                           //          or a sub-contact has some
     std::vector<double> sub_sn;           // (n_subs) Pa, normal stress, compression positive
-    std::vector<Eigen::Vector3d> sub_us;  // (n_subs) m, shear displacement of b relative to a
-    std::vector<Eigen::Vector3d> sub_ss;  // (n_subs) Pa, shear stress on b (opposes its slip)
+    // The shear vectors are held as their components on the shear axes of their contact's
+    // normal (shear_axes): the normal is fixed between refreshes, and a refresh that turns it
+    // turns them onto the new plane. Read them as vectors through sub_shear_disp and
+    // sub_shear_stress.
+    std::vector<Eigen::Vector2d> sub_us;  // (n_subs) m, shear displacement of b relative to a
+    std::vector<Eigen::Vector2d> sub_ss;  // (n_subs) Pa, shear stress on b (opposes its slip)
     std::vector<std::uint8_t> sub_flags;  // (n_subs) SubContactFlags
 
     // ---- detection bookkeeping ----
@@ -171,6 +183,21 @@ struct ContactSet {
         if (side == 2) return -1;
         return static_cast<int>(key & ((side >= 3 ? kGridpointKey : std::int64_t{1} << 61) - 1));
     }
+    // A shear vector of contact c (on its shear axes) as a vector, and a vector in its plane as
+    // its components on those axes.
+    Eigen::Vector3d shear_in_world(int c, const Eigen::Vector2d& v) const {
+        Eigen::Vector3d e1, e2;
+        shear_axes(normal[c], e1, e2);
+        return v[0] * e1 + v[1] * e2;
+    }
+    Eigen::Vector2d shear_on_axes(int c, const Eigen::Vector3d& v) const {
+        Eigen::Vector3d e1, e2;
+        shear_axes(normal[c], e1, e2);
+        return Eigen::Vector2d(v.dot(e1), v.dot(e2));
+    }
+    // Sub-contact k of contact c: its shear stress on block b (Pa) and shear displacement (m).
+    Eigen::Vector3d sub_shear_stress(int c, int k) const { return shear_in_world(c, sub_ss[k]); }
+    Eigen::Vector3d sub_shear_disp(int c, int k) const { return shear_in_world(c, sub_us[k]); }
     // The dilation of sub-contact k, m.
     double sub_dilation(int k) const { return sub_udil.empty() ? 0.0 : sub_udil[k]; }
     // The surface triangle sub-contact k meets (sides 3 and 4 against a deformable block), else -1s.

@@ -279,9 +279,7 @@ Frame make_frame(const CommonPlane& cp) {
     f.p = cp.point;
     f.n = cp.normal;
     // A fixed rule for the in-plane axes keeps results independent of history.
-    const Vec3 ref = std::abs(f.n.x()) < 0.6 ? Vec3::UnitX() : Vec3::UnitY();
-    f.e1 = (ref - ref.dot(f.n) * f.n).normalized();
-    f.e2 = f.n.cross(f.e1);
+    shear_axes(f.n, f.e1, f.e2);
     return f;
 }
 
@@ -763,7 +761,8 @@ private:
     template <class V>
     static void move_down(V& v, long from, long to, long by, int threads) {
         using T = typename V::value_type;
-        static_assert(std::is_trivially_copyable_v<T> || std::is_same_v<T, Eigen::Vector3d>);
+        static_assert(std::is_trivially_copyable_v<T> || std::is_same_v<T, Eigen::Vector3d> ||
+                      std::is_same_v<T, Eigen::Vector2d>);
         move_bytes_down(reinterpret_cast<char*>(v.data()), from * sizeof(T), to * sizeof(T), by * sizeof(T), threads);
     }
     // v one longer by g elements inserted at `at`, what was there moved up.
@@ -775,7 +774,8 @@ private:
         // Moved as bytes, on the threads when it is much: every array of the set holds plain
         // numbers (Eigen's 3-vectors are three doubles and nothing else).
         using T = typename V::value_type;
-        static_assert(std::is_trivially_copyable_v<T> || std::is_same_v<T, Eigen::Vector3d>);
+        static_assert(std::is_trivially_copyable_v<T> || std::is_same_v<T, Eigen::Vector3d> ||
+                      std::is_same_v<T, Eigen::Vector2d>);
         if (at < p) {
             move_bytes_up(reinterpret_cast<char*>(v.data()), at * sizeof(T), p * sizeof(T), g * sizeof(T), thread_count());
         }
@@ -895,15 +895,15 @@ struct Detector {
             next.sub_un.push_back(moving ? closure : cs.sub_un[k]);
             push_dilation(moving ? 0.0 : cs.sub_dilation(k));
             next.sub_sn.push_back(cs.sub_sn[k]);
-            next.sub_us.push_back(retangent(cs.sub_us[k], normal));
-            next.sub_ss.push_back(retangent(cs.sub_ss[k], normal));
+            next.sub_us.push_back(turned(cs.sub_us[k]));
+            next.sub_ss.push_back(turned(cs.sub_ss[k]));
             next.sub_flags.push_back(cs.sub_flags[k] & ~(kSubNew | kSubFresh));
         } else {
             next.sub_un.push_back(closure);
             push_dilation(0);
             next.sub_sn.push_back(0);
-            next.sub_us.push_back(Vec3::Zero());
-            next.sub_ss.push_back(Vec3::Zero());
+            next.sub_us.push_back(Eigen::Vector2d::Zero());
+            next.sub_ss.push_back(Eigen::Vector2d::Zero());
             next.sub_flags.push_back(kSubNew);
         }
     }
@@ -919,7 +919,7 @@ struct Detector {
         next.sub_un.push_back(closure);
         push_dilation(cs.sub_dilation(k));
         next.sub_sn.push_back(0);
-        next.sub_us.push_back(retangent(cs.sub_us[k], normal));
+        next.sub_us.push_back(turned(cs.sub_us[k]));
         double kn = 0, ten = 0;
         if (const JointMaterial* jm = material()) {
             kn = jm->kn;
@@ -927,7 +927,7 @@ struct Detector {
         }
         const double sn = kn * (closure + cs.sub_dilation(k));
         const bool opens = !next.joined.back() && (sn < -ten || (sn <= 0 && ten <= 0));
-        next.sub_ss.push_back(opens ? Vec3(Vec3::Zero()) : retangent(cs.sub_ss[k], normal));
+        next.sub_ss.push_back(opens ? Eigen::Vector2d(Eigen::Vector2d::Zero()) : turned(cs.sub_ss[k]));
         next.sub_flags.push_back(static_cast<std::uint8_t>((cs.sub_flags[k] & kSubFailed) | kSubFresh));
     }
 
@@ -962,10 +962,26 @@ struct Detector {
         return best;
     }
 
+    // A shear vector of an old sub-contact of the contact being built (on the old contact's shear
+    // axes) turned onto the new plane, keeping its length, and put on the new axes: the same
+    // numbers when the plane did not turn.
+    Eigen::Vector2d turned(const Eigen::Vector2d& v) const {
+        if (same_axes) return v;
+        const Vec3 t = retangent(v[0] * old_e1 + v[1] * old_e2, new_n);
+        return Eigen::Vector2d(t.dot(new_e1), t.dot(new_e2));
+    }
+    Vec3 new_n = Vec3::UnitZ(), new_e1 = Vec3::UnitX(), new_e2 = Vec3::UnitY(); // of the contact being built
+    Vec3 old_e1 = Vec3::UnitX(), old_e2 = Vec3::UnitY();                       // of its old contact
+    bool same_axes = true;                                                     // its plane did not turn
+
     // The contact's own entries in `next`: id, joint material and model (from the old
     // contact, else from the joint plane its faces lie on), blocks and plane.
     void push_header(int a, int b, int oc, const BlockView& va, const BlockView& vb, const CommonPlane& cp) {
         const BlockSet& s = m.blocks;
+        new_n = cp.normal;
+        shear_axes(new_n, new_e1, new_e2);
+        same_axes = oc < 0 || cs.normal[oc] == cp.normal;
+        if (!same_axes) shear_axes(cs.normal[oc], old_e1, old_e2);
         if (oc >= 0) {
             next.id.push_back(cs.id[oc]);
             next.jmat.push_back(cs.jmat[oc]);
@@ -1146,7 +1162,7 @@ struct Detector {
         const double kn = jm->kn, ks = jm->ks;
         if (!(kn > 0 && ks > 0)) return;
         // Twice the energy of a spring of area `area`, normal closure `un`, shear stress `ss`.
-        auto e = [&](double area, double un, const Vec3& ss) {
+        auto e = [&](double area, double un, const Eigen::Vector2d& ss) {
             return area * ((un > 0 ? kn * un * un : 0.0) + ss.squaredNorm() / ks);
         };
         double e_old = 0, e_keep = 0, e_changed = 0;

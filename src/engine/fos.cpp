@@ -206,7 +206,7 @@ bool fos_model_loaded(const Model& m) {
     for (double sn : m.contacts.sub_sn) {
         if (sn != 0) return true;
     }
-    for (const Vec3& ss : m.contacts.sub_ss) {
+    for (const Eigen::Vector2d& ss : m.contacts.sub_ss) {
         if (ss.squaredNorm() > 0) return true;
     }
     return false;

@@ -229,7 +229,9 @@ int load_sub(ContactSet& cs, int k, const Vec3& n, const Vec3& traction_on_b, do
         }
     }
     cs.sub_sn[k] = sn;
-    cs.sub_ss[k] = ss;
+    Vec3 e1, e2;
+    shear_axes(n, e1, e2);
+    cs.sub_ss[k] = Eigen::Vector2d(ss.dot(e1), ss.dot(e2));
     cs.sub_un[k] = sn / kn; // the closure that carries it (the springs' stress: effective)
     if (!cs.sub_udil.empty()) cs.sub_udil[k] = 0;
     cs.sub_us[k].setZero();
@@ -478,7 +480,7 @@ int shift_joint_water(Model& m, const std::vector<double>& old_pp) {
             const double dp = (f.pp[node] - old_pp[node]) * f.sub_wet[k];
             if (dp == 0) continue;
             // The total stress stays: the springs carry what the water no longer does.
-            const Vec3 traction = (cs.sub_sn[k] - dp) * n + cs.sub_ss[k];
+            const Vec3 traction = (cs.sub_sn[k] - dp) * n + cs.sub_shear_stress(c, k);
             load_sub(cs, k, n, traction, j->kn, cs.joined[c] != 0, st);
             ++shifted;
         }

@@ -43,6 +43,8 @@ namespace odec {
 
 namespace {
 
+using Vec2 = Eigen::Vector2d;
+
 struct LawParams {
     double kn = 0, ks = 0, tan_phi = 0, coh = 0, ten = 0, tan_dil = 0, zdil = 0, tan_res = 0;
     bool model2 = false;
@@ -72,28 +74,28 @@ LawParams law_params(const Model& m, int jmat, int jcons) {
 // slips, the mean shear stress of the step times the plastic slip, less the work of dilation
 // against the normal stress; when it opens, what the shear spring held beyond the shear work of
 // the step, and what the normal spring held in tension if that breaks it.
-[[gnu::always_inline]] inline Vec3 joint_step(ContactSet& cs, int k, const LawParams& p, bool joined, const Vec3& nrm, const Vec3& du,
-                       double* dissipated = nullptr) {
+[[gnu::always_inline]] inline Vec3 joint_step(ContactSet& cs, int k, const LawParams& p, bool joined, const Vec3& nrm,
+                                              const Vec3& e1, const Vec3& e2, const Vec3& du, double* dissipated = nullptr) {
     std::uint8_t flags = cs.sub_flags[k];
     const double sn_old = cs.sub_sn[k], un_old = cs.sub_un[k] + cs.sub_dilation(k);
-    Vec3 dus = Vec3::Zero();
+    Vec2 dus = Vec2::Zero(); // on the shear axes e1, e2 (ContactSet::sub_us)
     if (flags & kSubNew) {
         // Its closure was measured from the geometry at t: the step is already in it.
         flags &= ~kSubNew;
     } else if (flags & kSubFresh) {
         // The same for its closure; its shear, taken over from the sub-contact before, takes the step.
         flags &= ~kSubFresh;
-        dus = du - du.dot(nrm) * nrm;
+        dus = Vec2(du.dot(e1), du.dot(e2));
         cs.sub_us[k] += dus;
     } else {
         const double dun = du.dot(nrm);
         cs.sub_un[k] -= dun;
-        dus = du - dun * nrm;
+        dus = Vec2(du.dot(e1), du.dot(e2));
         cs.sub_us[k] += dus;
     }
     flags &= ~(kSubSlip | kSubOpen);
     double sn;
-    Vec3 ss = cs.sub_ss[k] - p.ks * dus;
+    Vec2 ss = cs.sub_ss[k] - p.ks * dus;
     if (joined) {
         sn = p.kn * cs.sub_un[k];
     } else {
@@ -131,7 +133,7 @@ LawParams law_params(const Model& m, int jmat, int jcons) {
                     tan_phi = p.tan_res;
                     tmax = std::max(0.0, sn * tan_phi);
                 }
-                const Vec3 trial = ss;
+                const Vec2 trial = ss;
                 ss *= tmax / t;
                 flags |= kSubSlip;
                 if (dissipated && p.ks > 0) {
@@ -149,7 +151,7 @@ LawParams law_params(const Model& m, int jmat, int jcons) {
     cs.sub_sn[k] = sn;
     cs.sub_ss[k] = ss;
     cs.sub_flags[k] = flags;
-    return cs.sub_area[k] * (sn * nrm + ss);
+    return cs.sub_area[k] * (sn * nrm + ss[0] * e1 + ss[1] * e2);
 }
 
 } // namespace
@@ -312,6 +314,8 @@ void update_contacts(Model& m, double dt) {
         const LawParams& p = law_of(c);
         const bool joined = cs.joined[c] != 0;
         const Vec3 nrm = cs.normal[c];
+        Vec3 e1, e2;
+        shear_axes(nrm, e1, e2);
         const Vec3 ca = s.centroid[a], cb = s.centroid[b];
         const double k = std::max(p.kn, p.ks);
         Vec3 fb = Vec3::Zero(), ma = Vec3::Zero(), mb = Vec3::Zero();
@@ -320,7 +324,7 @@ void update_contacts(Model& m, double dt) {
             const int owner = cs.sub_side(q) == 1 ? b : a;
             const Vec3 x = s.centroid[owner] + rot_of[owner] * cs.sub_local[q];
             const Vec3 ra = x - ca, rb = x - cb;
-            const Vec3 f = joint_step(cs, q, p, joined, nrm, moved(b, rb) - moved(a, ra), dissipation ? dissipation + c : nullptr);
+            const Vec3 f = joint_step(cs, q, p, joined, nrm, e1, e2, moved(b, rb) - moved(a, ra), dissipation ? dissipation + c : nullptr);
             fb += f;
             mb += rb.cross(f);
             ma -= ra.cross(f);
@@ -371,6 +375,8 @@ void update_contacts(Model& m, double dt) {
             const LawParams& p = law_of(c);
             const bool joined = cs.joined[c] != 0;
             const Vec3 nrm = cs.normal[c];
+            Vec3 e1, e2;
+            shear_axes(nrm, e1, e2);
             const double kj = std::max(p.kn, p.ks);
             // Gridpoints against the other block's surface (contact_gridpoint.h).
             for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
@@ -387,7 +393,7 @@ void update_contacts(Model& m, double dt) {
                     dxo = moved(o, lever);
                 }
                 const Vec3 dxg = gp_vel(gp) * dt;
-                const Vec3 f = joint_step(cs, k, p, joined, nrm, of_a ? Vec3(dxo - dxg) : Vec3(dxg - dxo),
+                const Vec3 f = joint_step(cs, k, p, joined, nrm, e1, e2, of_a ? Vec3(dxo - dxg) : Vec3(dxg - dxo),
                                           dissipation ? dissipation + c : nullptr);
                 const Vec3 fg = of_a ? Vec3(-f) : f; // on the gridpoint; its partner takes -fg
                 const double fn = f.norm();

@@ -230,7 +230,7 @@ Value f_c_nforce(Runtime& rt, A a, int, L loc) {
 Value f_c_sforce(Runtime& rt, A a, int, L loc) {
     CONTACT("c_sforce");
     Vec3 f = Vec3::Zero();
-    for (int k = C.sub_offset[c]; k < C.sub_offset[c + 1]; ++k) f += C.sub_ss[k] * C.sub_area[k];
+    for (int k = C.sub_offset[c]; k < C.sub_offset[c + 1]; ++k) f += C.sub_shear_stress(c, k) * static_cast<double>(C.sub_area[k]);
     return vec(f);
 }
 Value f_c_near(Runtime& rt, A a, int n, L loc) {
@@ -282,15 +282,15 @@ Value f_cx_next(Runtime& rt, A a, int, L loc) {
 Value f_cx_pos(Runtime& rt, A a, int, L loc) { SUB("cx_pos"); return vec(sub_point(model(rt), C.sub_owner(s), s)); }
 Value f_cx_area(Runtime& rt, A a, int, L loc) { SUB("cx_area"); return num(C.sub_area[s]); }
 Value f_cx_nforce(Runtime& rt, A a, int, L loc) { SUB("cx_nforce"); return num(C.sub_sn[s] * C.sub_area[s]); }
-Value f_cx_sforce(Runtime& rt, A a, int, L loc) { SUB("cx_sforce"); return vec(C.sub_ss[s] * C.sub_area[s]); }
-Value f_cx_xsforce(Runtime& rt, A a, int, L loc) { SUB("cx_xsforce"); return num(C.sub_ss[s].x() * C.sub_area[s]); }
-Value f_cx_ysforce(Runtime& rt, A a, int, L loc) { SUB("cx_ysforce"); return num(C.sub_ss[s].y() * C.sub_area[s]); }
-Value f_cx_zsforce(Runtime& rt, A a, int, L loc) { SUB("cx_zsforce"); return num(C.sub_ss[s].z() * C.sub_area[s]); }
+Value f_cx_sforce(Runtime& rt, A a, int, L loc) { SUB("cx_sforce"); return vec(C.sub_shear_stress(C.sub_owner(s), s) * C.sub_area[s]); }
+Value f_cx_xsforce(Runtime& rt, A a, int, L loc) { SUB("cx_xsforce"); return num(C.sub_shear_stress(C.sub_owner(s), s).x() * C.sub_area[s]); }
+Value f_cx_ysforce(Runtime& rt, A a, int, L loc) { SUB("cx_ysforce"); return num(C.sub_shear_stress(C.sub_owner(s), s).y() * C.sub_area[s]); }
+Value f_cx_zsforce(Runtime& rt, A a, int, L loc) { SUB("cx_zsforce"); return num(C.sub_shear_stress(C.sub_owner(s), s).z() * C.sub_area[s]); }
 Value f_cx_nstress(Runtime& rt, A a, int, L loc) { SUB("cx_nstress"); return num(C.sub_sn[s]); }
-Value f_cx_sstress(Runtime& rt, A a, int, L loc) { SUB("cx_sstress"); return vec(C.sub_ss[s]); }
+Value f_cx_sstress(Runtime& rt, A a, int, L loc) { SUB("cx_sstress"); return vec(C.sub_shear_stress(C.sub_owner(s), s)); }
 // The closure the joint's spring carries (the dilation included), as print, hist and export give it.
 Value f_cx_ndis(Runtime& rt, A a, int, L loc) { SUB("cx_ndis"); return num(C.sub_un[s] + C.sub_dilation(s)); }
-Value f_cx_sdis(Runtime& rt, A a, int, L loc) { SUB("cx_sdis"); return num(C.sub_us[s].norm()); }
+Value f_cx_sdis(Runtime& rt, A a, int, L loc) { SUB("cx_sdis"); return num(C.sub_shear_disp(C.sub_owner(s), s).norm()); }
 Value f_cx_state(Runtime& rt, A a, int, L loc) { SUB("cx_state"); return Value::integer(C.sub_flags[s] & (kSubSlip | kSubOpen | kSubFailed)); }
 
 // -- gridpoints ------------------------------------------------------------------------------------

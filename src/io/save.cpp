@@ -473,7 +473,27 @@ auto fields(IO& io, M& x) -> If<M, ContactSet> {
             std::vector<double>().swap(x.sub_udil);
         }
     }
-    io(x.sub_sn); io(x.sub_us); io(x.sub_ss); io(x.sub_flags);
+    io(x.sub_sn);
+    // Format 17: the shear vectors on their contacts' shear axes (two numbers); older files have
+    // them as vectors, put on the axes here.
+    if (io.format >= 17) {
+        io(x.sub_us); io(x.sub_ss);
+    } else if constexpr (!std::is_const_v<M>) {
+        std::vector<Vec3> us, ss;
+        io(us); io(ss);
+        const size_t ns = x.sub_key.size();
+        io.check(us.size() == ns && ss.size() == ns, "the sub-contact arrays differ in length");
+        io.check(sub_offsets_whole(x) && x.normal.size() == x.block_a.size(), "the sub-contact offsets are wrong");
+        x.sub_us.resize(ns);
+        x.sub_ss.resize(ns);
+        for (int c = 0; c < static_cast<int>(x.block_a.size()); ++c) {
+            for (int k = x.sub_offset[c]; k < x.sub_offset[c + 1]; ++k) {
+                x.sub_us[k] = x.shear_on_axes(c, us[k]);
+                x.sub_ss[k] = x.shear_on_axes(c, ss[k]);
+            }
+        }
+    }
+    io(x.sub_flags);
     // Format 4: contacts of deformable blocks (older files have rigid sub-contacts only).
     if (io.format >= 4) {
         if constexpr (std::is_const_v<M>) {
@@ -536,11 +556,12 @@ template <> struct Bulk<double> : std::true_type {};
 template <> struct Bulk<int> : std::true_type {};
 template <> struct Bulk<std::uint8_t> : std::true_type {};
 template <> struct Bulk<Vec3> : std::true_type {};
+template <> struct Bulk<Eigen::Vector2d> : std::true_type {};
 template <> struct Bulk<Mat3> : std::true_type {};
 template <> struct Bulk<Quat> : std::true_type {};
 template <class T, size_t N>
 struct Bulk<std::array<T, N>> : Bulk<T> {};
-static_assert(sizeof(int) == 4 && sizeof(Vec3) == 24 && sizeof(Mat3) == 72 && sizeof(Quat) == 32 &&
+static_assert(sizeof(int) == 4 && sizeof(Vec3) == 24 && sizeof(Eigen::Vector2d) == 16 && sizeof(Mat3) == 72 && sizeof(Quat) == 32 &&
                   sizeof(std::array<int, 4>) == 16 && sizeof(std::array<double, 6>) == 48,
               "the bulk types have no padding");
 
@@ -634,6 +655,7 @@ public:
         bytes(s.data(), s.size());
     }
     void operator()(const Vec3& v) { for (int i = 0; i < 3; ++i) raw(v[i]); }
+    void operator()(const Eigen::Vector2d& v) { for (int i = 0; i < 2; ++i) raw(v[i]); }
     void operator()(const Quat& q) { for (int i = 0; i < 4; ++i) raw(q.coeffs()[i]); }
     void operator()(const Mat3& a) { for (int i = 0; i < 9; ++i) raw(a.data()[i]); }
     template <class A, class B>
@@ -791,6 +813,7 @@ public:
         if (n > 0) get(&s[0], n);
     }
     void operator()(Vec3& v) { for (int i = 0; i < 3; ++i) v[i] = raw<double>(); }
+    void operator()(Eigen::Vector2d& v) { for (int i = 0; i < 2; ++i) v[i] = raw<double>(); }
     void operator()(Quat& q) { for (int i = 0; i < 4; ++i) q.coeffs()[i] = raw<double>(); }
     void operator()(Mat3& a) { for (int i = 0; i < 9; ++i) a.data()[i] = raw<double>(); }
     template <class A, class B>
@@ -1573,8 +1596,8 @@ std::string check_values(const Model& m) {
             c.finite(cs.sub_un[i], w, "a normal closure");
             c.finite(cs.sub_dilation(i), w, "a dilation");
             c.finite(cs.sub_sn[i], w, "a normal stress");
-            c.vec(cs.sub_us[i], w, "a shear displacement");
-            c.vec(cs.sub_ss[i], w, "a shear stress");
+            c.vec(Vec3(cs.sub_us[i][0], cs.sub_us[i][1], 0), w, "a shear displacement");
+            c.vec(Vec3(cs.sub_ss[i][0], cs.sub_ss[i][1], 0), w, "a shear stress");
             if (cs.sub_flags[i] > (kSubSlip | kSubOpen | kSubFailed | kSubNew | kSubFresh)) c.fail(w, "a sub-contact flag is out of range");
         }
     }

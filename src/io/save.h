@@ -36,7 +36,7 @@ namespace odec {
 // 15: adaptive damping's memory of the last step (older files start without it); 16: the
 // timestep of that step (older files take the next step's), and gridpoints' sub-contact keys
 // marked apart from vertices' (older files' are marked as they are read).
-constexpr std::uint32_t kSaveFormatVersion = 16;
+constexpr std::uint32_t kSaveFormatVersion = 17;
 
 // Write the model to `path`. A model that restore would refuse (a velocity that is not a finite
 // number after a run-away, an index out of range) is not written: save and restore run the

@@ -80,7 +80,7 @@ ContactView make_contact_view(const Model& m, const std::vector<int>* contact_in
         if (have_subs) {
             for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
                 // The force the joint law puts on block b: area * (sn n + ss).
-                const Vec3 f = cs.sub_area[k] * (cs.sub_sn[k] * info.normal + cs.sub_ss[k]);
+                const Vec3 f = cs.sub_area[k] * (cs.sub_sn[k] * info.normal + cs.sub_shear_stress(c, k));
                 force += f;
                 subs.centroid.push_back(sub_point(m, c, k));
                 subs.normal.push_back(info.normal);
@@ -88,9 +88,9 @@ ContactView make_contact_view(const Model& m, const std::vector<int>* contact_in
                 subs.block1.push_back(id_a);
                 subs.block2.push_back(id_b);
                 subs.normal_stress.push_back(cs.sub_sn[k]);
-                subs.shear_stress.push_back(cs.sub_ss[k]);
+                subs.shear_stress.push_back(cs.sub_shear_stress(c, k));
                 subs.normal_disp.push_back(cs.sub_un[k] + cs.sub_dilation(k));
-                subs.shear_disp.push_back(cs.sub_us[k]);
+                subs.shear_disp.push_back(cs.sub_shear_disp(c, k));
                 subs.force.push_back(f);
                 subs.state.push_back(static_cast<int>(sub_state(cs.sub_flags[k])));
                 subs.parent.push_back(row);

@@ -327,8 +327,10 @@ namespace {
 
 // A save file of the format before clumps (11) made from one of this format: the clump array
 // of the blocks (a length and an int per block, written after the inertial moments and before
-// the world vertex offsets, which start at 0) taken out, the lengths and the checksum made right.
-std::string without_clumps(std::string file, const std::vector<int>& clumps) {
+// the world vertex offsets, which start at 0) taken out, the shear vectors of the sub-contacts
+// `cs` written as vectors (format 17 holds them on their contacts' axes, two numbers each), the
+// lengths and the checksum made right.
+std::string without_clumps(std::string file, const std::vector<int>& clumps, const odec::ContactSet& cs) {
     const int n_blocks = static_cast<int>(clumps.size());
     std::uint64_t n_version = 0;
     std::memcpy(&n_version, &file[16], 8);
@@ -399,6 +401,34 @@ std::string without_clumps(std::string file, const std::vector<int>& clumps) {
     std::uint64_t damp_length = 0;
     std::memcpy(&damp_length, &file[damp + 4], 8);
     cut(damp + 12 + damp_length - 24, 24, {damp + 4, payload_length_at});
+    const size_t cont = file.find("CONT", payload_length_at + 8);
+    if (cont == std::string::npos) return "";
+    size_t from = cont;
+    auto widen = [&](const std::vector<Eigen::Vector2d>& v, bool disp) {
+        const std::uint64_t ns = v.size();
+        std::string pattern(8 + 16 * ns, '\0');
+        std::memcpy(&pattern[0], &ns, 8);
+        if (ns > 0) std::memcpy(&pattern[8], v.data(), 16 * ns);
+        const size_t at = file.find(pattern, from);
+        if (at == std::string::npos) return false;
+        std::string wide(8 + 24 * ns, '\0');
+        std::memcpy(&wide[0], &ns, 8);
+        for (int k = 0; k < static_cast<int>(ns); ++k) {
+            const int c = cs.sub_owner(k);
+            const Eigen::Vector3d w = disp ? cs.sub_shear_disp(c, k) : cs.sub_shear_stress(c, k);
+            std::memcpy(&wide[8 + 24 * k], w.data(), 24);
+        }
+        file.replace(at, pattern.size(), wide);
+        from = at + wide.size();
+        for (size_t at_length : {cont + 4, payload_length_at}) {
+            std::uint64_t len = 0;
+            std::memcpy(&len, &file[at_length], 8);
+            len += 8 * ns;
+            std::memcpy(&file[at_length], &len, 8);
+        }
+        return true;
+    };
+    if (!widen(cs.sub_us, true) || !widen(cs.sub_ss, false)) return "";
     const std::uint32_t format = 11;
     std::memcpy(&file[12], &format, 4);
     std::uint64_t h = 0xcbf29ce484222325ull;
@@ -438,7 +468,7 @@ TEST(Clump, SaveFilesOldAndNew) {
         << d.error();
     d.model.blocks.clump.assign(d.model.blocks.size(), 0);
     ASSERT_TRUE(d.run("step 50\nsave '" + base + "_glued'")) << d.error();
-    const std::string old = without_clumps(read_bytes(base + "_glued.sav"), d.model.blocks.clump);
+    const std::string old = without_clumps(read_bytes(base + "_glued.sav"), d.model.blocks.clump, d.model.contacts);
     ASSERT_FALSE(old.empty()) << "the clump array was not found";
     write_bytes(base + "_old.sav", old);
     Session c;

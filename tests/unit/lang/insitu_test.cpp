@@ -110,7 +110,7 @@ TEST(Insitu, AJointBetweenDeformableBlocksStartsAtRest) {
         // Every sub-contact carries the field's traction (weighted by the share of its area on
         // the joint face, 1 here), and the closure that carries it.
         EXPECT_NEAR(m.contacts.sub_sn[k], sn, 1e-9 * sn);
-        EXPECT_NEAR((m.contacts.sub_ss[k] - ss).norm(), 0.0, 1e-9 * sn);
+        EXPECT_NEAR((m.contacts.sub_shear_stress(0, k) - ss).norm(), 0.0, 1e-9 * sn);
         EXPECT_NEAR(m.contacts.sub_un[k], sn / 2e11, 1e-9 * sn / 2e11);
         ++loaded;
     }
@@ -264,7 +264,7 @@ TEST(Insitu, RigidJointResultantActsAtItsCentroid) {
     Vec3 force = Vec3::Zero(), moment = Vec3::Zero();
     const ContactSet& cs = m.contacts;
     for (int k = cs.sub_offset[0]; k < cs.sub_offset[1]; ++k) {
-        const Vec3 f = cs.sub_area[k] * (cs.sub_sn[k] * cs.normal[0] + cs.sub_ss[k]);
+        const Vec3 f = cs.sub_area[k] * (cs.sub_sn[k] * cs.normal[0] + cs.sub_shear_stress(0, k));
         force += f;
         moment += (sub_point(m, 0, k) - centroid).cross(f);
     }
