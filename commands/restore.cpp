@@ -10,7 +10,10 @@ const CommandSpec& restore_command() {
         c.positional.string("file");
         c.describe("Replaces the whole model (blocks, contacts, materials, histories, tables, settings, step "
                    "and time) with the one in the file; cycling on gives the same numbers, to the last bit, as "
-                   "the run that saved it would have. The extension '.sav' is added when the name has none; a "
+                   "the run that saved it would have (a file of an older save format is brought up to this one as it "
+                   "is read: it cycles on as it would have to within the last digits where the format changed "
+                   "how a number is held, such as the shear of the sub-contacts, held since format 17 as two "
+                   "components in the contact plane). The extension '.sav' is added when the name has none; a "
                    "relative name is taken from the working directory. A file that is truncated, damaged (its "
                    "checksum does not match), not a save file at all, or written in a newer save format than "
                    "this odec reads is refused with the reason, and the current model is kept; so is one whose "
