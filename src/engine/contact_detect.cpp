@@ -114,7 +114,6 @@ inline std::int64_t crossing_key(std::int32_t e1, std::int32_t e2) {
     return (std::int64_t{1} << 62) | (lo << 31) | hi;
 }
 inline bool is_crossing(std::int64_t key) { return (key >> 62) & 1; }
-inline int key_side(std::int64_t key) { return is_crossing(key) ? 2 : static_cast<int>((key >> 61) & 1); }
 inline std::int32_t crossing_lo(std::int64_t key) { return static_cast<std::int32_t>((key >> 31) & 0x7FFFFFFF); }
 inline std::int32_t crossing_hi(std::int64_t key) { return static_cast<std::int32_t>(key & 0x7FFFFFFF); }
 inline int corner_vertex(std::int64_t key) { return static_cast<int>(key & ((std::int64_t{1} << 61) - 1)); }
@@ -481,7 +480,7 @@ void polygon_subcontacts(const Frame& fr, const std::vector<Piece>& pa, const st
                 for (int i = 0; i < q.n; ++i) {
                     q.vkey[i] = key_at(q.vkey[i], q.u[i], q.v[i]);
                     const double d = A.height(q.u[i], q.v[i]) - B.height(q.u[i], q.v[i]);
-                    if (key_side(q.vkey[i]) < 2) corner_depth = std::max(corner_depth, d);
+                    if (ContactSet::key_side(q.vkey[i]) < 2) corner_depth = std::max(corner_depth, d);
                     else if (is_edge_crossing(q.vkey[i])) crossing_depth = std::max(crossing_depth, d);
                     sliver = sliver && near_edge(q.u[i], q.v[i]);
                 }
@@ -523,7 +522,7 @@ void polygon_subcontacts(const Frame& fr, const std::vector<Piece>& pa, const st
                 // striking at speed, lost 3 to 7 % of the energy that way). Where no vertex
                 // presses in and no edges cross (an overlap bounded by its edge alone), its
                 // points carry their shares.
-                const int side = key_side(q.vkey[i]);
+                const int side = ContactSet::key_side(q.vkey[i]);
                 const bool nodal = tilted && (side < 2 || (crossing_carried && is_edge_crossing(q.vkey[i])));
                 if (tilted && (has_corner || crossing_carried) && !nodal) continue;
                 double area = share;
@@ -886,7 +885,7 @@ struct Detector {
     // The history of the sub-contact just pushed to `next`: that of old sub-contact k (its
     // shear turned onto the new plane), or, for a new one (k < 0), the closure the geometry
     // shows. A point that slides with the overlap (`moving`) keeps no closure of its own.
-    void push_history(int k, double closure, bool moving, const Vec3& normal) {
+    void push_history(int k, double closure, bool moving) {
         if (k >= 0) {
             // A contact whose plane turned (kTurned) changed what it is (an edge against an edge
             // become a face on a face): the closure its points gathered across the old plane
@@ -915,7 +914,7 @@ struct Detector {
     // build says when an old one hands its state on). One that the geometry shows open (its
     // joint would open at its first step) takes no shear stress: its spring would drop it at
     // once, and that energy was never put in.
-    void push_inherited(int k, double closure, const Vec3& normal) {
+    void push_inherited(int k, double closure) {
         next.sub_un.push_back(closure);
         push_dilation(cs.sub_dilation(k));
         next.sub_sn.push_back(0);
@@ -1043,7 +1042,7 @@ struct Detector {
         for (const GridpointSub& gs : gsubs) {
             while (k < k_end && cs.sub_key[k] < gs.key) ++k;
             push_sub(next, gs.key, gs.area, gs.local, gs.tri);
-            push_history(k < k_end && cs.sub_key[k] == gs.key ? k : -1, gs.closure, false, cp.normal);
+            push_history(k < k_end && cs.sub_key[k] == gs.key ? k : -1, gs.closure, false);
         }
         next.sub_offset.push_back(next.n_subs());
         return true;
@@ -1069,7 +1068,7 @@ struct Detector {
             const int first = next.n_subs();
             for (int k = old.k0; k < old.k1; ++k) {
                 push_sub(next, cs.sub_key[k], cs.sub_area[k], cs.sub_local[k]);
-                push_history(k, cs.sub_un[k], false, cp.normal);
+                push_history(k, cs.sub_un[k], false);
             }
             next.free_motion.back() = clearance(a, b, cp.normal, first);
             next.sub_offset.push_back(next.n_subs());
@@ -1109,7 +1108,7 @@ struct Detector {
         old_area.clear();
         for (const NewSub& ns : subs) {
             while (k < k_end && cs.sub_key[k] < ns.key) ++k;
-            const int side = key_side(ns.key);
+            const int side = ContactSet::key_side(ns.key);
             const int owner = side == 1 ? b : a;
             const Vec3 local = rot[side == 1 ? 1 : 0].transpose() * (ns.x - s.centroid[owner]);
             push_sub(next, ns.key, ns.area, local);
@@ -1118,11 +1117,11 @@ struct Detector {
             born.push_back(!kept || moving || plane_turned);
             old_area.push_back(kept ? cs.sub_area[k] : 0.0);
             if (kept) {
-                push_history(k, ns.closure, moving, cp.normal);
+                push_history(k, ns.closure, moving);
             } else {
                 const int j = moving || old.c < 0 ? -1 : nearest_old(old, a, b, ns.x);
-                if (j >= 0 && hands_on(j)) push_inherited(j, ns.closure, cp.normal);
-                else push_history(-1, ns.closure, moving, cp.normal);
+                if (j >= 0 && hands_on(j)) push_inherited(j, ns.closure);
+                else push_history(-1, ns.closure, moving);
             }
         }
         if (subs.empty()) {
@@ -1137,7 +1136,7 @@ struct Detector {
             for (int j = old.k0; j < old.k1; ++j) {
                 if (cs.sub_side(j) > 1 || !(cs.sub_un[j] + cs.sub_dilation(j) > -1e-6 * tol)) continue;
                 push_sub(next, cs.sub_key[j], cs.sub_area[j], cs.sub_local[j]);
-                push_history(j, cs.sub_un[j], false, cp.normal);
+                push_history(j, cs.sub_un[j], false);
             }
         }
         if (m.settings.dynamic && oc >= 0) limit_rebuild_energy(old, first);
@@ -1847,7 +1846,7 @@ double contact_touch_area(const Model& m, int c) {
             area += std::abs(signed_area(q));
             for (int i = 0; i < q.n; ++i) {
                 const std::int64_t key = key_at(q.vkey[i], q.u[i], q.v[i]);
-                if (key_side(key) < 2) pressing.push_back(key);
+                if (ContactSet::key_side(key) < 2) pressing.push_back(key);
             }
         }
     }

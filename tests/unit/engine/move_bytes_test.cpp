@@ -19,13 +19,33 @@ std::vector<char> pattern(std::size_t n) {
     return v;
 }
 
+struct Case {
+    std::size_t size, at, end, by;
+};
+
+// The bytes [at, end) of a patterned buffer moved up (or down) by `by` on 1 to 4 threads: the
+// same bytes as memmove gives.
+template <std::size_t N>
+void expect_as_memmove(const Case (&cases)[N], bool up) {
+    for (const Case& c : cases) {
+        const std::vector<char> start = pattern(c.size);
+        std::vector<char> want = start;
+        std::memmove(want.data() + (up ? c.at + c.by : c.at - c.by), want.data() + c.at, c.end - c.at);
+        for (int threads : {1, 2, 3, 4}) {
+            std::vector<char> got = start;
+            if (up) odec::move_bytes_up(got.data(), c.at, c.end, c.by, threads);
+            else odec::move_bytes_down(got.data(), c.at, c.end, c.by, threads);
+            EXPECT_TRUE(got == want) << (up ? "up" : "down") << ": size " << c.size << " at " << c.at << " end "
+                                     << c.end << " by " << c.by << " threads " << threads;
+        }
+    }
+}
+
+constexpr std::size_t mb = std::size_t{1} << 20;
+
 } // namespace
 
 TEST(MoveBytes, SameBytesAsMemmoveOnAnyNumberOfThreads) {
-    const std::size_t mb = std::size_t{1} << 20;
-    struct Case {
-        std::size_t size, at, end, by;
-    };
     const Case cases[] = {
         {100, 10, 10, 5},                      // nothing to move
         {100, 10, 60, 7},                      // small: one piece
@@ -34,24 +54,10 @@ TEST(MoveBytes, SameBytesAsMemmoveOnAnyNumberOfThreads) {
         {24 * mb, 17, 16 * mb, 4 * mb - 1},    // by close to a piece of four
         {30 * mb, 1, 20 * mb, 9 * mb},         // by longer than a piece of four: fewer pieces
     };
-    for (const Case& c : cases) {
-        const std::vector<char> start = pattern(c.size);
-        std::vector<char> want = start;
-        std::memmove(want.data() + c.at + c.by, want.data() + c.at, c.end - c.at);
-        for (int threads : {1, 2, 3, 4}) {
-            std::vector<char> got = start;
-            odec::move_bytes_up(got.data(), c.at, c.end, c.by, threads);
-            EXPECT_TRUE(got == want) << "size " << c.size << " at " << c.at << " end " << c.end << " by " << c.by
-                                     << " threads " << threads;
-        }
-    }
+    expect_as_memmove(cases, true);
 }
 
 TEST(MoveBytes, DownSameBytesAsMemmoveOnAnyNumberOfThreads) {
-    const std::size_t mb = std::size_t{1} << 20;
-    struct Case {
-        std::size_t size, at, end, by;
-    };
     const Case cases[] = {
         {100, 10, 10, 5},                           // nothing to move
         {100, 10, 60, 7},                           // small: one piece
@@ -60,15 +66,5 @@ TEST(MoveBytes, DownSameBytesAsMemmoveOnAnyNumberOfThreads) {
         {24 * mb, 4 * mb, 20 * mb + 17, 4 * mb - 1},  // by close to a piece of four
         {30 * mb, 9 * mb + 1, 29 * mb, 9 * mb},     // by longer than a piece of four: fewer pieces
     };
-    for (const Case& c : cases) {
-        const std::vector<char> start = pattern(c.size);
-        std::vector<char> want = start;
-        std::memmove(want.data() + c.at - c.by, want.data() + c.at, c.end - c.at);
-        for (int threads : {1, 2, 3, 4}) {
-            std::vector<char> got = start;
-            odec::move_bytes_down(got.data(), c.at, c.end, c.by, threads);
-            EXPECT_TRUE(got == want) << "size " << c.size << " at " << c.at << " end " << c.end << " by " << c.by
-                                     << " threads " << threads;
-        }
-    }
+    expect_as_memmove(cases, false);
 }
