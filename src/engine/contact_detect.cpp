@@ -969,9 +969,6 @@ struct Detector {
         const Vec3 t = retangent(v[0] * old_e1 + v[1] * old_e2, new_n);
         return Eigen::Vector2d(t.dot(new_e1), t.dot(new_e2));
     }
-    Vec3 new_n = Vec3::UnitZ(), new_e1 = Vec3::UnitX(), new_e2 = Vec3::UnitY(); // of the contact being built
-    Vec3 old_e1 = Vec3::UnitX(), old_e2 = Vec3::UnitY();                       // of its old contact
-    bool same_axes = true;                                                     // its plane did not turn
 
     // The contact's own entries in `next`: id, joint material and model (from the old
     // contact, else from the joint plane its faces lie on), blocks and plane.
@@ -1233,6 +1230,10 @@ struct Detector {
     // from the geometry), and the area it had before (0: none).
     std::vector<char> born;
     std::vector<double> old_area;
+    // The shear axes of the contact being built and of its old contact (turned).
+    Vec3 new_n = Vec3::UnitZ(), new_e1 = Vec3::UnitX(), new_e2 = Vec3::UnitY(); // of the contact being built
+    Vec3 old_e1 = Vec3::UnitX(), old_e2 = Vec3::UnitY();                       // of its old contact
+    bool same_axes = true;                                                     // its plane did not turn
 };
 
 // One contact to build in a pass: blocks a < b, carrying the history of old contact oc (-1: new).
