@@ -9,6 +9,7 @@
 #include "engine/blocks.h"
 #include "engine/contact.h"
 #include "engine/insitu.h"
+#include "engine/polyhedron.h"
 #include "engine/zones.h"
 #include "mesh/tet_mesh.h"
 
@@ -30,6 +31,9 @@ constexpr long long kGenZoneCharge = 250;
 // A block is zoned only where its coordinates resolve it, and the zones' edge, to a millionth
 // (up to 4.5e9 times that size from the origin).
 constexpr double kResolvedFraction = 1e-6;
+// A zoned block is zoned again from where its corner gridpoints are, while they still make a
+// convex solid to this fraction of its size (far more than any deformation it can carry).
+constexpr double kDistortedFraction = 0.01;
 
 int find_root(std::vector<int>& parent, int i) {
     while (parent[i] != i) {
@@ -320,6 +324,26 @@ const CommandSpec& generate_command() {
                          " m from the origin, where coordinates are no finer than " + num(fine) + " m: its shape (" +
                          num(across) + " m across) and zones of " + num(edges[k]) + " m are lost there",
                      {"a block gets there by running away: look at its velocity ('print block') and at the loads"},
+                     "generate");
+            }
+            // A zoned block whose corner gridpoints no longer make a convex solid (a model that ran
+            // away bends and folds its faces): the mesher could not zone it, and would take
+            // minutes to find that out.
+            for (size_t k = 0; k < blocks.size(); ++k) {
+                const int b = blocks[k];
+                if (!(m.blocks.flags[b] & kDeformable)) continue;
+                const Polyhedron w = world_shape(m, b);
+                Vec3 lo, hi;
+                w.bounds(lo, hi);
+                const double across = (hi - lo).norm();
+                std::string why;
+                if (std::isfinite(across) && is_convex_polyhedron(w, kDistortedFraction * across, &why)) continue;
+                fail(a.loc,
+                     "block " + std::to_string(m.blocks.id[b]) + " cannot be zoned again: its corners, where its "
+                         "gridpoints have moved, no longer make a convex solid (" + why + ", by more than " +
+                         num(kDistortedFraction * across) + " m, 1 % of its size)",
+                     {"corners move that far when the model runs away: look at the gridpoint velocities ('print gridpoint') "
+                      "and at the loads, or restore the model from before"},
                      "generate");
             }
             // Bodies: joined blocks of the range that share a whole face deform as one.

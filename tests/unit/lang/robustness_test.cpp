@@ -258,6 +258,31 @@ TEST(Robustness, ABlockThatRanAwayIsNotZoned) {
     EXPECT_GT(far.model.zones.size(), 0);
 }
 
+TEST(Robustness, AZonedBlockFoldedByARunAwayIsNotZonedAgain) {
+    // The campaign's time-out of round 9: after a run-away under a huge gravity, a zoned block's
+    // corner gridpoints no longer made a convex solid, and `gen` zoning it again kept the mesher
+    // busy for two minutes before it failed. `gen` refuses it at once, naming the block, and
+    // the zones stay as they were.
+    const std::string model = "poly brick -0.5 1.5 -0.5 1.5 -0.5 0 region 1\npoly brick 0 1 0 1 0 1 region 2\n"
+                              "prop mat=1 dens=2600 ymod=1e9 prat=0.25\n"
+                              "prop jmat=1 jkn=1e9 jks=1e9 jfric=40 jcoh=1e4 jten=1e3\n"
+                              "grav 0 0 -10\ngen edge 1\nfix range region 1\nstep 1\n";
+    Session s;
+    ASSERT_TRUE(s.run(model + "gravity 0.1,-1e9,0.75\nstep 10\n")) << s.error();
+    const int zones = s.model.zones.size();
+    ASSERT_GT(zones, 0);
+    EXPECT_FALSE(s.run("gen edge 0.4"));
+    EXPECT_NE(s.error().find("t.dat:1:1: error: block 2 cannot be zoned again: its corners, where its gridpoints have "
+                             "moved, no longer make a convex solid ("),
+              std::string::npos)
+        << s.error();
+    EXPECT_EQ(s.model.zones.size(), zones);
+    // Under its own weight the block deforms by far less, and is zoned again.
+    Session still;
+    ASSERT_TRUE(still.run(model + "step 10\ngen edge 0.4\n")) << still.error();
+    EXPECT_GT(still.model.zones.size(), zones);
+}
+
 TEST(Robustness, TheMesherDiesWithTheSession) {
     // A session killed while Gmsh meshes (a time limit, a closed terminal) must not leave the
     // mesher's process running on: the campaign's time-out left one at full speed for ten
