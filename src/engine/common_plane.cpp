@@ -326,11 +326,15 @@ CommonPlane common_plane(const BlockView& a, const BlockView& b, const Vec3* war
     CommonPlane cp;
     cp.normal = best_n;
     cp.gap = best_gap;
-    const Extent ea = extent(a, best_n), eb = extent(b, best_n);
-    const double s = 0.5 * (ea.hi + eb.lo);
-    const Vec3 mid = 0.5 * (ca + cb);
-    cp.point = mid + (s - best_n.dot(mid)) * best_n;
+    cp.point = plane_point(a, b, best_n);
     return cp;
+}
+
+Vec3 plane_point(const BlockView& a, const BlockView& b, const Vec3& n) {
+    const Extent ea = extent(a, n), eb = extent(b, n);
+    const double s = 0.5 * (ea.hi + eb.lo);
+    const Vec3 mid = 0.5 * (mean_vertex(a) + mean_vertex(b));
+    return mid + (s - n.dot(mid)) * n;
 }
 
 CommonPlane find_common_plane(const Polyhedron& a, const Polyhedron& b, const Vec3* warm, double band,

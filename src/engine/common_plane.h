@@ -17,6 +17,11 @@ struct BlockView {
 CommonPlane common_plane(const BlockView& a, const BlockView& b, const Vec3* warm, double band,
                          double prefer_joint = 0);
 
+// The reference point of the common plane of a and b with unit normal n: midway between the
+// means of their vertices, moved along n onto the plane midway in the gap (ContactSet keeps no
+// point: contact_point derives it from the blocks as they stand).
+Vec3 plane_point(const BlockView& a, const BlockView& b, const Vec3& n);
+
 // Outward unit normal of face f from world vertices (Newell), and its area.
 Vec3 world_face_normal(const BlockView& v, int f, double* area = nullptr);
 

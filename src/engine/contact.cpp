@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "engine/blocks.h"
+#include "engine/common_plane.h"
 #include "engine/model.h"
 #include "engine/parallel.h"
 #include "engine/range.h"
@@ -23,7 +24,7 @@ const char* contact_state_name(ContactState s) {
 }
 
 void ContactSet::clear() {
-    id.clear(); block_a.clear(); block_b.clear(); normal.clear(); point.clear(); gap.clear();
+    id.clear(); block_a.clear(); block_b.clear(); normal.clear(); gap.clear();
     jmat.clear(); jcons.clear(); joined.clear(); free_motion.clear(); sub_offset.assign(1, 0);
     sub_key.clear(); sub_area.clear();
     sub_local.clear(); sub_un.clear(); sub_udil.clear(); sub_sn.clear(); sub_us.clear(); sub_ss.clear();
@@ -77,7 +78,7 @@ ContactInfo contact_info(const Model& m, int c, bool touch_area) {
         info.shear_stress = info.shear_stress_vec.norm();
         info.shear_disp = info.shear_disp_vec.norm();
     } else {
-        info.centroid = cs.point[c];
+        info.centroid = contact_point(m, c);
         info.normal_disp = 0.0 - cs.gap[c]; // never -0
     }
     if (any_slip) info.state = ContactState::Slipping;
@@ -95,7 +96,24 @@ Vec3 contact_centroid(const Model& m, int c) {
         x += cs.sub_area[k] * sub_point(m, c, k);
         area += cs.sub_area[k];
     }
-    return area > 0 ? Vec3(x / area) : cs.point[c];
+    return area > 0 ? Vec3(x / area) : contact_point(m, c);
+}
+
+Vec3 contact_point(const Model& m, int c) {
+    const ContactSet& cs = m.contacts;
+    const BlockSet& s = m.blocks;
+    const int a = cs.block_a[c], b = cs.block_b[c];
+    // The world vertices of the last step or refresh, as detection sees them; the blocks'
+    // shapes placed now where those are not in step with the blocks (a model just restored).
+    const int n = s.size();
+    if (static_cast<int>(s.vertex_offset.size()) == n + 1 &&
+        static_cast<int>(s.world_vertices.size()) == s.vertex_offset[n]) {
+        const BlockView va{s.world_vertices.data() + s.vertex_offset[a], &s.shape[a]};
+        const BlockView vb{s.world_vertices.data() + s.vertex_offset[b], &s.shape[b]};
+        return plane_point(va, vb, cs.normal[c]);
+    }
+    const Polyhedron pa = world_shape(m, a), pb = world_shape(m, b);
+    return plane_point(BlockView{pa.vertices.data(), &pa}, BlockView{pb.vertices.data(), &pb}, cs.normal[c]);
 }
 
 Vec3 sub_point(const Model& m, int c, int k) {

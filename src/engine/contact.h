@@ -32,6 +32,8 @@
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
 
+#include "engine/pod_array.h"
+
 namespace odec {
 
 struct Model;
@@ -75,17 +77,17 @@ inline void shear_axes(const Eigen::Vector3d& n, Eigen::Vector3d& e1, Eigen::Vec
 
 struct ContactSet {
     // ---- per contact (n_contacts) ----
-    std::vector<int> id;                  // (n_contacts) user id, 1-based, kept while the contact lives
-    std::vector<int> block_a;             // (n_contacts) block index, a < b
-    std::vector<int> block_b;             // (n_contacts) block index
-    std::vector<Eigen::Vector3d> normal;  // (n_contacts) common-plane unit normal, from a to b
-    std::vector<Eigen::Vector3d> point;   // (n_contacts) m, common-plane reference point
-    std::vector<double> gap;              // (n_contacts) m, signed gap at the last refresh (< 0 overlap)
-    std::vector<int> jmat;                // (n_contacts) joint material number
-    std::vector<int> jcons;               // (n_contacts) joint model (1 or 2)
-    std::vector<std::uint8_t> joined;     // (n_contacts) 1: glued (no slip, no opening)
-    std::vector<int> sub_offset;          // (n_contacts + 1) first sub-contact of each contact
-    std::vector<double> free_motion;      // (n_contacts) m, derived (not saved): how far its blocks may
+    PodArray<int> id;                     // (n_contacts) user id, 1-based, kept while the contact lives
+    PodArray<int> block_a;                // (n_contacts) block index, a < b
+    PodArray<int> block_b;                // (n_contacts) block index
+    PodArray<Eigen::Vector3d> normal;     // (n_contacts) common-plane unit normal, from a to b (its
+                                          //          reference point is not kept: contact_point)
+    PodArray<double> gap;                 // (n_contacts) m, signed gap at the last refresh (< 0 overlap)
+    PodArray<int> jmat;                   // (n_contacts) joint material number
+    PodArray<int> jcons;                  // (n_contacts) joint model (1 or 2)
+    PodArray<std::uint8_t> joined;        // (n_contacts) 1: glued (no slip, no opening)
+    PodArray<int> sub_offset;             // (n_contacts + 1) first sub-contact of each contact
+    PodArray<double> free_motion;         // (n_contacts) m, derived (not saved): how far its blocks may
                                           //          move (`movement` since their geometry references)
                                           //          before a corner that carries no sub-contact could
                                           //          press into the other block (for a contact that
@@ -95,36 +97,36 @@ struct ContactSet {
     // ---- per sub-contact (n_subs) ----
     // Its contact is the one whose sub_offset range holds it (sub_owner), its side and the vertex
     // or gridpoint it stands for are in its key (sub_side, sub_vertex): none is stored.
-    std::vector<std::int64_t> sub_key;    // (n_subs) what the point is (vertex, or pair of edges): the
+    PodArray<std::int64_t> sub_key;       // (n_subs) what the point is (vertex, or pair of edges): the
                                           //          identity that carries its history across refreshes.
                                           //          Sides 0, 1: (side << 61) | vertex; sides 3, 4:
                                           //          ((side - 3) << 61) | kGridpointKey | gridpoint, so
                                           //          that a gridpoint never takes over the history
                                           //          of a vertex of the same number when its block
                                           //          is zoned; side 2: bit 62 set
-    std::vector<double> sub_area;         // (n_subs) m^2, share of the contact area (they sum to it)
-    std::vector<Eigen::Vector3d> sub_local; // (n_subs) m, point in the owner's body frame (block b for
+    PodArray<double> sub_area;            // (n_subs) m^2, share of the contact area (they sum to it)
+    PodArray<Eigen::Vector3d> sub_local;    // (n_subs) m, point in the owner's body frame (block b for
                                           //          side 1, else block a); sides 3 and 4: where the
                                           //          gridpoint meets the other block, in that block's
                                           //          body frame when it is rigid, else the weights of
                                           //          the corners of sub_triangle
-    std::vector<std::array<int, 3>> sub_tri; // (n_subs, or empty when no sub-contact has one) sides 3
+    PodArray<std::array<int, 3>> sub_tri;    // (n_subs, or empty when no sub-contact has one) sides 3
                                           //          and 4 against a deformable block: the gridpoints
                                           //          of the surface triangle the gridpoint meets; else
                                           //          -1 (read through sub_triangle)
-    std::vector<double> sub_un;           // (n_subs) m, normal closure (> 0 compressed), from motion
-    std::vector<double> sub_udil;         // (n_subs, or empty while all are 0) m, dilation accumulated
+    PodArray<double> sub_un;              // (n_subs) m, normal closure (> 0 compressed), from motion
+    PodArray<double> sub_udil;            // (n_subs, or empty while all are 0) m, dilation accumulated
                                           //          while slipping (read through sub_dilation): kept
                                           //          once a joint material has dilation (update_contacts)
                                           //          or a sub-contact has some
-    std::vector<double> sub_sn;           // (n_subs) Pa, normal stress, compression positive
+    PodArray<double> sub_sn;              // (n_subs) Pa, normal stress, compression positive
     // The shear vectors are held as their components on the shear axes of their contact's
     // normal (shear_axes): the normal is fixed between refreshes, and a refresh that turns it
     // turns them onto the new plane. Read them as vectors through sub_shear_disp and
     // sub_shear_stress.
-    std::vector<Eigen::Vector2d> sub_us;  // (n_subs) m, shear displacement of b relative to a
-    std::vector<Eigen::Vector2d> sub_ss;  // (n_subs) Pa, shear stress on b (opposes its slip)
-    std::vector<std::uint8_t> sub_flags;  // (n_subs) SubContactFlags
+    PodArray<Eigen::Vector2d> sub_us;     // (n_subs) m, shear displacement of b relative to a
+    PodArray<Eigen::Vector2d> sub_ss;     // (n_subs) Pa, shear stress on b (opposes its slip)
+    PodArray<std::uint8_t> sub_flags;     // (n_subs) SubContactFlags
 
     // ---- detection bookkeeping ----
     double ctol = 0;                      // m, tolerance in use (settings.ctol or chosen)
@@ -159,7 +161,7 @@ struct ContactSet {
     // which of them carry sub-contacts: the contacts that carry sub-contacts, by colour, no two
     // contacts of one colour sharing a block, so that the contact update adds their forces
     // straight into the blocks on the threads.
-    std::vector<int> color_order;                 // (contacts carrying sub-contacts) colour by colour,
+    PodArray<int> color_order;                       // (contacts carrying sub-contacts) colour by colour,
                                                   //   each in contact order, then those no colour could take
     std::vector<int> color_offset;                // (n_colours + 1) first entry of each colour
     bool colored = false;
@@ -293,6 +295,10 @@ struct ContactInfo {
 ContactInfo contact_info(const Model& m, int contact_index, bool touch_area = true);
 // Area-weighted centroid of a contact's sub-contacts (its reference point when they have none).
 Eigen::Vector3d contact_centroid(const Model& m, int contact_index);
+// The reference point of contact c's common plane, m: midway between its blocks' vertex means,
+// moved along its normal onto the plane midway in the gap between them, for the blocks as they
+// stand now (at a refresh, the point the plane was found with).
+Eigen::Vector3d contact_point(const Model& m, int contact_index);
 // The area where contact c's blocks touch now, m^2. Where faces lie on the common plane (within
 // ctol of it): the shares of the contact polygon that belong to its closed sub-contacts (those
 // that carry stress or are glued; one away from the other block carries nothing and is open).

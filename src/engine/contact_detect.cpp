@@ -610,7 +610,7 @@ bool corner_carried(const ContactSet& x, int k0, int k1, const std::vector<Vec3>
 }
 
 void clear_arrays(ContactSet& x) {
-    x.id.clear(); x.block_a.clear(); x.block_b.clear(); x.normal.clear(); x.point.clear(); x.gap.clear();
+    x.id.clear(); x.block_a.clear(); x.block_b.clear(); x.normal.clear(); x.gap.clear();
     x.jmat.clear(); x.jcons.clear(); x.joined.clear(); x.free_motion.clear(); x.sub_offset.assign(1, 0);
     x.sub_key.clear();
     x.sub_area.clear(); x.sub_local.clear(); x.sub_un.clear(); x.sub_udil.clear(); x.sub_sn.clear();
@@ -620,7 +620,7 @@ void clear_arrays(ContactSet& x) {
 // f applied to each per-contact array of x but the offsets.
 template <class F>
 void each_contact_array(ContactSet& x, F&& f) {
-    f(x.id); f(x.block_a); f(x.block_b); f(x.normal); f(x.point); f(x.gap); f(x.jmat); f(x.jcons); f(x.joined);
+    f(x.id); f(x.block_a); f(x.block_b); f(x.normal); f(x.gap); f(x.jmat); f(x.jcons); f(x.joined);
     f(x.free_motion);
 }
 // f applied to each per-sub-contact array of x, the triangles too when `tri` and the dilations
@@ -681,7 +681,7 @@ int take_id(ContactSet& cs, int id) { return id > 0 ? id : cs.next_id++; }
 // the result is the same arrays whatever the gaps were.
 class Rewrite {
 public:
-    Rewrite(ContactSet& cs, std::vector<int>& old_off)
+    Rewrite(ContactSet& cs, PodArray<int>& old_off)
         : cs_(cs), old_off_(old_off), tri_(!cs.sub_tri.empty()), dil_(!cs.sub_udil.empty()) {
         old_off_.swap(cs_.sub_offset); // the old offsets; cs.sub_offset is written anew
         if (old_off_.empty()) old_off_.assign(1, 0);
@@ -725,7 +725,7 @@ public:
         room(n, next);
         const int c = wc_;
         cs_.id[c] = take_id(cs_, x.id[f]); cs_.block_a[c] = x.block_a[f]; cs_.block_b[c] = x.block_b[f];
-        cs_.normal[c] = x.normal[f]; cs_.point[c] = x.point[f]; cs_.gap[c] = x.gap[f];
+        cs_.normal[c] = x.normal[f]; cs_.gap[c] = x.gap[f];
         cs_.jmat[c] = x.jmat[f]; cs_.jcons[c] = x.jcons[f]; cs_.joined[c] = x.joined[f]; cs_.free_motion[c] = x.free_motion[f];
         for (int i = 0; i < n; ++i) {
             const int j = j0 + i, k = wk_ + i;
@@ -769,7 +769,9 @@ private:
     static void open(V& v, std::size_t at, std::size_t g, bool appending) {
         const std::size_t p = v.size(), n = p + g;
         if (n > v.capacity()) v.reserve(std::max(n, v.capacity() + v.capacity() / (appending ? 2 : 8)));
-        v.resize(n);
+        // The new elements are all written before they are read (moved up into, or written by
+        // the pass), so their pages are not touched here.
+        v.resize_for_overwrite(n);
         // Moved as bytes, on the threads when it is much: every array of the set holds plain
         // numbers (Eigen's 3-vectors are three doubles and nothing else).
         using T = typename V::value_type;
@@ -798,7 +800,7 @@ private:
     }
 
     ContactSet& cs_;
-    std::vector<int>& old_off_;
+    PodArray<int>& old_off_;
     long gc_ = 0, gk_ = 0; // how far the unread old state has been moved up
     int wc_ = 0, wk_ = 0;  // contacts and sub-contacts written
     bool tri_;             // the set has triangles (sub_tri)
@@ -1017,7 +1019,6 @@ struct Detector {
         next.block_a.push_back(a);
         next.block_b.push_back(b);
         next.normal.push_back(cp.normal);
-        next.point.push_back(cp.point);
         next.gap.push_back(cp.gap);
         next.free_motion.push_back(-std::numeric_limits<double>::infinity());
     }
@@ -1242,7 +1243,7 @@ struct Job {
 };
 
 // Jobs built at a time: the contacts of one window are all that a pass holds besides the set.
-constexpr int kBuildWindow = 8192;
+constexpr int kBuildWindow = 2048;
 
 // Build jobs [j0, j1) into rb, on the threads, reading the old contacts where rw has them.
 // fresh[j - j0] is the fresh index of job j's contact, or -1 when its blocks were farther apart
@@ -1288,9 +1289,11 @@ void broad_phase(const Model& m, double tol, std::vector<std::int64_t>& pairs) {
     const BlockSet& s = m.blocks;
     const int n = s.size();
     pairs.clear();
-    thread_local std::vector<Vec3> lo, hi;
-    thread_local std::vector<int> active, cell_items;
-    thread_local std::vector<long> cell_start; // block-cell memberships can pass INT_MAX
+    // Buffers of this call only: the broad phase runs seldom, and kept they would hold about
+    // 70 B a block between its runs.
+    std::vector<Vec3> lo, hi;
+    std::vector<int> active, cell_items;
+    std::vector<long> cell_start; // block-cell memberships can pass INT_MAX
     lo.resize(n);
     hi.resize(n);
     active.clear();
@@ -1356,8 +1359,7 @@ void broad_phase(const Model& m, double tol, std::vector<std::int64_t>& pairs) {
     for (long c = 0; c < n_cells; ++c) cell_start[c + 1] += cell_start[c];
     cell_items.resize(cell_start[n_cells]);
     {
-        thread_local std::vector<long> fill;
-        fill.assign(cell_start.begin(), cell_start.end() - 1);
+        std::vector<long> fill(cell_start.begin(), cell_start.end() - 1);
         for (int b : active) for_cells(b, [&](long c) { cell_items[fill[c]++] = b; });
     }
     for (long c = 0; c < n_cells; ++c) {
@@ -1451,7 +1453,7 @@ void renumber_contacts(Model& m, const std::vector<int>* new_block, const std::v
         }
         v.resize(w);
     });
-    cs.sub_offset = std::move(offset);
+    cs.sub_offset.assign(offset.begin(), offset.end());
     if (new_block != nullptr) {
         for (int& b : cs.block_a) b = (*new_block)[b];
         for (int& b : cs.block_b) b = (*new_block)[b];
@@ -1723,7 +1725,7 @@ void detect_contacts(Model& m) {
     using Clock = std::chrono::steady_clock;
     const Clock::time_point pass_start = Clock::now();
     double build_time = 0;
-    thread_local std::vector<int> old_off;
+    thread_local PodArray<int> old_off;
     bool colouring_holds = static_cast<int>(plan.size()) == cs.size();
     {
         Rewrite rw(cs, old_off);

@@ -313,7 +313,7 @@ void load_contacts(Model& m, const Range& r, const StressField& f, const std::ve
         // Between rigid blocks: where their faces on the plane overlap (with area).
         const Vec3 ref = std::abs(n.x()) < 0.6 ? Vec3::UnitX() : Vec3::UnitY();
         const Vec3 e1 = (ref - ref.dot(n) * n).normalized(), e2 = n.cross(e1);
-        const Vec3 p0 = cs.point[c];
+        const Vec3 p0 = contact_point(m, c);
         std::vector<Poly2> overlap;
         double overlap_area = 0;
         Eigen::Vector2d overlap_centre = Eigen::Vector2d::Zero();

@@ -50,7 +50,7 @@ std::string overlap_problem(const Model& m) {
     constexpr size_t kShown = 10;
     for (size_t i = 0; i < deep.size() && i < kShown; ++i) {
         const int c = deep[i].c;
-        const Vec3& x = cs.point[c];
+        const Vec3 x = contact_point(m, c);
         text += "\n    blocks " + std::to_string(s.id[cs.block_a[c]]) + " and " + std::to_string(s.id[cs.block_b[c]]) +
                 " overlap " + num_text(deep[i].depth) + " m deep near (" + num_text(x.x()) + "," + num_text(x.y()) + "," +
                 num_text(x.z()) + ")" + (m.settings.ovtol > 0 ? "" : " (tolerance " + num_text(deep[i].tol) + " m)");

@@ -437,7 +437,19 @@ std::vector<std::uint8_t> sub_sides(const ContactSet& x) {
 // them for every sub-contact.
 template <class IO, class M>
 auto fields(IO& io, M& x) -> If<M, ContactSet> {
-    io(x.id); io(x.block_a); io(x.block_b); io(x.normal); io(x.point); io(x.gap);
+    io(x.id); io(x.block_a); io(x.block_b); io(x.normal);
+    // Format 17 has no reference point of the plane (contact_point derives it from the blocks);
+    // older files have one, checked and left.
+    if constexpr (!std::is_const_v<M>) {
+        if (io.format < 17) {
+            std::vector<Vec3> point;
+            io(point);
+            io.check(point.size() == x.block_a.size(), "the contact arrays differ in length");
+            io.check(std::all_of(point.begin(), point.end(), [](const Vec3& p) { return p.allFinite(); }),
+                     "a contact point is not a finite number");
+        }
+    }
+    io(x.gap);
     io(x.jmat); io(x.jcons); io(x.joined); io(x.sub_offset);
     if constexpr (std::is_const_v<M>) {
         io(sub_owners(x)); io(sub_sides(x)); io(x.sub_key); io(sub_vertices(x));
@@ -470,7 +482,7 @@ auto fields(IO& io, M& x) -> If<M, ContactSet> {
     } else {
         io(x.sub_udil);
         if (std::all_of(x.sub_udil.begin(), x.sub_udil.end(), [](double u) { return u == 0 && !std::signbit(u); })) {
-            std::vector<double>().swap(x.sub_udil);
+            PodArray<double>().swap(x.sub_udil);
         }
     }
     io(x.sub_sn);
@@ -503,7 +515,7 @@ auto fields(IO& io, M& x) -> If<M, ContactSet> {
             io(x.sub_tri);
             const bool none = std::all_of(x.sub_tri.begin(), x.sub_tri.end(),
                                           [](const std::array<int, 3>& t) { return t[0] == -1 && t[1] == -1 && t[2] == -1; });
-            if (none) std::vector<std::array<int, 3>>().swap(x.sub_tri);
+            if (none) PodArray<std::array<int, 3>>().swap(x.sub_tri);
         }
     }
     io(x.ctol); io(x.next_id); io(x.detected);
@@ -664,7 +676,13 @@ public:
     template <class T, size_t N>
     void operator()(const std::array<T, N>& a) { for (const T& x : a) (*this)(x); }
     template <class T>
-    void operator()(const std::vector<T>& v) {
+    void operator()(const std::vector<T>& v) { array(v); }
+    template <class T>
+    void operator()(const PodArray<T>& v) { array(v); }
+    // An array: its length, then its elements.
+    template <class V>
+    void array(const V& v) {
+        using T = typename V::value_type;
         raw(static_cast<std::uint64_t>(v.size()));
         if constexpr (Bulk<T>::value) {
             if (!v.empty()) bytes(v.data(), v.size() * sizeof(T));
@@ -821,7 +839,12 @@ public:
     template <class T, size_t N>
     void operator()(std::array<T, N>& a) { for (T& x : a) (*this)(x); }
     template <class T>
-    void operator()(std::vector<T>& v) {
+    void operator()(std::vector<T>& v) { array(v); }
+    template <class T>
+    void operator()(PodArray<T>& v) { array(v); }
+    template <class V>
+    void array(V& v) {
+        using T = typename V::value_type;
         // Every element takes at least a byte, so a length beyond the bytes left is damage,
         // caught before it can ask for a huge allocation.
         if constexpr (Bulk<T>::value) {
@@ -1215,7 +1238,7 @@ std::string check_consistent(const Model& m) {
 
     const ContactSet& c = m.contacts;
     const size_t nc = c.block_a.size();
-    if (c.id.size() != nc || c.block_b.size() != nc || c.normal.size() != nc || c.point.size() != nc ||
+    if (c.id.size() != nc || c.block_b.size() != nc || c.normal.size() != nc ||
         c.gap.size() != nc || c.jmat.size() != nc || c.jcons.size() != nc || c.joined.size() != nc) {
         return "the contact arrays differ in length";
     }
@@ -1554,7 +1577,6 @@ std::string check_values(const Model& m) {
         if (cs.id[k] < 1 || cs.id[k] >= cs.next_id) c.fail(w, "its id is out of range");
         if (!(cs.block_a[k] < cs.block_b[k])) c.fail(w, "its blocks are not in order (a < b)");
         if (c.vec(cs.normal[k], w, "the normal") && std::abs(cs.normal[k].norm() - 1) > 1e-6) c.fail(w, "the normal is not a unit vector");
-        c.vec(cs.point[k], w, "the point");
         c.finite(cs.gap[k], w, "the gap");
         if (cs.jmat[k] < 0 || cs.jmat[k] > 1000000) c.fail(w, "the joint material is out of range");
         if (cs.jcons[k] < 1 || cs.jcons[k] > 2) c.fail(w, "the joint model is out of range");
@@ -1605,7 +1627,7 @@ std::string check_values(const Model& m) {
     // Ids in increasing order are distinct as they are; others are sorted in a copy (an int a
     // contact).
     if (std::adjacent_find(cs.id.begin(), cs.id.end(), std::greater_equal<int>()) != cs.id.end()) {
-        std::vector<int> ids = cs.id;
+        std::vector<int> ids(cs.id.begin(), cs.id.end());
         std::sort(ids.begin(), ids.end());
         if (std::adjacent_find(ids.begin(), ids.end()) != ids.end()) return "two contacts have the same id";
     }

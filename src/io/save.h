@@ -35,7 +35,10 @@ namespace odec {
 // files have no flow); 14: liners and the liners stage of the profile (older files have none);
 // 15: adaptive damping's memory of the last step (older files start without it); 16: the
 // timestep of that step (older files take the next step's), and gridpoints' sub-contact keys
-// marked apart from vertices' (older files' are marked as they are read).
+// marked apart from vertices' (older files' are marked as they are read); 17: the sub-contacts'
+// shear displacements and stresses as two components on their contact's shear axes (older
+// files' vectors are put on the axes as they are read), and no reference point of a contact's
+// plane (derived from its blocks: older files' points are checked and left).
 constexpr std::uint32_t kSaveFormatVersion = 17;
 
 // Write the model to `path`. A model that restore would refuse (a velocity that is not a finite

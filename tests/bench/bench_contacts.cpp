@@ -141,7 +141,7 @@ void run(int n, long steps) {
         const ContactSet& cs = m.contacts;
         auto bytes = [](const auto& v) { return static_cast<double>(v.capacity() * sizeof(v[0])); };
         const double per_contact = bytes(cs.id) + bytes(cs.block_a) + bytes(cs.block_b) + bytes(cs.normal) +
-                                   bytes(cs.point) + bytes(cs.gap) + bytes(cs.jmat) + bytes(cs.jcons) +
+                                   bytes(cs.gap) + bytes(cs.jmat) + bytes(cs.jcons) +
                                    bytes(cs.joined) + bytes(cs.sub_offset) + bytes(cs.free_motion) +
                                    bytes(cs.color_order);
         const double per_sub = bytes(cs.sub_key) + bytes(cs.sub_area) + bytes(cs.sub_local) +

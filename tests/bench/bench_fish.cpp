@@ -33,7 +33,6 @@ int main(int argc, char** argv) {
         c.block_a.push_back(0);
         c.block_b.push_back(1);
         c.normal.push_back(Eigen::Vector3d::UnitZ());
-        c.point.push_back(Eigen::Vector3d(0.5, 0.5, 1));
         c.gap.push_back(0);
         c.jmat.push_back(1);
         c.jcons.push_back(1);

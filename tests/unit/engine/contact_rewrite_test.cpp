@@ -64,7 +64,7 @@ TEST(ContactRewrite, APassRebuildingEveryContactFindsWhatAFreshDetectionFinds) {
     EXPECT_EQ(a.sub_key, f.sub_key);
     EXPECT_EQ(a.jmat, f.jmat);
     // The old contacts kept their ids, the new ones took the next ones: all different.
-    std::vector<int> ids = a.id;
+    std::vector<int> ids(a.id.begin(), a.id.end());
     std::sort(ids.begin(), ids.end());
     EXPECT_TRUE(std::adjacent_find(ids.begin(), ids.end()) == ids.end());
     EXPECT_EQ(ids.back(), a.next_id - 1);

@@ -404,7 +404,27 @@ std::string without_clumps(std::string file, const std::vector<int>& clumps, con
     const size_t cont = file.find("CONT", payload_length_at + 8);
     if (cont == std::string::npos) return "";
     size_t from = cont;
-    auto widen = [&](const std::vector<Eigen::Vector2d>& v, bool disp) {
+    // Format 17 dropped the reference point of each contact's plane, an array after the normals
+    // (older files' are read and left: zeros will do).
+    {
+        const std::uint64_t nc = cs.normal.size();
+        std::string pattern(8 + 24 * nc, '\0');
+        std::memcpy(&pattern[0], &nc, 8);
+        if (nc > 0) std::memcpy(&pattern[8], cs.normal.data(), 24 * nc);
+        const size_t at = file.find(pattern, from);
+        if (at == std::string::npos) return "";
+        std::string points(8 + 24 * nc, '\0');
+        std::memcpy(&points[0], &nc, 8);
+        file.insert(at + pattern.size(), points);
+        for (size_t at_length : {cont + 4, payload_length_at}) {
+            std::uint64_t len = 0;
+            std::memcpy(&len, &file[at_length], 8);
+            len += points.size();
+            std::memcpy(&file[at_length], &len, 8);
+        }
+        from = at + pattern.size() + points.size();
+    }
+    auto widen = [&](const odec::PodArray<Eigen::Vector2d>& v, bool disp) {
         const std::uint64_t ns = v.size();
         std::string pattern(8 + 16 * ns, '\0');
         std::memcpy(&pattern[0], &ns, 8);

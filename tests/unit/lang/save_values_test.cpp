@@ -123,7 +123,7 @@ std::string model_problem(const odec::Model& m) {
     if (c.block_b.size() != nc || c.normal.size() != nc || (nc > 0 && c.sub_offset.size() != nc + 1)) return "contact arrays";
     for (size_t k = 0; k < nc; ++k) {
         if (c.block_a[k] < 0 || c.block_b[k] >= static_cast<int>(n) || c.block_a[k] >= c.block_b[k]) return "contact blocks";
-        if (!c.normal[k].allFinite() || !c.point[k].allFinite() || !fin(c.gap[k])) return "contact numbers";
+        if (!c.normal[k].allFinite() || !fin(c.gap[k])) return "contact numbers";
     }
     for (size_t k = 0; k < c.sub_key.size(); ++k) {
         if (!fin(c.sub_area[k]) || !fin(c.sub_un[k]) || !fin(c.sub_sn[k]) || !c.sub_ss[k].allFinite() ||
@@ -344,8 +344,9 @@ TEST_F(SaveValues, ADoubleEditedInThePayloadWithItsChecksumIsRefused) {
 }
 
 // Bytes as the save file writes them: a length, then each element (ints in four bytes).
-template <class T>
-std::string file_bytes(const std::vector<T>& v) {
+template <class V>
+std::string file_bytes(const V& v) {
+    using T = typename V::value_type;
     std::string out(8, '\0');
     const std::uint64_t n = v.size();
     std::memcpy(&out[0], &n, 8);
