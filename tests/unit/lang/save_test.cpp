@@ -477,6 +477,21 @@ TEST_F(Save, Format6AppliedForceRestoresAsALoadAtTheCentroid) {
     // liners stage, the last three of its stage times (the cables, the flow and the liners
     // themselves are sections after ENRG, gone with it; the hydraulic apertures of format 13 are
     // in joint materials, which this model has none of).
+    // Format 17 dropped the reference points of the contacts' planes, an array after the
+    // normals: none here (no contacts), so its length alone.
+    const size_t cont = file.find("CONT", payload_length_at + 8);
+    ASSERT_NE(cont, std::string::npos);
+    for (size_t i = 0; i < 4; ++i) { // ids, blocks a and b, normals: empty
+        std::memcpy(&n, &file[cont + 12 + 8 * i], 8);
+        ASSERT_EQ(n, 0u);
+    }
+    file.insert(cont + 12 + 32, std::string(8, '\0'));
+    for (size_t at_length : {cont + 4, payload_length_at}) {
+        std::uint64_t len = 0;
+        std::memcpy(&len, &file[at_length], 8);
+        len += 8;
+        std::memcpy(&file[at_length], &len, 8);
+    }
     const size_t prof = file.find("PROF", payload_length_at + 8);
     ASSERT_TRUE(prof != std::string::npos && prof < blks);
     const int stages = 7;
