@@ -308,7 +308,12 @@ TEST(Robustness, TheMesherDiesWithTheSession) {
             const int p = std::atoi(e->d_name);
             if (p <= 0) continue;
             std::ifstream f("/proc/" + std::string(e->d_name) + "/cmdline", std::ios::binary);
-            const std::string cmd((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+            std::string cmd;
+            try {
+                cmd.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+            } catch (const std::exception&) {
+                continue; // the process ended while its command line was read ("No such process")
+            }
             if (cmd.find(script) != std::string::npos) found.push_back(p);
         }
         closedir(d);
