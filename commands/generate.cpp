@@ -308,7 +308,9 @@ const CommandSpec& generate_command() {
             if (budget >= 0) budget = std::max<long long>(0, budget - kGenZoneCharge);
             // A block whose coordinates no longer resolve its shape (one that has run away to
             // 1e19 m, say, where neighbouring doubles are kilometres apart) cannot be zoned: its
-            // corners are one point, or nearly, and the mesher would never finish.
+            // corners are one point, or nearly, and the mesher would never finish. Nor can a zoned
+            // block whose corner gridpoints no longer make a convex solid (a model that ran away
+            // bends and folds its faces): the mesher would take minutes to find that out.
             for (size_t k = 0; k < blocks.size(); ++k) {
                 const int b = blocks[k];
                 const Polyhedron w = world_shape(m, b);
@@ -318,24 +320,16 @@ const CommandSpec& generate_command() {
                 const double far = std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff());
                 const double fine = far * std::numeric_limits<double>::epsilon();
                 const double feature = std::min(across, edges[k]);
-                if (std::isfinite(far) && fine <= kResolvedFraction * feature) continue;
-                fail(a.loc,
-                     "block " + std::to_string(m.blocks.id[b]) + " lies " + num(far) +
-                         " m from the origin, where coordinates are no finer than " + num(fine) + " m: its shape (" +
-                         num(across) + " m across) and zones of " + num(edges[k]) + " m are lost there",
-                     {"a block gets there by running away: look at its velocity ('print block') and at the loads"},
-                     "generate");
-            }
-            // A zoned block whose corner gridpoints no longer make a convex solid (a model that ran
-            // away bends and folds its faces): the mesher could not zone it, and would take
-            // minutes to find that out.
-            for (size_t k = 0; k < blocks.size(); ++k) {
-                const int b = blocks[k];
+                if (!(std::isfinite(far) && fine <= kResolvedFraction * feature)) {
+                    fail(a.loc,
+                         "block " + std::to_string(m.blocks.id[b]) + " lies " + num(far) +
+                             " m from the origin, where coordinates are no finer than " + num(fine) +
+                             " m: its shape (" + num(across) + " m across) and zones of " + num(edges[k]) +
+                             " m are lost there",
+                         {"a block gets there by running away: look at its velocity ('print block') and at the loads"},
+                         "generate");
+                }
                 if (!(m.blocks.flags[b] & kDeformable)) continue;
-                const Polyhedron w = world_shape(m, b);
-                Vec3 lo, hi;
-                w.bounds(lo, hi);
-                const double across = (hi - lo).norm();
                 std::string why;
                 if (std::isfinite(across) && is_convex_polyhedron(w, kDistortedFraction * across, &why)) continue;
                 fail(a.loc,

@@ -9,6 +9,7 @@
 #include "engine/pod_array.h"
 
 #include "../../bench/memory.h"
+#include "../sanitizers.h"
 
 namespace odec {
 namespace {
@@ -74,14 +75,6 @@ TEST(PodArray, CopiesAreDeepAndMovesTakeTheStorage) {
 // instead of being copied, so the process never holds the old and the new storage together.
 // 64 MB of doubles, every page touched, grown by an eighth as a refresh pass grows the contact
 // set: the peak resident memory rises by far less than the 64 MB a copy would hold.
-#if defined(__SANITIZE_ADDRESS__)
-#define ODEC_TEST_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define ODEC_TEST_ASAN 1
-#endif
-#endif
-
 TEST(PodArray, GrowingALargeArrayDoesNotHoldTwoCopies) {
 #if defined(ODEC_TEST_ASAN)
     GTEST_SKIP() << "AddressSanitizer's allocator copies what realloc grows (and keeps the old block in "

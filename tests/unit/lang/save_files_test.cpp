@@ -40,6 +40,7 @@
 
 #include "fish/runtime.h"
 #include "io/save.h"
+#include "../sanitizers.h"
 #include "test_util.h"
 
 using odec::test::read_bytes;
@@ -395,15 +396,6 @@ TEST_F(SaveFiles, SaveAndRestoreDoNotHoldTheFileInMemory) {
     }, 120);
     EXPECT_EQ(o, Outcome::Ok);
 }
-
-// gcc says __SANITIZE_ADDRESS__, clang __has_feature(address_sanitizer).
-#if defined(__SANITIZE_ADDRESS__)
-#define ODEC_TEST_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define ODEC_TEST_ASAN 1
-#endif
-#endif
 
 TEST_F(SaveFiles, SaveWorksAfterRunningOutOfMemory) {
 #if defined(ODEC_TEST_ASAN)
