@@ -26,6 +26,7 @@
 // is itself a candidate and is kept through ties, so a face-face contact between two equal
 // face normals does not flip from one to the other from step to step.
 #include "engine/common_plane.h"
+#include "engine/normal_code.h"
 
 #include <algorithm>
 #include <cmath>
@@ -323,6 +324,10 @@ CommonPlane common_plane(const BlockView& a, const BlockView& b, const Vec3* war
         best_gap = joint_gap;
     }
 
+    // The normal as the contact set keeps it (normal_code.h), and the gap across the plane of
+    // that normal: the contact acts along the normal its geometry is measured on.
+    best_n = snap_normal(best_n);
+    best_gap = gap_along(a, b, best_n);
     CommonPlane cp;
     cp.normal = best_n;
     cp.gap = best_gap;

@@ -24,7 +24,7 @@ const char* contact_state_name(ContactState s) {
 }
 
 void ContactSet::clear() {
-    id.clear(); block_a.clear(); block_b.clear(); normal.clear(); gap.clear();
+    id.clear(); block_a.clear(); block_b.clear(); normal_code.clear(); gap.clear();
     jmat.clear(); jcons.clear(); joined.clear(); free_motion.clear(); sub_offset.assign(1, 0);
     sub_key.clear(); sub_area.clear();
     sub_local.clear(); sub_un.clear(); sub_udil.clear(); sub_sn.clear(); sub_us.clear(); sub_ss.clear();
@@ -47,7 +47,7 @@ ContactInfo contact_info(const Model& m, int c, bool touch_area) {
     info.id = cs.id[c];
     info.block_a = cs.block_a[c];
     info.block_b = cs.block_b[c];
-    info.normal = cs.normal[c];
+    info.normal = cs.normal(c);
     info.jmat = cs.jmat[c];
     info.jcons = cs.jcons[c];
     info.joined = cs.joined[c] != 0;
@@ -110,10 +110,10 @@ Vec3 contact_point(const Model& m, int c) {
         static_cast<int>(s.world_vertices.size()) == s.vertex_offset[n]) {
         const BlockView va{s.world_vertices.data() + s.vertex_offset[a], &s.shape[a]};
         const BlockView vb{s.world_vertices.data() + s.vertex_offset[b], &s.shape[b]};
-        return plane_point(va, vb, cs.normal[c]);
+        return plane_point(va, vb, cs.normal(c));
     }
     const Polyhedron pa = world_shape(m, a), pb = world_shape(m, b);
-    return plane_point(BlockView{pa.vertices.data(), &pa}, BlockView{pb.vertices.data(), &pb}, cs.normal[c]);
+    return plane_point(BlockView{pa.vertices.data(), &pa}, BlockView{pb.vertices.data(), &pb}, cs.normal(c));
 }
 
 Vec3 sub_point(const Model& m, int c, int k) {

@@ -26,12 +26,15 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
 
+#include "engine/normal_code.h"
 #include "engine/pod_array.h"
 
 namespace odec {
@@ -43,6 +46,20 @@ struct Polyhedron;
 // A face within 20 degrees of a contact's plane lies flat to it (cos 20 deg): the gridpoint areas
 // of contacts, the faces 'insitu' loads and the area the joints' water wets.
 constexpr double kFlatToPlane = 0.9396926207859084;
+
+// The largest single-precision number not above x (infinities as they are): a bound that is
+// kept in single precision never promises more than was found.
+inline float float_not_above(double x) {
+    float f = static_cast<float>(x);
+    if (static_cast<double>(f) > x) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+    return f;
+}
+
+// The nearest single-precision number to x, the largest finite one beyond their range.
+inline float float_nearest(double x) {
+    constexpr double kMax = std::numeric_limits<float>::max();
+    return static_cast<float>(x > kMax ? kMax : x < -kMax ? -kMax : x);
+}
 
 // Sub-contact state flags.
 enum SubContactFlags : std::uint8_t {
@@ -80,19 +97,24 @@ struct ContactSet {
     PodArray<int> id;                     // (n_contacts) user id, 1-based, kept while the contact lives
     PodArray<int> block_a;                // (n_contacts) block index, a < b
     PodArray<int> block_b;                // (n_contacts) block index
-    PodArray<Eigen::Vector3d> normal;     // (n_contacts) common-plane unit normal, from a to b (its
+    PodArray<NormalCode> normal_code;     // (n_contacts) common-plane unit normal, from a to b, in
+                                          //          eight bytes (read through normal(c); its
                                           //          reference point is not kept: contact_point)
-    PodArray<double> gap;                 // (n_contacts) m, signed gap at the last refresh (< 0 overlap)
+    PodArray<float> gap;                  // (n_contacts) m, signed gap at the last refresh (< 0 overlap),
+                                          //          in single precision (it only decides when
+                                          //          the contact's geometry is looked at again)
     PodArray<int> jmat;                   // (n_contacts) joint material number
-    PodArray<int> jcons;                  // (n_contacts) joint model (1 or 2)
+    PodArray<std::uint8_t> jcons;         // (n_contacts) joint model (1 or 2)
     PodArray<std::uint8_t> joined;        // (n_contacts) 1: glued (no slip, no opening)
     PodArray<int> sub_offset;             // (n_contacts + 1) first sub-contact of each contact
-    PodArray<double> free_motion;         // (n_contacts) m, derived (not saved): how far its blocks may
+    PodArray<float> free_motion;          // (n_contacts) m, derived (not saved): how far its blocks may
                                           //          move (`movement` since their geometry references)
                                           //          before a corner that carries no sub-contact could
                                           //          press into the other block (for a contact that
                                           //          carries none, before its blocks could touch at
-                                          //          all: no more than its gap); -infinity: unknown
+                                          //          all: no more than its gap); -infinity: unknown;
+                                          //          rounded down to single precision
+                                          //          (float_not_above), so it never says more
 
     // ---- per sub-contact (n_subs) ----
     // Its contact is the one whose sub_offset range holds it (sub_owner), its side and the vertex
@@ -167,6 +189,8 @@ struct ContactSet {
     bool colored = false;
 
     int size() const { return static_cast<int>(block_a.size()); }
+    // The unit normal of contact c, from a to b.
+    Eigen::Vector3d normal(int c) const { return decode_normal(normal_code[c]); }
     int n_subs() const { return static_cast<int>(sub_key.size()); }
     // The block vertex (sides 0, 1) or gridpoint (sides 3, 4) sub-contact k stands for; -1 for
     // a crossing of edges (side 2).
@@ -189,12 +213,12 @@ struct ContactSet {
     // its components on those axes.
     Eigen::Vector3d shear_in_world(int c, const Eigen::Vector2d& v) const {
         Eigen::Vector3d e1, e2;
-        shear_axes(normal[c], e1, e2);
+        shear_axes(normal(c), e1, e2);
         return v[0] * e1 + v[1] * e2;
     }
     Eigen::Vector2d shear_on_axes(int c, const Eigen::Vector3d& v) const {
         Eigen::Vector3d e1, e2;
-        shear_axes(normal[c], e1, e2);
+        shear_axes(normal(c), e1, e2);
         return Eigen::Vector2d(v.dot(e1), v.dot(e2));
     }
     // Sub-contact k of contact c: its shear stress on block b (Pa) and shear displacement (m).

@@ -610,7 +610,7 @@ bool corner_carried(const ContactSet& x, int k0, int k1, const std::vector<Vec3>
 }
 
 void clear_arrays(ContactSet& x) {
-    x.id.clear(); x.block_a.clear(); x.block_b.clear(); x.normal.clear(); x.gap.clear();
+    x.id.clear(); x.block_a.clear(); x.block_b.clear(); x.normal_code.clear(); x.gap.clear();
     x.jmat.clear(); x.jcons.clear(); x.joined.clear(); x.free_motion.clear(); x.sub_offset.assign(1, 0);
     x.sub_key.clear();
     x.sub_area.clear(); x.sub_local.clear(); x.sub_un.clear(); x.sub_udil.clear(); x.sub_sn.clear();
@@ -620,7 +620,7 @@ void clear_arrays(ContactSet& x) {
 // f applied to each per-contact array of x but the offsets.
 template <class F>
 void each_contact_array(ContactSet& x, F&& f) {
-    f(x.id); f(x.block_a); f(x.block_b); f(x.normal); f(x.gap); f(x.jmat); f(x.jcons); f(x.joined);
+    f(x.id); f(x.block_a); f(x.block_b); f(x.normal_code); f(x.gap); f(x.jmat); f(x.jcons); f(x.joined);
     f(x.free_motion);
 }
 // f applied to each per-sub-contact array of x, the triangles too when `tri` and the dilations
@@ -725,7 +725,7 @@ public:
         room(n, next);
         const int c = wc_;
         cs_.id[c] = take_id(cs_, x.id[f]); cs_.block_a[c] = x.block_a[f]; cs_.block_b[c] = x.block_b[f];
-        cs_.normal[c] = x.normal[f]; cs_.gap[c] = x.gap[f];
+        cs_.normal_code[c] = x.normal_code[f]; cs_.gap[c] = x.gap[f];
         cs_.jmat[c] = x.jmat[f]; cs_.jcons[c] = x.jcons[f]; cs_.joined[c] = x.joined[f]; cs_.free_motion[c] = x.free_motion[f];
         for (int i = 0; i < n; ++i) {
             const int j = j0 + i, k = wk_ + i;
@@ -978,8 +978,8 @@ struct Detector {
         const BlockSet& s = m.blocks;
         new_n = cp.normal;
         shear_axes(new_n, new_e1, new_e2);
-        same_axes = oc < 0 || cs.normal[oc] == cp.normal;
-        if (!same_axes) shear_axes(cs.normal[oc], old_e1, old_e2);
+        same_axes = oc < 0 || cs.normal_code[oc] == encode_normal(cp.normal);
+        if (!same_axes) shear_axes(cs.normal(oc), old_e1, old_e2);
         if (oc >= 0) {
             next.id.push_back(cs.id[oc]);
             next.jmat.push_back(cs.jmat[oc]);
@@ -1018,8 +1018,8 @@ struct Detector {
         }
         next.block_a.push_back(a);
         next.block_b.push_back(b);
-        next.normal.push_back(cp.normal);
-        next.gap.push_back(cp.gap);
+        next.normal_code.push_back(encode_normal(cp.normal));
+        next.gap.push_back(float_nearest(cp.gap));
         next.free_motion.push_back(-std::numeric_limits<double>::infinity());
     }
 
@@ -1027,10 +1027,10 @@ struct Detector {
     bool build_gridpoint(int a, int b, const OldRef& old, bool require_close) {
         const int oc = old.c;
         const BlockView va = view(a), vb = view(b);
-        const Vec3* warm = oc >= 0 ? &cs.normal[oc] : nullptr;
-        const CommonPlane cp = common_plane(va, vb, warm, oc >= 0 ? tol : 0.0, 0.1 * tol);
+        const Vec3 old_n = oc >= 0 ? cs.normal(oc) : Vec3::UnitZ();
+        const CommonPlane cp = common_plane(va, vb, oc >= 0 ? &old_n : nullptr, oc >= 0 ? tol : 0.0, 0.1 * tol);
         if (require_close && cp.gap > tol) return false;
-        plane_turned = oc >= 0 && cs.normal[oc].dot(cp.normal) < kTurned;
+        plane_turned = oc >= 0 && old_n.dot(cp.normal) < kTurned;
         face_area_a.assign(m.blocks.shape[a].n_faces(), 0.0);
         face_area_b.assign(m.blocks.shape[b].n_faces(), 0.0);
         gridpoint_subcontacts(m, a, b, cp, tol, gsubs, face_area_a, face_area_b);
@@ -1052,8 +1052,8 @@ struct Detector {
         if ((m.blocks.flags[a] | m.blocks.flags[b]) & kDeformable) return build_gridpoint(a, b, old, require_close);
         const int oc = old.c;
         const BlockView va = view(a), vb = view(b);
-        const Vec3* warm = oc >= 0 ? &cs.normal[oc] : nullptr;
-        const CommonPlane cp = common_plane(va, vb, warm, oc >= 0 ? tol : 0.0, 0.1 * tol);
+        const Vec3 old_n = oc >= 0 ? cs.normal(oc) : Vec3::UnitZ();
+        const CommonPlane cp = common_plane(va, vb, oc >= 0 ? &old_n : nullptr, oc >= 0 ? tol : 0.0, 0.1 * tol);
         if (require_close && cp.gap > tol) return false;
         plane_turned = false;
         if (oc >= 0 && cs.joined[oc] && old.k1 > old.k0) {
@@ -1068,11 +1068,11 @@ struct Detector {
                 push_sub(next, cs.sub_key[k], cs.sub_area[k], cs.sub_local[k]);
                 push_history(k, cs.sub_un[k], false);
             }
-            next.free_motion.back() = clearance(a, b, cp.normal, first);
+            next.free_motion.back() = float_not_above(clearance(a, b, cp.normal, first));
             next.sub_offset.push_back(next.n_subs());
             return true;
         }
-        plane_turned = oc >= 0 && cs.normal[oc].dot(cp.normal) < kTurned;
+        plane_turned = oc >= 0 && old_n.dot(cp.normal) < kTurned;
         const Frame fr = make_frame(cp);
         present_faces(va, fr, 0, tol, pieces_a, nodal_a);
         present_faces(vb, fr, 1, tol, pieces_b, nodal_b);
@@ -1138,7 +1138,7 @@ struct Detector {
             }
         }
         if (m.settings.dynamic && oc >= 0) limit_rebuild_energy(old, first);
-        next.free_motion.back() = clearance(a, b, cp.normal, first);
+        next.free_motion.back() = float_not_above(clearance(a, b, cp.normal, first));
         next.sub_offset.push_back(next.n_subs());
         return true;
     }
@@ -1221,7 +1221,7 @@ struct Detector {
         // the motion. Two edges crossing (square prisms laid crosswise) touch with no corner in
         // the other block: watched by their corners alone, such blocks went ctol/10 into one
         // another before the next refresh (the upper prism sank 5 mm and was thrown off).
-        if (first == next.n_subs()) clear = std::min(clear, next.gap.back());
+        if (first == next.n_subs()) clear = std::min(clear, static_cast<double>(next.gap.back()));
         return clear - snap - movement(cs, s, a, cs.geo_centroid, cs.geo_orientation) -
                movement(cs, s, b, cs.geo_centroid, cs.geo_orientation);
     }
@@ -1633,7 +1633,7 @@ void detect_contacts(Model& m) {
         const double depth_min = kClosingDepth * cs.ctol;
         const int nc = cs.size();
         closing.assign(nc, 0);
-        const double* free_motion = cs.free_motion.data();
+        const float* free_motion = cs.free_motion.data();
         // The threads reach these thread_local arrays through pointers (named in the loop, a
         // thread_local would be each worker's own).
         char* close_mark = closing.data();
@@ -1651,13 +1651,14 @@ void detect_contacts(Model& m) {
             // was built touching (blocks cut from one another, meeting along an edge) or already
             // overlapping without area (edges along one line), by a thousandth of ctol: looking
             // again sooner would find the same.
-            const bool apart = cs.gap[c] > 1e-2 * depth_min;
-            const double deeper = std::max(-cs.gap[c], 0.0) + (k1 > k0 || apart ? depth_min : 1e-3 * cs.ctol);
+            const double gap = cs.gap[c];
+            const bool apart = gap > 1e-2 * depth_min;
+            const double deeper = std::max(-gap, 0.0) + (k1 > k0 || apart ? depth_min : 1e-3 * cs.ctol);
             // Built -gap deep across its plane, and no point of either block has moved further
             // than its movement since: blocks that have not moved enough to go that much deeper
             // are not looked at (most contacts between blocks apart, each step).
-            if (mot[a] + mot[b] - cs.gap[c] < 0.5 * deeper) return;
-            const Vec3& nrm = cs.normal[c];
+            if (mot[a] + mot[b] - gap < 0.5 * deeper) return;
+            const Vec3 nrm = cs.normal(c);
             const int a0 = s.vertex_offset[a], a1 = s.vertex_offset[a + 1];
             const int b0 = s.vertex_offset[b], b1 = s.vertex_offset[b + 1];
             double hi_a = -std::numeric_limits<double>::infinity(), lo_b = -hi_a;
@@ -1817,7 +1818,8 @@ double contact_touch_area(const Model& m, int c) {
     }
     const BlockView va{wv[0].data(), &s.shape[a]}, vb{wv[1].data(), &s.shape[b]};
     const double tol = cs.ctol > 0 ? cs.ctol : contact_tolerance(m);
-    const CommonPlane cp = common_plane(va, vb, &cs.normal[c], tol, 0.1 * tol);
+    const Vec3 old_n = cs.normal(c);
+    const CommonPlane cp = common_plane(va, vb, &old_n, tol, 0.1 * tol);
     const Frame fr = make_frame(cp);
     std::vector<Piece> pa, pb;
     std::vector<double> nodal;

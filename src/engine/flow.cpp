@@ -310,7 +310,7 @@ void flow_sync(Model& m) {
         if (!flow_contact(m, c)) continue;
         const int k0 = cs.sub_offset[c], k1 = cs.sub_offset[c + 1];
         if (k1 - k0 < 3) continue;
-        const Vec3 n = cs.normal[c];
+        const Vec3 n = cs.normal(c);
         if (gridpoint_contact(m, c)) continue; // linked below, block by block
         Vec3 ctr = Vec3::Zero();
         for (int k = k0; k < k1; ++k) ctr += pts[k];
@@ -390,7 +390,7 @@ void flow_sync(Model& m) {
             // The larger face follows: the smaller one's mesh ends where the joint ends, and one
             // face of a block that meets several blocks leads or follows in all of its joints.
             // Faces alike: the one more of whose gridpoints meet triangles wholly in the joint.
-            const double fa = facing_face_area(m, a, cs.normal[c]), fb = facing_face_area(m, b, -cs.normal[c]);
+            const double fa = facing_face_area(m, a, cs.normal(c)), fb = facing_face_area(m, b, -cs.normal(c));
             int side;
             if (std::abs(fa - fb) > 1e-6 * std::max(fa, fb)) side = fa > fb ? 3 : 4;
             else side = can[0] * all[1] > can[1] * all[0] ? 3 : 4;
@@ -497,7 +497,7 @@ void flow_sync(Model& m) {
         for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
             if (cs.sub_side(k) < 3) continue;
             const bool of_a = cs.sub_side(k) == 3;
-            const Vec3 toward = of_a ? Vec3(-cs.normal[c]) : cs.normal[c]; // the partner's outward normal
+            const Vec3 toward = of_a ? Vec3(-cs.normal(c)) : cs.normal(c); // the partner's outward normal
             const std::array<int, 3> tri = cs.sub_triangle(k);
             if (tri[0] >= 0) {
                 const Vec3 nt = (g.pos[tri[1]] - g.pos[tri[0]]).cross(g.pos[tri[2]] - g.pos[tri[0]]);
@@ -523,7 +523,7 @@ void flow_sync(Model& m) {
             const bool of_a = cs.sub_side(k) == 3;
             const int other = of_a ? cs.block_b[c] : cs.block_a[c];
             const double scale = (bs.flags[other] & kDeformable) && follower_side[c] == cs.sub_side(k) ? 0.0 : 1.0;
-            gp_subs[cs.sub_vertex(k)].push_back({k, scale, of_a ? cs.normal[c] : Vec3(-cs.normal[c])});
+            gp_subs[cs.sub_vertex(k)].push_back({k, scale, of_a ? cs.normal(c) : Vec3(-cs.normal(c))});
         }
         edges.clear();
         for (int t = cs.surface_offset[blk]; t < cs.surface_offset[blk + 1]; ++t) {
@@ -774,7 +774,7 @@ std::string flow_step(Model& m, double dt) {
     f.block_moment.assign(s.size(), Vec3::Zero());
     for (int c = 0; c < cs.size(); ++c) {
         const int a = cs.block_a[c], b = cs.block_b[c];
-        const Vec3 n = cs.normal[c];
+        const Vec3 n = cs.normal(c);
         if (gridpoint_contact(m, c)) {
             // On the gridpoint, and the opposite force on its partner point: the corners of the
             // triangle it meets by their weights, or the rigid block there with its moment (as the

@@ -305,7 +305,7 @@ void load_contacts(Model& m, const Range& r, const StressField& f, const std::ve
         const JointMaterial& j = *jp;
         const Strength st = strength_of(j, cs.jcons[c]);
         const bool joined = cs.joined[c] != 0;
-        const Vec3 n = cs.normal[c];
+        const Vec3 n = cs.normal(c);
         // The flat faces of a facing b (+n) and of b facing a (-n).
         const FlatFaces fa = flat_faces(m, a, n), fb = flat_faces(m, b, -n);
         const int k0 = cs.sub_offset[c], k1 = cs.sub_offset[c + 1];
@@ -473,7 +473,7 @@ int shift_joint_water(Model& m, const std::vector<double>& old_pp) {
         const JointMaterial* j = stiff_material(m, c);
         if (!j) continue;
         const Strength st = strength_of(*j, cs.jcons[c]);
-        const Vec3 n = cs.normal[c];
+        const Vec3 n = cs.normal(c);
         for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
             const int node = f.sub_node[k];
             if (node < 0 || (cs.sub_flags[k] & kSubOpen) || !(cs.sub_sn[k] > 0)) continue;

@@ -313,7 +313,7 @@ void update_contacts(Model& m, double dt) {
         if ((s.flags[a] | s.flags[b]) & (kExcavated | kDeformable)) return;
         const LawParams& p = law_of(c);
         const bool joined = cs.joined[c] != 0;
-        const Vec3 nrm = cs.normal[c];
+        const Vec3 nrm = cs.normal(c);
         Vec3 e1, e2;
         shear_axes(nrm, e1, e2);
         const Vec3 ca = s.centroid[a], cb = s.centroid[b];
@@ -374,7 +374,7 @@ void update_contacts(Model& m, double dt) {
         if ((s.flags[a] | s.flags[b]) & kDeformable) {
             const LawParams& p = law_of(c);
             const bool joined = cs.joined[c] != 0;
-            const Vec3 nrm = cs.normal[c];
+            const Vec3 nrm = cs.normal(c);
             Vec3 e1, e2;
             shear_axes(nrm, e1, e2);
             const double kj = std::max(p.kn, p.ks);

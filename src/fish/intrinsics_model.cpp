@@ -215,10 +215,10 @@ Value f_c_pos(Runtime& rt, A a, int, L loc) { CONTACT("c_pos"); return vec(conta
 Value f_c_x(Runtime& rt, A a, int, L loc) { CONTACT("c_x"); return num(contact_centroid(model(rt), c).x()); }
 Value f_c_y(Runtime& rt, A a, int, L loc) { CONTACT("c_y"); return num(contact_centroid(model(rt), c).y()); }
 Value f_c_z(Runtime& rt, A a, int, L loc) { CONTACT("c_z"); return num(contact_centroid(model(rt), c).z()); }
-Value f_c_n(Runtime& rt, A a, int, L loc) { CONTACT("c_n"); return vec(C.normal[c]); }
-Value f_c_nx(Runtime& rt, A a, int, L loc) { CONTACT("c_nx"); return num(C.normal[c].x()); }
-Value f_c_ny(Runtime& rt, A a, int, L loc) { CONTACT("c_ny"); return num(C.normal[c].y()); }
-Value f_c_nz(Runtime& rt, A a, int, L loc) { CONTACT("c_nz"); return num(C.normal[c].z()); }
+Value f_c_n(Runtime& rt, A a, int, L loc) { CONTACT("c_n"); return vec(C.normal(c)); }
+Value f_c_nx(Runtime& rt, A a, int, L loc) { CONTACT("c_nx"); return num(C.normal(c).x()); }
+Value f_c_ny(Runtime& rt, A a, int, L loc) { CONTACT("c_ny"); return num(C.normal(c).y()); }
+Value f_c_nz(Runtime& rt, A a, int, L loc) { CONTACT("c_nz"); return num(C.normal(c).z()); }
 Value f_c_area(Runtime& rt, A a, int, L loc) { CONTACT("c_area"); return num(contact_info(model(rt), c).area); }
 Value f_c_jmat(Runtime& rt, A a, int, L loc) { CONTACT("c_jmat"); return Value::integer(C.jmat[c]); }
 Value f_c_nforce(Runtime& rt, A a, int, L loc) {

@@ -437,7 +437,19 @@ std::vector<std::uint8_t> sub_sides(const ContactSet& x) {
 // them for every sub-contact.
 template <class IO, class M>
 auto fields(IO& io, M& x) -> If<M, ContactSet> {
-    io(x.id); io(x.block_a); io(x.block_b); io(x.normal);
+    io(x.id); io(x.block_a); io(x.block_b);
+    // Format 18: the normals as their codes (normal_code.h); older files have vectors, coded here.
+    if (io.format >= 18) {
+        io(x.normal_code);
+    } else if constexpr (!std::is_const_v<M>) {
+        std::vector<Vec3> normal;
+        io(normal);
+        io.check(std::all_of(normal.begin(), normal.end(),
+                             [](const Vec3& n) { return n.allFinite() && std::abs(n.norm() - 1) <= 1e-6; }),
+                 "a contact normal is not a unit vector");
+        x.normal_code.resize(normal.size());
+        for (size_t i = 0; i < normal.size(); ++i) x.normal_code[i] = encode_normal(normal[i]);
+    }
     // Format 17 has no reference point of the plane (contact_point derives it from the blocks);
     // older files have one, checked and left.
     if constexpr (!std::is_const_v<M>) {
@@ -449,8 +461,24 @@ auto fields(IO& io, M& x) -> If<M, ContactSet> {
                      "a contact point is not a finite number");
         }
     }
-    io(x.gap);
-    io(x.jmat); io(x.jcons); io(x.joined); io(x.sub_offset);
+    // Format 18: the gap in single precision and the joint model in a byte; older files have a
+    // double and an int, narrowed here.
+    if (io.format >= 18) {
+        io(x.gap);
+        io(x.jmat); io(x.jcons);
+    } else if constexpr (!std::is_const_v<M>) {
+        std::vector<double> gap;
+        std::vector<int> jcons;
+        io(gap);
+        io(x.jmat); io(jcons);
+        io.check(std::all_of(jcons.begin(), jcons.end(), [](int j) { return j == 1 || j == 2; }),
+                 "a joint model is out of range");
+        x.gap.resize(gap.size());
+        for (size_t i = 0; i < gap.size(); ++i) x.gap[i] = float_nearest(gap[i]);
+        x.jcons.resize(jcons.size());
+        for (size_t i = 0; i < jcons.size(); ++i) x.jcons[i] = static_cast<std::uint8_t>(jcons[i]);
+    }
+    io(x.joined); io(x.sub_offset);
     if constexpr (std::is_const_v<M>) {
         io(sub_owners(x)); io(sub_sides(x)); io(x.sub_key); io(sub_vertices(x));
     } else {
@@ -495,7 +523,7 @@ auto fields(IO& io, M& x) -> If<M, ContactSet> {
         io(us); io(ss);
         const size_t ns = x.sub_key.size();
         io.check(us.size() == ns && ss.size() == ns, "the sub-contact arrays differ in length");
-        io.check(sub_offsets_whole(x) && x.normal.size() == x.block_a.size(), "the sub-contact offsets are wrong");
+        io.check(sub_offsets_whole(x) && x.normal_code.size() == x.block_a.size(), "the sub-contact offsets are wrong");
         x.sub_us.resize(ns);
         x.sub_ss.resize(ns);
         for (int c = 0; c < static_cast<int>(x.block_a.size()); ++c) {
@@ -559,12 +587,14 @@ void model_sections(IO& io, M& m) {
 
 // ---- writing ----
 
-// Types whose bytes in memory are their bytes on file (see Writer: doubles as they are, int as
+// Types whose bytes in memory are their bytes on file (see Writer: doubles and floats as they are, int as
 // four bytes, one-byte integers as one, Eigen's vectors, matrices and quaternions as their
 // coefficients in storage order), so that arrays of them are written and read in one go.
 template <class T>
 struct Bulk : std::false_type {};
 template <> struct Bulk<double> : std::true_type {};
+template <> struct Bulk<float> : std::true_type {};
+template <> struct Bulk<NormalCode> : std::true_type {};
 template <> struct Bulk<int> : std::true_type {};
 template <> struct Bulk<std::uint8_t> : std::true_type {};
 template <> struct Bulk<Vec3> : std::true_type {};
@@ -573,7 +603,7 @@ template <> struct Bulk<Mat3> : std::true_type {};
 template <> struct Bulk<Quat> : std::true_type {};
 template <class T, size_t N>
 struct Bulk<std::array<T, N>> : Bulk<T> {};
-static_assert(sizeof(int) == 4 && sizeof(Vec3) == 24 && sizeof(Eigen::Vector2d) == 16 && sizeof(Mat3) == 72 && sizeof(Quat) == 32 &&
+static_assert(sizeof(int) == 4 && sizeof(NormalCode) == 8 && sizeof(Vec3) == 24 && sizeof(Eigen::Vector2d) == 16 && sizeof(Mat3) == 72 && sizeof(Quat) == 32 &&
                   sizeof(std::array<int, 4>) == 16 && sizeof(std::array<double, 6>) == 48,
               "the bulk types have no padding");
 
@@ -650,6 +680,7 @@ public:
     }
 
     void operator()(const double& x) { raw(x); }
+    void operator()(const float& x) { raw(x); }
     // Integers have a fixed size on file whatever their size in memory: bool and 8-bit ones
     // one byte, int four, anything wider eight.
     template <class T, std::enable_if_t<std::is_integral_v<T>, int> = 0>
@@ -807,6 +838,7 @@ public:
     }
 
     void operator()(double& x) { x = raw<double>(); }
+    void operator()(float& x) { x = raw<float>(); }
     template <class T, std::enable_if_t<std::is_integral_v<T>, int> = 0>
     void operator()(T& x) {
         if constexpr (std::is_same_v<T, bool>) {
@@ -1238,7 +1270,7 @@ std::string check_consistent(const Model& m) {
 
     const ContactSet& c = m.contacts;
     const size_t nc = c.block_a.size();
-    if (c.id.size() != nc || c.block_b.size() != nc || c.normal.size() != nc ||
+    if (c.id.size() != nc || c.block_b.size() != nc || c.normal_code.size() != nc ||
         c.gap.size() != nc || c.jmat.size() != nc || c.jcons.size() != nc || c.joined.size() != nc) {
         return "the contact arrays differ in length";
     }
@@ -1576,7 +1608,10 @@ std::string check_values(const Model& m) {
         const Where w{"contact", cs.id[k]};
         if (cs.id[k] < 1 || cs.id[k] >= cs.next_id) c.fail(w, "its id is out of range");
         if (!(cs.block_a[k] < cs.block_b[k])) c.fail(w, "its blocks are not in order (a < b)");
-        if (c.vec(cs.normal[k], w, "the normal") && std::abs(cs.normal[k].norm() - 1) > 1e-6) c.fail(w, "the normal is not a unit vector");
+        if (std::abs(static_cast<long>(cs.normal_code[k].u)) > kNormalCodeLimit ||
+            std::abs(static_cast<long>(cs.normal_code[k].v)) > kNormalCodeLimit) {
+            c.fail(w, "the normal's code is out of range");
+        }
         c.finite(cs.gap[k], w, "the gap");
         if (cs.jmat[k] < 0 || cs.jmat[k] > 1000000) c.fail(w, "the joint material is out of range");
         if (cs.jcons[k] < 1 || cs.jcons[k] > 2) c.fail(w, "the joint model is out of range");

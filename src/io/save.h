@@ -38,8 +38,10 @@ namespace odec {
 // marked apart from vertices' (older files' are marked as they are read); 17: the sub-contacts'
 // shear displacements and stresses as two components on their contact's shear axes (older
 // files' vectors are put on the axes as they are read), and no reference point of a contact's
-// plane (derived from its blocks: older files' points are checked and left).
-constexpr std::uint32_t kSaveFormatVersion = 17;
+// plane (derived from its blocks: older files' points are checked and left); 18: a contact's
+// gap in single precision and its joint model in a byte (older files' are narrowed as they are
+// read).
+constexpr std::uint32_t kSaveFormatVersion = 18;
 
 // Write the model to `path`. A model that restore would refuse (a velocity that is not a finite
 // number after a run-away, an index out of range) is not written: save and restore run the

@@ -140,7 +140,7 @@ void run(int n, long steps) {
         // and the per-block state the figures above include.
         const ContactSet& cs = m.contacts;
         auto bytes = [](const auto& v) { return static_cast<double>(v.capacity() * sizeof(v[0])); };
-        const double per_contact = bytes(cs.id) + bytes(cs.block_a) + bytes(cs.block_b) + bytes(cs.normal) +
+        const double per_contact = bytes(cs.id) + bytes(cs.block_a) + bytes(cs.block_b) + bytes(cs.normal_code) +
                                    bytes(cs.gap) + bytes(cs.jmat) + bytes(cs.jcons) +
                                    bytes(cs.joined) + bytes(cs.sub_offset) + bytes(cs.free_motion) +
                                    bytes(cs.color_order);

@@ -70,7 +70,7 @@ TEST(ContactRewrite, APassRebuildingEveryContactFindsWhatAFreshDetectionFinds) {
     EXPECT_EQ(ids.back(), a.next_id - 1);
     int mismatched = 0;
     for (int c = 0; c < a.size(); ++c) {
-        if ((a.normal[c] - f.normal[c]).norm() > 1e-12 || std::abs(a.gap[c] - f.gap[c]) > 1e-12) ++mismatched;
+        if ((a.normal(c) - f.normal(c)).norm() > 1e-12 || std::abs(a.gap[c] - f.gap[c]) > 1e-12) ++mismatched;
     }
     for (int k = 0; k < a.n_subs(); ++k) {
         // The same points and areas; the closures of the old ones carried over (the same to a
@@ -83,7 +83,7 @@ TEST(ContactRewrite, APassRebuildingEveryContactFindsWhatAFreshDetectionFinds) {
     EXPECT_EQ(mismatched, 0);
     // The arrays hold no more than an eighth over what they need.
     EXPECT_LE(a.sub_local.capacity(), a.sub_local.size() + a.sub_local.size() / 8 + 1024);
-    EXPECT_LE(a.normal.capacity(), a.normal.size() + a.normal.size() / 8 + 1024);
+    EXPECT_LE(a.normal_code.capacity(), a.normal_code.size() + a.normal_code.size() / 8 + 1024);
 }
 
 // Two square prisms crossed edge to edge, 1 mm apart: their contact exists (within ctol) with

@@ -329,6 +329,7 @@ namespace {
 // of the blocks (a length and an int per block, written after the inertial moments and before
 // the world vertex offsets, which start at 0) taken out, the shear vectors of the sub-contacts
 // `cs` written as vectors (format 17 holds them on their contacts' axes, two numbers each), the
+// contacts' normals, gaps and joint models as format 17 had them (format 18 narrowed them), the
 // lengths and the checksum made right.
 std::string without_clumps(std::string file, const std::vector<int>& clumps, const odec::ContactSet& cs) {
     const int n_blocks = static_cast<int>(clumps.size());
@@ -404,25 +405,47 @@ std::string without_clumps(std::string file, const std::vector<int>& clumps, con
     const size_t cont = file.find("CONT", payload_length_at + 8);
     if (cont == std::string::npos) return "";
     size_t from = cont;
-    // Format 17 dropped the reference point of each contact's plane, an array after the normals
-    // (older files' are read and left: zeros will do).
+    // Format 18 holds the normals as codes of 8 bytes (vectors before), each contact's gap as a
+    // float (a double before) and its joint model as a byte (an int); format 17 dropped the
+    // reference point of each contact's plane, an array after the normals (older files' are
+    // read and left: zeros will do).
     {
-        const std::uint64_t nc = cs.normal.size();
-        std::string pattern(8 + 24 * nc, '\0');
+        const std::uint64_t nc = cs.normal_code.size();
+        std::string pattern(8 + 8 * nc, '\0');
         std::memcpy(&pattern[0], &nc, 8);
-        if (nc > 0) std::memcpy(&pattern[8], cs.normal.data(), 24 * nc);
-        const size_t at = file.find(pattern, from);
+        if (nc > 0) std::memcpy(&pattern[8], cs.normal_code.data(), 8 * nc);
+        std::string gaps(8 + 4 * nc, '\0');
+        std::memcpy(&gaps[0], &nc, 8);
+        if (nc > 0) std::memcpy(&gaps[8], cs.gap.data(), 4 * nc);
+        std::string jmats(8 + 4 * nc, '\0');
+        std::memcpy(&jmats[0], &nc, 8);
+        if (nc > 0) std::memcpy(&jmats[8], cs.jmat.data(), 4 * nc);
+        std::string jconss(8 + nc, '\0');
+        std::memcpy(&jconss[0], &nc, 8);
+        if (nc > 0) std::memcpy(&jconss[8], cs.jcons.data(), nc);
+        const std::string old_part = pattern + gaps + jmats + jconss;
+        const size_t at = file.find(old_part, from);
         if (at == std::string::npos) return "";
-        std::string points(8 + 24 * nc, '\0');
-        std::memcpy(&points[0], &nc, 8);
-        file.insert(at + pattern.size(), points);
+        std::string wide(8 + 24 * nc, '\0'), points(8 + 24 * nc, '\0'), wide_gaps(8 + 8 * nc, '\0'),
+            wide_jcons(8 + 4 * nc, '\0');
+        for (std::string* part : {&wide, &points, &wide_gaps, &wide_jcons}) std::memcpy(&(*part)[0], &nc, 8);
+        for (std::uint64_t c = 0; c < nc; ++c) {
+            const Eigen::Vector3d n = cs.normal(static_cast<int>(c));
+            const double g = cs.gap[c];
+            const std::int32_t j = cs.jcons[c];
+            std::memcpy(&wide[8 + 24 * c], n.data(), 24);
+            std::memcpy(&wide_gaps[8 + 8 * c], &g, 8);
+            std::memcpy(&wide_jcons[8 + 4 * c], &j, 4);
+        }
+        const std::string new_part = wide + points + wide_gaps + jmats + wide_jcons;
+        file.replace(at, old_part.size(), new_part);
         for (size_t at_length : {cont + 4, payload_length_at}) {
             std::uint64_t len = 0;
             std::memcpy(&len, &file[at_length], 8);
-            len += points.size();
+            len += new_part.size() - old_part.size();
             std::memcpy(&file[at_length], &len, 8);
         }
-        from = at + pattern.size() + points.size();
+        from = at + new_part.size();
     }
     auto widen = [&](const odec::PodArray<Eigen::Vector2d>& v, bool disp) {
         const std::uint64_t ns = v.size();

@@ -304,7 +304,7 @@ TEST(ContactTrust, AContactThatTurnsKeepsNoClosureFromItsOldPlane) {
     for (int c = 0; c < cs.size(); ++c) {
         if (cs.block_a[c] != beyond || cs.block_b[c] != dam) continue;
         found = true;
-        EXPECT_GT(cs.normal[c].z(), 0.999) << "the contact is a face on a face now";
+        EXPECT_GT(cs.normal(c).z(), 0.999) << "the contact is a face on a face now";
         // The dam's base is flat and hardly turned: its points' closures differ by little.
         double lo = 1e9, hi = -1e9;
         for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {

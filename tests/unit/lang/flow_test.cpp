@@ -325,7 +325,7 @@ void gridpoint_uplift(const odec::Model& m, int blk, Eigen::Vector3d& force, Eig
             if (side < 3 || f.sub_node[k] < 0) continue;
             const int owner = side == 3 ? cs.block_a[c] : cs.block_b[c];
             if (owner != blk) continue;
-            const Eigen::Vector3d fg = (side == 3 ? -1.0 : 1.0) * f.pp[f.sub_node[k]] * cs.sub_area[k] * f.sub_wet[k] * cs.normal[c];
+            const Eigen::Vector3d fg = (side == 3 ? -1.0 : 1.0) * f.pp[f.sub_node[k]] * cs.sub_area[k] * f.sub_wet[k] * cs.normal(c);
             force += fg;
             moment += m.gridpoints.pos[cs.sub_vertex(k)].cross(fg);
         }

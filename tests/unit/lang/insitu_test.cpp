@@ -103,7 +103,7 @@ TEST(Insitu, AJointBetweenDeformableBlocksStartsAtRest) {
     const Sym6 tensor = {-6e6, -4e6, -8e6, 1e6, -5e5, 8e5};
     double sn = 0;
     Vec3 ss;
-    traction(tensor, m.contacts.normal[0], sn, ss);
+    traction(tensor, m.contacts.normal(0), sn, ss);
     ASSERT_GT(sn, 0);
     int loaded = 0;
     for (int k = m.contacts.sub_offset[0]; k < m.contacts.sub_offset[1]; ++k) {
@@ -158,7 +158,7 @@ TEST(Insitu, BoundStressWithoutARangeLoadsOnlyTheOuterFaces) {
     EXPECT_LT(r.fastest, 1e-6);
     double sn = 0;
     Vec3 ss;
-    traction({-6e6, -4e6, -8e6, 1e6, -5e5, 8e5}, s.model.contacts.normal[0], sn, ss);
+    traction({-6e6, -4e6, -8e6, 1e6, -5e5, 8e5}, s.model.contacts.normal(0), sn, ss);
     for (int k = 0; k < s.model.contacts.n_subs(); ++k) EXPECT_NEAR(s.model.contacts.sub_sn[k], sn, 1e-6 * sn);
 
     // A zoned cube on a rigid base: its top and sides are loaded (5 m^2), not its base, which
@@ -264,16 +264,16 @@ TEST(Insitu, RigidJointResultantActsAtItsCentroid) {
     Vec3 force = Vec3::Zero(), moment = Vec3::Zero();
     const ContactSet& cs = m.contacts;
     for (int k = cs.sub_offset[0]; k < cs.sub_offset[1]; ++k) {
-        const Vec3 f = cs.sub_area[k] * (cs.sub_sn[k] * cs.normal[0] + cs.sub_shear_stress(0, k));
+        const Vec3 f = cs.sub_area[k] * (cs.sub_sn[k] * cs.normal(0) + cs.sub_shear_stress(0, k));
         force += f;
         moment += (sub_point(m, 0, k) - centroid).cross(f);
     }
     const Sym6 tensor = {-2e6, -3e6, -5e6, 4e5, -3e5, 2e5};
     double sn = 0;
     Vec3 ss;
-    traction(tensor, cs.normal[0], sn, ss);
+    traction(tensor, cs.normal(0), sn, ss);
     const double area = 0.5 * a2;
-    EXPECT_NEAR((force - area * (sn * cs.normal[0] + ss)).norm(), 0.0, 1e-9 * area * sn);
+    EXPECT_NEAR((force - area * (sn * cs.normal(0) + ss)).norm(), 0.0, 1e-9 * area * sn);
     EXPECT_LT(moment.norm(), 1e-9 * area * sn);
 }
 

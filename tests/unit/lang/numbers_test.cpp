@@ -63,7 +63,7 @@ std::string not_finite(const odec::Model& m) {
         if (!v.allFinite()) return "world vertex";
     const ContactSet& c = m.contacts;
     for (int k = 0; k < c.size(); ++k) {
-        if (!c.normal[k].allFinite() || !fin(c.gap[k])) return "contact";
+        if (!c.normal(k).allFinite() || !fin(c.gap[k])) return "contact";
     }
     for (int k = 0; k < c.n_subs(); ++k) {
         if (!fin(c.sub_area[k]) || !fin(c.sub_un[k]) || !fin(c.sub_dilation(k)) || !fin(c.sub_sn[k]) ||

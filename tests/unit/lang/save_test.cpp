@@ -145,7 +145,7 @@ TEST_F(Save, RestoringAndGoingOnGivesTheSameBits) {
         EXPECT_TRUE(same_bits(x.blocks.ang_vel, y.blocks.ang_vel));
         EXPECT_TRUE(same_bits(x.contacts.sub_sn, y.contacts.sub_sn));
         EXPECT_TRUE(same_bits(x.contacts.sub_ss, y.contacts.sub_ss));
-        EXPECT_TRUE(same_bits(x.contacts.normal, y.contacts.normal));
+        EXPECT_TRUE(same_bits(x.contacts.normal_code, y.contacts.normal_code));
         EXPECT_EQ(std::memcmp(&x.time, &y.time, sizeof x.time), 0);
         EXPECT_EQ(std::memcmp(&x.damping.auto_coefficient, &y.damping.auto_coefficient, sizeof(double)), 0);
         ASSERT_EQ(x.histories.items.size(), 2u);

@@ -120,10 +120,10 @@ std::string model_problem(const odec::Model& m) {
         if (!v.allFinite()) return "world vertex";
     const ContactSet& c = m.contacts;
     const size_t nc = c.block_a.size();
-    if (c.block_b.size() != nc || c.normal.size() != nc || (nc > 0 && c.sub_offset.size() != nc + 1)) return "contact arrays";
+    if (c.block_b.size() != nc || c.normal_code.size() != nc || (nc > 0 && c.sub_offset.size() != nc + 1)) return "contact arrays";
     for (size_t k = 0; k < nc; ++k) {
         if (c.block_a[k] < 0 || c.block_b[k] >= static_cast<int>(n) || c.block_a[k] >= c.block_b[k]) return "contact blocks";
-        if (!c.normal[k].allFinite() || !fin(c.gap[k])) return "contact numbers";
+        if (!c.normal(k).allFinite() || !fin(c.gap[k])) return "contact numbers";
     }
     for (size_t k = 0; k < c.sub_key.size(); ++k) {
         if (!fin(c.sub_area[k]) || !fin(c.sub_un[k]) || !fin(c.sub_sn[k]) || !c.sub_ss[k].allFinite() ||
@@ -287,7 +287,7 @@ TEST_F(SaveValues, EditedFieldsAreEachRefusedAndTheModelKept) {
         {"the sub-contact arrays differ in length", [](odec::Model& m) { m.contacts.sub_area.pop_back(); }},
         {"refers to a block that does not exist", [](odec::Model& m) { m.contacts.block_b[0] = 99; }},
         {"its blocks are not in order (a < b)", [](odec::Model& m) { std::swap(m.contacts.block_a[0], m.contacts.block_b[0]); }},
-        {"the normal is not a unit vector", [](odec::Model& m) { m.contacts.normal[1] *= 3; }},
+        {"the normal's code is out of range", [](odec::Model& m) { m.contacts.normal_code[1].u = odec::kNormalCodeLimit + 1; }},
         {"a sub-contact area is not a finite number", [&](odec::Model& m) { m.contacts.sub_area[0] = nan; }},
         {"a normal stress is not a finite number", [&](odec::Model& m) { m.contacts.sub_sn[2] = inf; }},
         {"two contacts have the same id", [](odec::Model& m) { m.contacts.id[1] = m.contacts.id[0]; }},
