@@ -121,7 +121,7 @@ Vec3 sub_point(const Model& m, int c, int k) {
     const int side = cs.sub_side(k);
     if (side >= 3) return m.gridpoints.pos[cs.sub_vertex(k)];
     const int owner = side == 1 ? cs.block_b[c] : cs.block_a[c];
-    return m.blocks.centroid[owner] + m.blocks.orientation[owner] * cs.sub_local[k];
+    return m.blocks.centroid[owner] + m.blocks.orientation[owner] * cs.sub_point_local(k);
 }
 
 int find_contact_at(const Model& m, const Vec3& x) {

@@ -35,6 +35,7 @@
 #include <Eigen/Geometry>
 
 #include "engine/normal_code.h"
+#include "engine/point_code.h"
 #include "engine/pod_array.h"
 
 namespace odec {
@@ -127,11 +128,14 @@ struct ContactSet {
                                           //          of a vertex of the same number when its block
                                           //          is zoned; side 2: bit 62 set
     PodArray<double> sub_area;            // (n_subs) m^2, share of the contact area (they sum to it)
-    PodArray<Eigen::Vector3d> sub_local;    // (n_subs) m, point in the owner's body frame (block b for
+    PodArray<PointCode> sub_local;        // (n_subs) m, point in the owner's body frame (block b for
                                           //          side 1, else block a); sides 3 and 4: where the
                                           //          gridpoint meets the other block, in that block's
                                           //          body frame when it is rigid, else the weights of
-                                          //          the corners of sub_triangle
+                                          //          the corners of sub_triangle. Made anew at every
+                                          //          refresh, it is held in fourteen bytes
+                                          //          (point_code.h): read through sub_point_local
+                                          //          and sub_weights
     PodArray<std::array<int, 3>> sub_tri;    // (n_subs, or empty when no sub-contact has one) sides 3
                                           //          and 4 against a deformable block: the gridpoints
                                           //          of the surface triangle the gridpoint meets; else
@@ -189,6 +193,14 @@ struct ContactSet {
     bool colored = false;
 
     int size() const { return static_cast<int>(block_a.size()); }
+    // Sub-contact k's point in its owner's body frame (sub_local), m.
+    Eigen::Vector3d sub_point_local(int k) const { return decode_point(sub_local[k]); }
+    // The weights of the corners of sub_triangle(k) (sides 3 and 4 against a deformable block):
+    // the third is what the first two leave of 1, so that they share out a force whole.
+    Eigen::Vector3d sub_weights(int k) const {
+        const Eigen::Vector3d w = decode_point(sub_local[k]);
+        return Eigen::Vector3d(w[0], w[1], 1.0 - w[0] - w[1]);
+    }
     // The unit normal of contact c, from a to b.
     Eigen::Vector3d normal(int c) const { return decode_normal(normal_code[c]); }
     int n_subs() const { return static_cast<int>(sub_key.size()); }

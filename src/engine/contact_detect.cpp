@@ -637,7 +637,9 @@ constexpr std::array<int, 3> kNoTri = {-1, -1, -1};
 
 // sub_tri is kept only once some sub-contact has a triangle: then it has an entry for each
 // sub-contact (-1s for those without).
-void push_sub(ContactSet& to, std::int64_t key, double area, const Vec3& local,
+// The point as the set holds it: a code (point_code.h), copied as it is when a sub-contact keeps
+// its point.
+void push_sub(ContactSet& to, std::int64_t key, double area, const PointCode& local,
               const std::array<int, 3>& tri = kNoTri) {
     if (tri[0] >= 0 || !to.sub_tri.empty()) {
         to.sub_tri.resize(to.sub_key.size(), kNoTri);
@@ -646,6 +648,10 @@ void push_sub(ContactSet& to, std::int64_t key, double area, const Vec3& local,
     to.sub_key.push_back(key);
     to.sub_area.push_back(area);
     to.sub_local.push_back(local);
+}
+void push_sub(ContactSet& to, std::int64_t key, double area, const Vec3& local,
+              const std::array<int, 3>& tri = kNoTri) {
+    push_sub(to, key, area, encode_point(local), tri);
 }
 
 // Where an old contact's state is while a pass rewrites the set (Rewrite): its entries at c,
@@ -954,7 +960,7 @@ struct Detector {
         for (int j = old.k0; j < old.k1; ++j) {
             if (cs.sub_side(j) > 2 || cs.sub_area[j] < 1e-3 * hi) continue;
             const int owner = cs.sub_side(j) == 1 ? b : a;
-            const double d = (m.blocks.centroid[owner] + m.blocks.orientation[owner] * cs.sub_local[j] - x).squaredNorm();
+            const double d = (m.blocks.centroid[owner] + m.blocks.orientation[owner] * cs.sub_point_local(j) - x).squaredNorm();
             if (d < best_d) {
                 best_d = d;
                 best = j;

@@ -370,7 +370,7 @@ void flow_sync(Model& m) {
                     auto it = other.find(tri[i]);
                     by[i] = {-1, 0.0};
                     if (it == other.end()) continue;
-                    by[i] = {f.sub_node[it->second], cs.sub_local[k][i]};
+                    by[i] = {f.sub_node[it->second], cs.sub_weights(k)[i]};
                     sum += by[i].second;
                     ++in;
                 }
@@ -506,7 +506,7 @@ void flow_sync(Model& m) {
             }
             const int o = of_a ? cs.block_b[c] : cs.block_a[c];
             const Polyhedron& shape = bs.shape[o];
-            const Vec3 xp = bs.centroid[o] + bs.orientation[o] * cs.sub_local[k];
+            const Vec3 xp = bs.centroid[o] + bs.orientation[o] * cs.sub_point_local(k);
             for (int fc = 0; fc < shape.n_faces() && !partner_flat[k]; ++fc) {
                 const Vec3 nf = bs.orientation[o] * shape.face_normal(fc);
                 if (nf.dot(toward) < kFlatToPlane) continue;
@@ -790,13 +790,13 @@ std::string flow_step(Model& m, double dt) {
                 g.force_scale[gp] += fn;
                 const std::array<int, 3> tri = cs.sub_triangle(k);
                 if (tri[0] >= 0) {
-                    const Vec3& w = cs.sub_local[k];
+                    const Vec3 w = cs.sub_weights(k);
                     for (int i = 0; i < 3; ++i) {
                         g.force[tri[i]] -= w[i] * fg;
                         g.force_scale[tri[i]] += w[i] * fn;
                     }
                 } else {
-                    const Vec3 lever = s.orientation[o] * cs.sub_local[k];
+                    const Vec3 lever = s.orientation[o] * cs.sub_point_local(k);
                     s.force[o] -= fg;
                     s.moment[o] -= lever.cross(fg);
                     s.force_scale[o] += fn;

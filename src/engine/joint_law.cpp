@@ -322,7 +322,7 @@ void update_contacts(Model& m, double dt) {
         double scale = 0, kt = 0, kra = 0, krb = 0;
         for (int q = cs.sub_offset[c]; q < cs.sub_offset[c + 1]; ++q) {
             const int owner = cs.sub_side(q) == 1 ? b : a;
-            const Vec3 x = s.centroid[owner] + rot_of[owner] * cs.sub_local[q];
+            const Vec3 x = s.centroid[owner] + rot_of[owner] * cs.sub_point_local(q);
             const Vec3 ra = x - ca, rb = x - cb;
             const Vec3 f = joint_step(cs, q, p, joined, nrm, e1, e2, moved(b, rb) - moved(a, ra), dissipation ? dissipation + c : nullptr);
             fb += f;
@@ -384,12 +384,12 @@ void update_contacts(Model& m, double dt) {
                 const int gp = cs.sub_vertex(k);
                 const int o = of_a ? b : a;
                 const std::array<int, 3> tri = cs.sub_triangle(k);
-                const Vec3& w = cs.sub_local[k];
-                Vec3 dxo, lever = Vec3::Zero();
+                Vec3 dxo, lever = Vec3::Zero(), w = Vec3::Zero();
                 if (tri[0] >= 0) {
+                    w = cs.sub_weights(k);
                     dxo = (w[0] * gp_vel(tri[0]) + w[1] * gp_vel(tri[1]) + w[2] * gp_vel(tri[2])) * dt;
                 } else {
-                    lever = rot[o] * cs.sub_local[k];
+                    lever = rot[o] * cs.sub_point_local(k);
                     dxo = moved(o, lever);
                 }
                 const Vec3 dxg = gp_vel(gp) * dt;

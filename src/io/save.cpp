@@ -500,7 +500,18 @@ auto fields(IO& io, M& x) -> If<M, ContactSet> {
         io.check(side == sub_sides(x), "a sub-contact side does not match its key");
         io.check(vertex == sub_vertices(x), "a sub-contact vertex or gridpoint does not match its key");
     }
-    io(x.sub_area); io(x.sub_local);
+    io(x.sub_area);
+    // Format 18: the points as their codes (point_code.h); older files have vectors, coded here.
+    if (io.format >= 18) {
+        io(x.sub_local);
+    } else if constexpr (!std::is_const_v<M>) {
+        std::vector<Vec3> local;
+        io(local);
+        io.check(std::all_of(local.begin(), local.end(), [](const Vec3& v) { return v.allFinite(); }),
+                 "a sub-contact point is not a finite number");
+        x.sub_local.resize(local.size());
+        for (size_t i = 0; i < local.size(); ++i) x.sub_local[i] = encode_point(local[i]);
+    }
     io(x.sub_un);
     // The dilations are kept only once some sub-contact has one; the file has them for every
     // sub-contact.
@@ -595,6 +606,7 @@ struct Bulk : std::false_type {};
 template <> struct Bulk<double> : std::true_type {};
 template <> struct Bulk<float> : std::true_type {};
 template <> struct Bulk<NormalCode> : std::true_type {};
+template <> struct Bulk<PointCode> : std::true_type {};
 template <> struct Bulk<int> : std::true_type {};
 template <> struct Bulk<std::uint8_t> : std::true_type {};
 template <> struct Bulk<Vec3> : std::true_type {};
@@ -603,7 +615,7 @@ template <> struct Bulk<Mat3> : std::true_type {};
 template <> struct Bulk<Quat> : std::true_type {};
 template <class T, size_t N>
 struct Bulk<std::array<T, N>> : Bulk<T> {};
-static_assert(sizeof(int) == 4 && sizeof(NormalCode) == 8 && sizeof(Vec3) == 24 && sizeof(Eigen::Vector2d) == 16 && sizeof(Mat3) == 72 && sizeof(Quat) == 32 &&
+static_assert(sizeof(int) == 4 && sizeof(NormalCode) == 8 && sizeof(PointCode) == 14 && sizeof(Vec3) == 24 && sizeof(Eigen::Vector2d) == 16 && sizeof(Mat3) == 72 && sizeof(Quat) == 32 &&
                   sizeof(std::array<int, 4>) == 16 && sizeof(std::array<double, 6>) == 48,
               "the bulk types have no padding");
 
@@ -1649,7 +1661,7 @@ std::string check_values(const Model& m) {
                 }
             }
             c.at_least(cs.sub_area[i], 0, w, "a sub-contact area");
-            c.vec(cs.sub_local[i], w, "a sub-contact point");
+            if (!point_code_valid(cs.sub_local[i])) c.fail(w, "a sub-contact point's code is out of range");
             c.finite(cs.sub_un[i], w, "a normal closure");
             c.finite(cs.sub_dilation(i), w, "a dilation");
             c.finite(cs.sub_sn[i], w, "a normal stress");

@@ -32,7 +32,7 @@ int main(int argc, char** argv) {
         c.id.push_back(k + 1);
         c.block_a.push_back(0);
         c.block_b.push_back(1);
-        c.normal.push_back(Eigen::Vector3d::UnitZ());
+        c.normal_code.push_back(odec::encode_normal(Eigen::Vector3d::UnitZ()));
         c.gap.push_back(0);
         c.jmat.push_back(1);
         c.jcons.push_back(1);
@@ -41,7 +41,7 @@ int main(int argc, char** argv) {
         for (int s = 0; s < 4; ++s) {
             c.sub_key.push_back(s);
             c.sub_area.push_back(0.25);
-            c.sub_local.push_back(Eigen::Vector3d::Zero());
+            c.sub_local.push_back(odec::PointCode{});
             c.sub_un.push_back(0);
             c.sub_sn.push_back(1000.0);
             c.sub_us.push_back(Eigen::Vector2d::Zero());

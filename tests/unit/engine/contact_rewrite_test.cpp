@@ -75,7 +75,7 @@ TEST(ContactRewrite, APassRebuildingEveryContactFindsWhatAFreshDetectionFinds) {
     for (int k = 0; k < a.n_subs(); ++k) {
         // The same points and areas; the closures of the old ones carried over (the same to a
         // hair: each column kept its shape).
-        if (std::abs(a.sub_area[k] - f.sub_area[k]) > 1e-12 || (a.sub_local[k] - f.sub_local[k]).norm() > 1e-12 ||
+        if (std::abs(a.sub_area[k] - f.sub_area[k]) > 1e-12 || (a.sub_point_local(k) - f.sub_point_local(k)).norm() > 1e-12 ||
             std::abs(a.sub_un[k] - f.sub_un[k]) > 1e-12) {
             ++mismatched;
         }

@@ -329,7 +329,8 @@ namespace {
 // of the blocks (a length and an int per block, written after the inertial moments and before
 // the world vertex offsets, which start at 0) taken out, the shear vectors of the sub-contacts
 // `cs` written as vectors (format 17 holds them on their contacts' axes, two numbers each), the
-// contacts' normals, gaps and joint models as format 17 had them (format 18 narrowed them), the
+// contacts' normals, gaps and joint models and the sub-contacts' points as format 17 had them
+// (format 18 narrowed them), the
 // lengths and the checksum made right.
 std::string without_clumps(std::string file, const std::vector<int>& clumps, const odec::ContactSet& cs) {
     const int n_blocks = static_cast<int>(clumps.size());
@@ -446,6 +447,29 @@ std::string without_clumps(std::string file, const std::vector<int>& clumps, con
             std::memcpy(&file[at_length], &len, 8);
         }
         from = at + new_part.size();
+    }
+    // Format 18 holds the sub-contacts' points as codes of 14 bytes (vectors before).
+    {
+        const std::uint64_t ns = cs.sub_local.size();
+        std::string pattern(8 + 14 * ns, '\0');
+        std::memcpy(&pattern[0], &ns, 8);
+        if (ns > 0) std::memcpy(&pattern[8], cs.sub_local.data(), 14 * ns);
+        const size_t at = file.find(pattern, from);
+        if (at == std::string::npos) return "";
+        std::string wide(8 + 24 * ns, '\0');
+        std::memcpy(&wide[0], &ns, 8);
+        for (std::uint64_t k = 0; k < ns; ++k) {
+            const Eigen::Vector3d x = cs.sub_point_local(static_cast<int>(k));
+            std::memcpy(&wide[8 + 24 * k], x.data(), 24);
+        }
+        file.replace(at, pattern.size(), wide);
+        for (size_t at_length : {cont + 4, payload_length_at}) {
+            std::uint64_t len = 0;
+            std::memcpy(&len, &file[at_length], 8);
+            len += wide.size() - pattern.size();
+            std::memcpy(&file[at_length], &len, 8);
+        }
+        from = at + wide.size();
     }
     auto widen = [&](const odec::PodArray<Eigen::Vector2d>& v, bool disp) {
         const std::uint64_t ns = v.size();

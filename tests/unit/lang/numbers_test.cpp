@@ -67,7 +67,7 @@ std::string not_finite(const odec::Model& m) {
     }
     for (int k = 0; k < c.n_subs(); ++k) {
         if (!fin(c.sub_area[k]) || !fin(c.sub_un[k]) || !fin(c.sub_dilation(k)) || !fin(c.sub_sn[k]) ||
-            !c.sub_us[k].allFinite() || !c.sub_ss[k].allFinite() || !c.sub_local[k].allFinite())
+            !c.sub_us[k].allFinite() || !c.sub_ss[k].allFinite() || !c.sub_point_local(k).allFinite())
             return "sub-contact";
     }
     if (!fin(c.ctol)) return "ctol";

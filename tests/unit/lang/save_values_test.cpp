@@ -127,7 +127,7 @@ std::string model_problem(const odec::Model& m) {
     }
     for (size_t k = 0; k < c.sub_key.size(); ++k) {
         if (!fin(c.sub_area[k]) || !fin(c.sub_un[k]) || !fin(c.sub_sn[k]) || !c.sub_ss[k].allFinite() ||
-            !c.sub_us[k].allFinite() || !c.sub_local[k].allFinite())
+            !c.sub_us[k].allFinite() || !c.sub_point_local(k).allFinite())
             return "sub-contact numbers";
     }
     for (const Material& x : m.materials)

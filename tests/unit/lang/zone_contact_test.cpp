@@ -95,7 +95,7 @@ TEST(ZoneContacts, DeformableBlocksCarryEachOther) {
         side3 |= m.contacts.sub_side(k) == 3;
         side4 |= m.contacts.sub_side(k) == 4;
         EXPECT_GE(m.contacts.sub_triangle(k)[0], 0);
-        EXPECT_NEAR(m.contacts.sub_local[k].sum(), 1.0, 1e-9); // weights of a point in its triangle
+        EXPECT_NEAR(m.contacts.sub_point_local(k).sum(), 1.0, 1e-9); // weights of a point in its triangle
     }
     EXPECT_TRUE(side3 && side4);
 }
