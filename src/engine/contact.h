@@ -202,7 +202,7 @@ struct ContactSet {
         return Eigen::Vector3d(w[0], w[1], 1.0 - w[0] - w[1]);
     }
     // The unit normal of contact c, from a to b.
-    Eigen::Vector3d normal(int c) const { return decode_normal(normal_code[c]); }
+    [[gnu::always_inline]] Eigen::Vector3d normal(int c) const { return decode_normal(normal_code[c]); }
     int n_subs() const { return static_cast<int>(sub_key.size()); }
     // The block vertex (sides 0, 1) or gridpoint (sides 3, 4) sub-contact k stands for; -1 for
     // a crossing of edges (side 2).

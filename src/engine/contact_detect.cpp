@@ -187,6 +187,17 @@ struct Poly {
     std::int32_t ekey[kCap];   // label of the edge from vertex i to i + 1
 };
 
+// out becomes p: its n vertices only (a whole Poly is 3.4 KB, and clipping copies one at every
+// edge of the clipping polygon).
+inline void copy_poly(Poly& out, const Poly& p) {
+    out.n = p.n;
+    std::copy(p.u, p.u + p.n, out.u);
+    std::copy(p.v, p.v + p.n, out.v);
+    std::copy(p.h, p.h + p.n, out.h);
+    std::copy(p.vkey, p.vkey + p.n, out.vkey);
+    std::copy(p.ekey, p.ekey + p.n, out.ekey);
+}
+
 inline void put(Poly& out, const Poly& p, int i) {
     out.u[out.n] = p.u[i]; out.v[out.n] = p.v[i]; out.h[out.n] = p.h[i];
     out.vkey[out.n] = p.vkey[i]; out.ekey[out.n] = p.ekey[i]; ++out.n;
@@ -230,7 +241,7 @@ void clip_band(const Poly& p, double s, double tol, std::int32_t label, Poly& ou
 // Keep the part of p inside convex polygon c (orientation `orient`); eps keeps points
 // that lie on c's edges as they are, rather than cutting them into near twins.
 void clip_convex(const Poly& p, const Poly& c, double orient, double eps, Poly& out, Poly& tmp) {
-    out = p;
+    copy_poly(out, p);
     for (int k = 0; k < c.n && out.n > 0; ++k) {
         const int k1 = (k + 1) % c.n;
         const double eu = c.u[k1] - c.u[k], ev = c.v[k1] - c.v[k];
@@ -238,7 +249,7 @@ void clip_convex(const Poly& p, const Poly& c, double orient, double eps, Poly& 
         if (!(len > 0)) continue;
         const double su = orient * eu / len, sv = orient * ev / len;
         clip_step(out, [&](int i) { return su * (out.v[i] - c.v[k]) - sv * (out.u[i] - c.u[k]); }, eps, c.ekey[k], tmp);
-        std::swap(out, tmp);
+        copy_poly(out, tmp);
     }
 }
 
@@ -341,7 +352,7 @@ void present_faces(const BlockView& s, const Frame& fr, int side, double tol, st
         // where it hovers above the band, its corners would take shares of a part of it, and
         // keep them when it lands (between refreshes), unlike the shares of the same face
         // landed. A face tilted to the plane fades out with the band.
-        if (hhi - hlo <= tol && (side == 0 ? hhi + tol : tol - hlo) > 0) pc.poly = face;
+        if (hhi - hlo <= tol && (side == 0 ? hhi + tol : tol - hlo) > 0) copy_poly(pc.poly, face);
         else clip_band(face, sign, tol, band_label(side, f), pc.poly);
         const double a = signed_area(pc.poly);
         if (pc.poly.n < 3 || a == 0) {
@@ -471,7 +482,7 @@ void polygon_subcontacts(const Frame& fr, const std::vector<Piece>& pa, const st
                 // touch, and no tolerance band lends them area.
                 clip_step(q, [&](int i) { return A.height(q.u[i], q.v[i]) - B.height(q.u[i], q.v[i]); }, eps,
                           touch_label(A.face, B.face), tmp);
-                std::swap(q, tmp);
+                copy_poly(q, tmp);
                 if (q.n < 3) continue;
                 bool sliver = flat_area >= tol * tol;
                 // The deepest a corner of either block presses in here, and the deepest a
@@ -1664,10 +1675,21 @@ void detect_contacts(Model& m) {
             // than its movement since: blocks that have not moved enough to go that much deeper
             // are not looked at (most contacts between blocks apart, each step).
             if (mot[a] + mot[b] - gap < 0.5 * deeper) return;
-            const Vec3 nrm = cs.normal(c);
             const int a0 = s.vertex_offset[a], a1 = s.vertex_offset[a + 1];
             const int b0 = s.vertex_offset[b], b1 = s.vertex_offset[b + 1];
             double hi_a = -std::numeric_limits<double>::infinity(), lo_b = -hi_a;
+            {
+                // First along the normal's octahedral point, which is the normal times a length
+                // (no root to take): most contacts end here, no deeper than they were built.
+                const Vec3 dir = octahedral_point(cs.normal_code[c]);
+                for (int i = a0; i < a1; ++i) hi_a = std::max(hi_a, dir.dot(s.world_vertices[i]));
+                for (int i = b0; i < b1; ++i) lo_b = std::min(lo_b, dir.dot(s.world_vertices[i]));
+                const double span = hi_a - lo_b;
+                if (!(span > 0) || span * span <= deeper * deeper * dir.squaredNorm()) return;
+            }
+            const Vec3 nrm = cs.normal(c);
+            hi_a = -std::numeric_limits<double>::infinity();
+            lo_b = -hi_a;
             for (int i = a0; i < a1; ++i) hi_a = std::max(hi_a, nrm.dot(s.world_vertices[i]));
             for (int i = b0; i < b1; ++i) lo_b = std::min(lo_b, nrm.dot(s.world_vertices[i]));
             if (hi_a - lo_b <= deeper) return;
@@ -1852,7 +1874,7 @@ double contact_touch_area(const Model& m, int c) {
                 continue;
             }
             clip_step(q, [&](int i) { return A.height(q.u[i], q.v[i]) - B.height(q.u[i], q.v[i]); }, eps, 0, tmp);
-            std::swap(q, tmp);
+            copy_poly(q, tmp);
             if (q.n < 3) continue;
             area += std::abs(signed_area(q));
             for (int i = 0; i < q.n; ++i) {

@@ -40,9 +40,10 @@ inline NormalCode encode_normal(const Eigen::Vector3d& n) {
     return NormalCode{static_cast<std::int32_t>(std::lround(u * kScale)), static_cast<std::int32_t>(std::lround(v * kScale))};
 }
 
-// The unit normal of code c. A code out of the octahedron's range (|u| + |v| > 2^31, which no
-// encode_normal makes) still decodes to a unit vector.
-inline Eigen::Vector3d decode_normal(NormalCode c) {
+// The point of code c on the octahedron: along its normal, between 1/sqrt(3) and 1 long (never
+// null). A code out of the octahedron's range (which no encode_normal makes) gives a point
+// outside it, still a direction.
+[[gnu::always_inline]] inline Eigen::Vector3d octahedral_point(NormalCode c) {
     using namespace normal_code_detail;
     double u = c.u / kScale, v = c.v / kScale;
     const double z = 1 - std::abs(u) - std::abs(v);
@@ -51,7 +52,14 @@ inline Eigen::Vector3d decode_normal(NormalCode c) {
         u = fu;
         v = fv;
     }
-    return Eigen::Vector3d(u, v, z).normalized();
+    return Eigen::Vector3d(u, v, z);
+}
+
+// The unit normal of code c.
+[[gnu::always_inline]] inline Eigen::Vector3d decode_normal(NormalCode c) {
+    const Eigen::Vector3d p = octahedral_point(c);
+    const double r = 1 / std::sqrt(p.squaredNorm());
+    return Eigen::Vector3d(p[0] * r, p[1] * r, p[2] * r);
 }
 
 // n as the contact set keeps it.

@@ -63,7 +63,7 @@ inline PointCode encode_point(const Eigen::Vector3d& x) {
 }
 
 // The point of code p.
-inline Eigen::Vector3d decode_point(const PointCode& p) {
+[[gnu::always_inline]] inline Eigen::Vector3d decode_point(const PointCode& p) {
     const double scale = point_code_detail::power_of_two(p.e - 31);
     return Eigen::Vector3d(p.m[0] * scale, p.m[1] * scale, p.m[2] * scale);
 }
