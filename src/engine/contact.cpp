@@ -27,7 +27,7 @@ void ContactSet::clear() {
     id.clear(); block_a.clear(); block_b.clear(); normal_code.clear(); gap.clear();
     jmat.clear(); jcons.clear(); joined.clear(); free_motion.clear(); sub_offset.assign(1, 0);
     sub_key.clear(); sub_area.clear();
-    sub_local.clear(); sub_un.clear(); sub_udil.clear(); sub_sn.clear(); sub_us.clear(); sub_ss.clear();
+    sub_local.clear(); sub_un.clear(); sub_udil.clear(); sub_us.clear(); sub_ss.clear();
     sub_flags.clear(); sub_tri.clear();
     detected = false;
     surface_ready = false;
@@ -54,13 +54,14 @@ ContactInfo contact_info(const Model& m, int c, bool touch_area) {
     const int k0 = cs.sub_offset[c], k1 = cs.sub_offset[c + 1];
     info.n_subs = k1 - k0;
     double area = 0, sn = 0, un = 0;
+    const double kn = contact_kn(m, c);
     Vec3 x = Vec3::Zero(), ss = Vec3::Zero(), us = Vec3::Zero();
     bool any_slip = false, all_open = true, any_failed = false;
     for (int k = k0; k < k1; ++k) {
         const double w = cs.sub_area[k];
         x += w * sub_point(m, c, k);
         area += w;
-        sn += w * cs.sub_sn[k];
+        sn += w * cs.sub_sn_for(c, k, kn);
         un += w * (cs.sub_un[k] + cs.sub_dilation(k));
         ss += w * cs.sub_shear_stress(c, k);
         us += w * cs.sub_shear_disp(c, k);
@@ -115,6 +116,16 @@ Vec3 contact_point(const Model& m, int c) {
     const Polyhedron pa = world_shape(m, a), pb = world_shape(m, b);
     return plane_point(BlockView{pa.vertices.data(), &pa}, BlockView{pb.vertices.data(), &pb}, cs.normal(c));
 }
+
+double contact_kn(const Model& m, int c) {
+    const int jm = m.contacts.jmat[c];
+    if (jm <= 0 || jm >= static_cast<int>(m.joint_materials.size()) || !m.joint_materials[jm].defined) return 0.0;
+    return m.joint_materials[jm].kn;
+}
+
+double sub_normal_stress(const Model& m, int c, int k) { return m.contacts.sub_sn_for(c, k, contact_kn(m, c)); }
+
+double sub_normal_stress(const Model& m, int k) { return sub_normal_stress(m, m.contacts.sub_owner(k), k); }
 
 Vec3 sub_point(const Model& m, int c, int k) {
     const ContactSet& cs = m.contacts;

@@ -145,7 +145,8 @@ struct ContactSet {
                                           //          while slipping (read through sub_dilation): kept
                                           //          once a joint material has dilation (update_contacts)
                                           //          or a sub-contact has some
-    PodArray<double> sub_sn;              // (n_subs) Pa, normal stress, compression positive
+    // Its normal stress is not stored: its closure and its joint's normal stiffness give it
+    // (sub_normal_stress), as its joint law made it at its last step.
     // The shear vectors are held as their components on the shear axes of their contact's
     // normal (shear_axes): the normal is fixed between refreshes, and a refresh that turns it
     // turns them onto the new plane. Read them as vectors through sub_shear_disp and
@@ -238,6 +239,14 @@ struct ContactSet {
     Eigen::Vector3d sub_shear_disp(int c, int k) const { return shear_in_world(c, sub_us[k]); }
     // The dilation of sub-contact k, m.
     double sub_dilation(int k) const { return sub_udil.empty() ? 0.0 : sub_udil[k]; }
+    // The normal stress of sub-contact k of contact c (Pa, compression positive) for the normal
+    // stiffness kn (Pa/m) of its joint: what its joint law makes of its closure (update_contacts;
+    // the dilation counts on a joint that is not glued), 0 while it is open and until its first
+    // step (a sub-contact a refresh made).
+    [[gnu::always_inline]] double sub_sn_for(int c, int k, double kn) const {
+        if (sub_flags[k] & (kSubOpen | kSubNew | kSubFresh)) return 0.0;
+        return joined[c] ? kn * sub_un[k] : kn * (sub_un[k] + sub_dilation(k));
+    }
     // The surface triangle sub-contact k meets (sides 3 and 4 against a deformable block), else -1s.
     std::array<int, 3> sub_triangle(int k) const {
         return sub_tri.empty() ? std::array<int, 3>{-1, -1, -1} : sub_tri[k];
@@ -344,6 +353,12 @@ Eigen::Vector3d contact_point(const Model& m, int contact_index);
 double contact_touch_area(const Model& m, int contact_index);
 // World position of sub-contact k (of contact c) now.
 Eigen::Vector3d sub_point(const Model& m, int c, int k);
+// The normal stiffness of contact c's joint (Pa/m; 0 without a defined joint material).
+double contact_kn(const Model& m, int c);
+// The normal stress of sub-contact k of contact c, Pa, compression positive (ContactSet::sub_sn_for
+// with its joint's stiffness); without c, its contact is looked up.
+double sub_normal_stress(const Model& m, int c, int k);
+double sub_normal_stress(const Model& m, int k);
 // Index of the contact whose centroid is nearest x, or -1 when there are none.
 int find_contact_at(const Model& m, const Eigen::Vector3d& x);
 // Index of the contact with this id, or -1.

@@ -624,7 +624,7 @@ void clear_arrays(ContactSet& x) {
     x.id.clear(); x.block_a.clear(); x.block_b.clear(); x.normal_code.clear(); x.gap.clear();
     x.jmat.clear(); x.jcons.clear(); x.joined.clear(); x.free_motion.clear(); x.sub_offset.assign(1, 0);
     x.sub_key.clear();
-    x.sub_area.clear(); x.sub_local.clear(); x.sub_un.clear(); x.sub_udil.clear(); x.sub_sn.clear();
+    x.sub_area.clear(); x.sub_local.clear(); x.sub_un.clear(); x.sub_udil.clear();
     x.sub_us.clear(); x.sub_ss.clear(); x.sub_flags.clear(); x.sub_tri.clear();
 }
 
@@ -638,7 +638,7 @@ void each_contact_array(ContactSet& x, F&& f) {
 // when `dil`.
 template <class F>
 void each_sub_array(ContactSet& x, bool tri, bool dil, F&& f) {
-    f(x.sub_key); f(x.sub_area); f(x.sub_local); f(x.sub_un); f(x.sub_sn);
+    f(x.sub_key); f(x.sub_area); f(x.sub_local); f(x.sub_un);
     f(x.sub_us); f(x.sub_ss); f(x.sub_flags);
     if (tri) f(x.sub_tri);
     if (dil) f(x.sub_udil);
@@ -748,7 +748,7 @@ public:
             const int j = j0 + i, k = wk_ + i;
             cs_.sub_key[k] = x.sub_key[j]; cs_.sub_area[k] = x.sub_area[j];
             cs_.sub_local[k] = x.sub_local[j]; cs_.sub_un[k] = x.sub_un[j];
-            cs_.sub_sn[k] = x.sub_sn[j]; cs_.sub_us[k] = x.sub_us[j]; cs_.sub_ss[k] = x.sub_ss[j];
+            cs_.sub_us[k] = x.sub_us[j]; cs_.sub_ss[k] = x.sub_ss[j];
             cs_.sub_flags[k] = x.sub_flags[j];
             if (tri_) cs_.sub_tri[k] = x.sub_triangle(j);
             if (dil_) cs_.sub_udil[k] = x.sub_dilation(j);
@@ -912,14 +912,12 @@ struct Detector {
             if (plane_turned) moving = true;
             next.sub_un.push_back(moving ? closure : cs.sub_un[k]);
             push_dilation(moving ? 0.0 : cs.sub_dilation(k));
-            next.sub_sn.push_back(cs.sub_sn[k]);
             next.sub_us.push_back(turned(cs.sub_us[k]));
             next.sub_ss.push_back(turned(cs.sub_ss[k]));
             next.sub_flags.push_back(cs.sub_flags[k] & ~(kSubNew | kSubFresh));
         } else {
             next.sub_un.push_back(closure);
             push_dilation(0);
-            next.sub_sn.push_back(0);
             next.sub_us.push_back(Eigen::Vector2d::Zero());
             next.sub_ss.push_back(Eigen::Vector2d::Zero());
             next.sub_flags.push_back(kSubNew);
@@ -936,7 +934,6 @@ struct Detector {
     void push_inherited(int k, double closure) {
         next.sub_un.push_back(closure);
         push_dilation(cs.sub_dilation(k));
-        next.sub_sn.push_back(0);
         next.sub_us.push_back(turned(cs.sub_us[k]));
         double kn = 0, ten = 0;
         if (const JointMaterial* jm = material()) {

@@ -86,7 +86,8 @@ double joint_strain_energy(const Model& m) {
         const JointMaterial& j = m.joint_materials[jm];
         const double hn = j.kn > 0 ? 0.5 / j.kn : 0.0, hs = j.ks > 0 ? 0.5 / j.ks : 0.0;
         for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
-            e += cs.sub_area[k] * (hn * cs.sub_sn[k] * cs.sub_sn[k] + hs * cs.sub_ss[k].squaredNorm());
+            const double sn = cs.sub_sn_for(c, k, j.kn);
+            e += cs.sub_area[k] * (hn * sn * sn + hs * cs.sub_ss[k].squaredNorm());
         }
     }
     return e;

@@ -176,8 +176,7 @@ void perturb_for_response(Model& m, const FosReducible& r, double factor) {
     }
     ContactSet& cs = m.contacts;
     for (int k = 0; k < cs.n_subs(); ++k) {
-        cs.sub_un[k] *= factor;
-        cs.sub_sn[k] *= factor;
+        cs.sub_un[k] *= factor; // and with it the normal stress
         cs.sub_ss[k] *= factor;
     }
     for (Sym6& s : m.zones.stress) {
@@ -203,8 +202,10 @@ bool fos_model_loaded(const Model& m) {
             if (v != 0) return true;
         }
     }
-    for (double sn : m.contacts.sub_sn) {
-        if (sn != 0) return true;
+    for (int c = 0; c < m.contacts.size(); ++c) {
+        for (int k = m.contacts.sub_offset[c]; k < m.contacts.sub_offset[c + 1]; ++k) {
+            if (sub_normal_stress(m, c, k) != 0) return true;
+        }
     }
     for (const Eigen::Vector2d& ss : m.contacts.sub_ss) {
         if (ss.squaredNorm() > 0) return true;

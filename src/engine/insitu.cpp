@@ -228,7 +228,6 @@ int load_sub(ContactSet& cs, int k, const Vec3& n, const Vec3& traction_on_b, do
             }
         }
     }
-    cs.sub_sn[k] = sn;
     Vec3 e1, e2;
     shear_axes(n, e1, e2);
     cs.sub_ss[k] = Eigen::Vector2d(ss.dot(e1), ss.dot(e2));
@@ -240,7 +239,6 @@ int load_sub(ContactSet& cs, int k, const Vec3& n, const Vec3& traction_on_b, do
 }
 
 void unload_sub(ContactSet& cs, int k) {
-    cs.sub_sn[k] = 0;
     cs.sub_ss[k].setZero();
     cs.sub_un[k] = 0;
     if (!cs.sub_udil.empty()) cs.sub_udil[k] = 0;
@@ -476,11 +474,12 @@ int shift_joint_water(Model& m, const std::vector<double>& old_pp) {
         const Vec3 n = cs.normal(c);
         for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
             const int node = f.sub_node[k];
-            if (node < 0 || (cs.sub_flags[k] & kSubOpen) || !(cs.sub_sn[k] > 0)) continue;
+            const double sn = cs.sub_sn_for(c, k, j->kn);
+            if (node < 0 || (cs.sub_flags[k] & kSubOpen) || !(sn > 0)) continue;
             const double dp = (f.pp[node] - old_pp[node]) * f.sub_wet[k];
             if (dp == 0) continue;
             // The total stress stays: the springs carry what the water no longer does.
-            const Vec3 traction = (cs.sub_sn[k] - dp) * n + cs.sub_shear_stress(c, k);
+            const Vec3 traction = (sn - dp) * n + cs.sub_shear_stress(c, k);
             load_sub(cs, k, n, traction, j->kn, cs.joined[c] != 0, st);
             ++shifted;
         }

@@ -77,7 +77,10 @@ LawParams law_params(const Model& m, int jmat, int jcons) {
 [[gnu::always_inline]] inline Vec3 joint_step(ContactSet& cs, int k, const LawParams& p, bool joined, const Vec3& nrm,
                                               const Vec3& e1, const Vec3& e2, const Vec3& du, double* dissipated = nullptr) {
     std::uint8_t flags = cs.sub_flags[k];
-    const double sn_old = cs.sub_sn[k], un_old = cs.sub_un[k] + cs.sub_dilation(k);
+    // The normal stress before the step (for the energy account alone), as its last step left it.
+    const double un_old = cs.sub_un[k] + cs.sub_dilation(k);
+    const double sn_old =
+        !dissipated || (flags & (kSubOpen | kSubNew | kSubFresh)) ? 0.0 : p.kn * (joined ? cs.sub_un[k] : un_old);
     Vec2 dus = Vec2::Zero(); // on the shear axes e1, e2 (ContactSet::sub_us)
     if (flags & kSubNew) {
         // Its closure was measured from the geometry at t: the step is already in it.
@@ -148,7 +151,6 @@ LawParams law_params(const Model& m, int jmat, int jcons) {
             }
         }
     }
-    cs.sub_sn[k] = sn;
     cs.sub_ss[k] = ss;
     cs.sub_flags[k] = flags;
     return cs.sub_area[k] * (sn * nrm + ss[0] * e1 + ss[1] * e2);

@@ -31,8 +31,9 @@ std::string overlap_problem(const Model& m) {
         const double depth = -cs.gap[c];
         if (!(depth > 0)) continue;
         bool unstressed = true;
+        const double kn = contact_kn(m, c);
         for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1] && unstressed; ++k) {
-            unstressed = cs.sub_sn[k] == 0 && cs.sub_ss[k].squaredNorm() == 0;
+            unstressed = cs.sub_sn_for(c, k, kn) == 0 && cs.sub_ss[k].squaredNorm() == 0;
         }
         if (!unstressed) continue;
         const double tol = m.settings.ovtol > 0 ? m.settings.ovtol

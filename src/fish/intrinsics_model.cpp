@@ -224,7 +224,7 @@ Value f_c_jmat(Runtime& rt, A a, int, L loc) { CONTACT("c_jmat"); return Value::
 Value f_c_nforce(Runtime& rt, A a, int, L loc) {
     CONTACT("c_nforce");
     double f = 0;
-    for (int k = C.sub_offset[c]; k < C.sub_offset[c + 1]; ++k) f += C.sub_sn[k] * C.sub_area[k];
+    for (int k = C.sub_offset[c]; k < C.sub_offset[c + 1]; ++k) f += sub_normal_stress(model(rt), c, k) * C.sub_area[k];
     return num(f);
 }
 Value f_c_sforce(Runtime& rt, A a, int, L loc) {
@@ -281,12 +281,12 @@ Value f_cx_next(Runtime& rt, A a, int, L loc) {
 #define SUB(fn) const int s = ptr(rt, a, 0, PtrKind::Sub, fn, loc); const ContactSet& C = model(rt).contacts; (void)C
 Value f_cx_pos(Runtime& rt, A a, int, L loc) { SUB("cx_pos"); return vec(sub_point(model(rt), C.sub_owner(s), s)); }
 Value f_cx_area(Runtime& rt, A a, int, L loc) { SUB("cx_area"); return num(C.sub_area[s]); }
-Value f_cx_nforce(Runtime& rt, A a, int, L loc) { SUB("cx_nforce"); return num(C.sub_sn[s] * C.sub_area[s]); }
+Value f_cx_nforce(Runtime& rt, A a, int, L loc) { SUB("cx_nforce"); return num(sub_normal_stress(model(rt), s) * C.sub_area[s]); }
 Value f_cx_sforce(Runtime& rt, A a, int, L loc) { SUB("cx_sforce"); return vec(C.sub_shear_stress(C.sub_owner(s), s) * C.sub_area[s]); }
 Value f_cx_xsforce(Runtime& rt, A a, int, L loc) { SUB("cx_xsforce"); return num(C.sub_shear_stress(C.sub_owner(s), s).x() * C.sub_area[s]); }
 Value f_cx_ysforce(Runtime& rt, A a, int, L loc) { SUB("cx_ysforce"); return num(C.sub_shear_stress(C.sub_owner(s), s).y() * C.sub_area[s]); }
 Value f_cx_zsforce(Runtime& rt, A a, int, L loc) { SUB("cx_zsforce"); return num(C.sub_shear_stress(C.sub_owner(s), s).z() * C.sub_area[s]); }
-Value f_cx_nstress(Runtime& rt, A a, int, L loc) { SUB("cx_nstress"); return num(C.sub_sn[s]); }
+Value f_cx_nstress(Runtime& rt, A a, int, L loc) { SUB("cx_nstress"); return num(sub_normal_stress(model(rt), s)); }
 Value f_cx_sstress(Runtime& rt, A a, int, L loc) { SUB("cx_sstress"); return vec(C.sub_shear_stress(C.sub_owner(s), s)); }
 // The closure the joint's spring carries (the dilation included), as print, hist and export give it.
 Value f_cx_ndis(Runtime& rt, A a, int, L loc) { SUB("cx_ndis"); return num(C.sub_un[s] + C.sub_dilation(s)); }

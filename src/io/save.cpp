@@ -524,7 +524,17 @@ auto fields(IO& io, M& x) -> If<M, ContactSet> {
             PodArray<double>().swap(x.sub_udil);
         }
     }
-    io(x.sub_sn);
+    // Format 18 keeps no normal stresses (the closures and the joints' stiffnesses give them:
+    // sub_normal_stress); older files have them, checked and left.
+    if constexpr (!std::is_const_v<M>) {
+        if (io.format < 18) {
+            std::vector<double> sn;
+            io(sn);
+            io.check(sn.size() == x.sub_key.size(), "the sub-contact arrays differ in length");
+            io.check(std::all_of(sn.begin(), sn.end(), [](double v) { return std::isfinite(v); }),
+                     "a normal stress is not a finite number");
+        }
+    }
     // Format 17: the shear vectors on their contacts' shear axes (two numbers); older files have
     // them as vectors, put on the axes here.
     if (io.format >= 17) {
@@ -1289,7 +1299,7 @@ std::string check_consistent(const Model& m) {
     const size_t ns = c.sub_key.size();
     if (c.sub_area.size() != ns || c.sub_local.size() != ns || c.sub_un.size() != ns ||
         (!c.sub_udil.empty() && c.sub_udil.size() != ns) ||
-        c.sub_sn.size() != ns || c.sub_us.size() != ns || c.sub_ss.size() != ns || c.sub_flags.size() != ns ||
+        c.sub_us.size() != ns || c.sub_ss.size() != ns || c.sub_flags.size() != ns ||
         (!c.sub_tri.empty() && c.sub_tri.size() != ns)) {
         return "the sub-contact arrays differ in length";
     }
@@ -1664,7 +1674,7 @@ std::string check_values(const Model& m) {
             if (!point_code_valid(cs.sub_local[i])) c.fail(w, "a sub-contact point's code is out of range");
             c.finite(cs.sub_un[i], w, "a normal closure");
             c.finite(cs.sub_dilation(i), w, "a dilation");
-            c.finite(cs.sub_sn[i], w, "a normal stress");
+            c.finite(sub_normal_stress(m, k, i), w, "a normal stress");
             c.vec(Vec3(cs.sub_us[i][0], cs.sub_us[i][1], 0), w, "a shear displacement");
             c.vec(Vec3(cs.sub_ss[i][0], cs.sub_ss[i][1], 0), w, "a shear stress");
             if (cs.sub_flags[i] > (kSubSlip | kSubOpen | kSubFailed | kSubNew | kSubFresh)) c.fail(w, "a sub-contact flag is out of range");

@@ -78,16 +78,18 @@ ContactView make_contact_view(const Model& m, const std::vector<int>* contact_in
 
         Vec3 force = Vec3::Zero();
         if (have_subs) {
+            const double kn = contact_kn(m, c);
             for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
                 // The force the joint law puts on block b: area * (sn n + ss).
-                const Vec3 f = cs.sub_area[k] * (cs.sub_sn[k] * info.normal + cs.sub_shear_stress(c, k));
+                const double sn = cs.sub_sn_for(c, k, kn);
+                const Vec3 f = cs.sub_area[k] * (sn * info.normal + cs.sub_shear_stress(c, k));
                 force += f;
                 subs.centroid.push_back(sub_point(m, c, k));
                 subs.normal.push_back(info.normal);
                 subs.area.push_back(cs.sub_area[k]);
                 subs.block1.push_back(id_a);
                 subs.block2.push_back(id_b);
-                subs.normal_stress.push_back(cs.sub_sn[k]);
+                subs.normal_stress.push_back(sn);
                 subs.shear_stress.push_back(cs.sub_shear_stress(c, k));
                 subs.normal_disp.push_back(cs.sub_un[k] + cs.sub_dilation(k));
                 subs.shear_disp.push_back(cs.sub_shear_disp(c, k));

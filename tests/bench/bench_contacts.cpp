@@ -145,7 +145,7 @@ void run(int n, long steps) {
                                    bytes(cs.joined) + bytes(cs.sub_offset) + bytes(cs.free_motion) +
                                    bytes(cs.color_order);
         const double per_sub = bytes(cs.sub_key) + bytes(cs.sub_area) + bytes(cs.sub_local) +
-                               bytes(cs.sub_tri) + bytes(cs.sub_un) + bytes(cs.sub_udil) + bytes(cs.sub_sn) +
+                               bytes(cs.sub_tri) + bytes(cs.sub_un) + bytes(cs.sub_udil) +
                                bytes(cs.sub_us) + bytes(cs.sub_ss) + bytes(cs.sub_flags);
         int carrying = 0;
         for (int c = 0; c < cs.size(); ++c) carrying += cs.sub_offset[c + 1] > cs.sub_offset[c];

@@ -43,7 +43,6 @@ int main(int argc, char** argv) {
             c.sub_area.push_back(0.25);
             c.sub_local.push_back(odec::PointCode{});
             c.sub_un.push_back(0);
-            c.sub_sn.push_back(1000.0);
             c.sub_us.push_back(Eigen::Vector2d::Zero());
             c.sub_ss.push_back(Eigen::Vector2d::Zero());
             c.sub_flags.push_back(0);

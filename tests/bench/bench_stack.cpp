@@ -129,7 +129,7 @@ Figures run_odec(const Stack& st, long steps, double dt) {
     const ContactSet& cs = m.contacts;
     for (int c = 0; c < cs.size(); ++c) {
         bool presses = false;
-        for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) presses = presses || cs.sub_sn[k] > 0;
+        for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) presses = presses || sub_normal_stress(m, c, k) > 0;
         f.touching += presses ? 1 : 0;
     }
     const BlockSet& s = m.blocks;

@@ -485,12 +485,19 @@ std::string without_clumps(std::string file, const std::vector<int>& clumps, con
             const Eigen::Vector3d w = disp ? cs.sub_shear_disp(c, k) : cs.sub_shear_stress(c, k);
             std::memcpy(&wide[8 + 24 * k], w.data(), 24);
         }
-        file.replace(at, pattern.size(), wide);
-        from = at + wide.size();
+        // Before the shear displacements, format 17 had the normal stresses (read and left:
+        // zeros will do; format 18 keeps none).
+        std::string stresses;
+        if (disp) {
+            stresses.assign(8 + 8 * ns, '\0');
+            std::memcpy(&stresses[0], &ns, 8);
+        }
+        file.replace(at, pattern.size(), stresses + wide);
+        from = at + stresses.size() + wide.size();
         for (size_t at_length : {cont + 4, payload_length_at}) {
             std::uint64_t len = 0;
             std::memcpy(&len, &file[at_length], 8);
-            len += 8 * ns;
+            len += 8 * ns + stresses.size();
             std::memcpy(&file[at_length], &len, 8);
         }
         return true;

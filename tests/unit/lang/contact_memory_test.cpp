@@ -105,9 +105,9 @@ TEST(ContactMemory, ShearVectorsOfOlderFilesArePutOnTheirAxes) {
 TEST(ContactMemory, ASubContactTakesFewBytes) {
     const odec::ContactSet cs;
     const size_t per_sub = sizeof(cs.sub_key[0]) + sizeof(cs.sub_area[0]) + sizeof(cs.sub_local[0]) +
-                           sizeof(cs.sub_un[0]) + sizeof(cs.sub_sn[0]) + sizeof(cs.sub_us[0]) + sizeof(cs.sub_ss[0]) +
+                           sizeof(cs.sub_un[0]) + sizeof(cs.sub_us[0]) + sizeof(cs.sub_ss[0]) +
                            sizeof(cs.sub_flags[0]);
-    EXPECT_LE(per_sub, 79u);
+    EXPECT_LE(per_sub, 71u);
 }
 
 // The same for every contact: it was 89 bytes (the plane's point, a normal of three doubles, the

@@ -66,7 +66,7 @@ std::string not_finite(const odec::Model& m) {
         if (!c.normal(k).allFinite() || !fin(c.gap[k])) return "contact";
     }
     for (int k = 0; k < c.n_subs(); ++k) {
-        if (!fin(c.sub_area[k]) || !fin(c.sub_un[k]) || !fin(c.sub_dilation(k)) || !fin(c.sub_sn[k]) ||
+        if (!fin(c.sub_area[k]) || !fin(c.sub_un[k]) || !fin(c.sub_dilation(k)) ||
             !c.sub_us[k].allFinite() || !c.sub_ss[k].allFinite() || !c.sub_point_local(k).allFinite())
             return "sub-contact";
     }

@@ -577,7 +577,7 @@ TEST(Export, VtkFilesReadBackWithTheModelsValues) {
     vtkDataArray* parent = sp->GetPointData()->GetArray("contact");
     ASSERT_TRUE(ssn && sss && parent);
     for (int k = 0; k < m.contacts.n_subs(); ++k) {
-        EXPECT_DOUBLE_EQ(ssn->GetTuple1(k), m.contacts.sub_sn[k]);
+        EXPECT_DOUBLE_EQ(ssn->GetTuple1(k), odec::sub_normal_stress(m, k));
         const Eigen::Vector3d ss = m.contacts.sub_shear_stress(m.contacts.sub_owner(k), k);
         for (int j = 0; j < 3; ++j) EXPECT_DOUBLE_EQ(sss->GetComponent(k, j), ss[j]);
         EXPECT_EQ(parent->GetTuple1(k), m.contacts.sub_owner(k));

@@ -143,7 +143,7 @@ TEST_F(Save, RestoringAndGoingOnGivesTheSameBits) {
         EXPECT_TRUE(same_bits(x.blocks.orientation, y.blocks.orientation));
         EXPECT_TRUE(same_bits(x.blocks.vel, y.blocks.vel));
         EXPECT_TRUE(same_bits(x.blocks.ang_vel, y.blocks.ang_vel));
-        EXPECT_TRUE(same_bits(x.contacts.sub_sn, y.contacts.sub_sn));
+        EXPECT_TRUE(same_bits(x.contacts.sub_un, y.contacts.sub_un));
         EXPECT_TRUE(same_bits(x.contacts.sub_ss, y.contacts.sub_ss));
         EXPECT_TRUE(same_bits(x.contacts.normal_code, y.contacts.normal_code));
         EXPECT_EQ(std::memcmp(&x.time, &y.time, sizeof x.time), 0);
@@ -478,7 +478,7 @@ TEST_F(Save, Format6AppliedForceRestoresAsALoadAtTheCentroid) {
     // themselves are sections after ENRG, gone with it; the hydraulic apertures of format 13 are
     // in joint materials, which this model has none of).
     // Format 17 dropped the reference points of the contacts' planes, an array after the
-    // normals: none here (no contacts), so its length alone.
+    // normals: none here (no contacts), so its length alone; so for the normal stresses.
     const size_t cont = file.find("CONT", payload_length_at + 8);
     ASSERT_NE(cont, std::string::npos);
     for (size_t i = 0; i < 4; ++i) { // ids, blocks a and b, normals: empty
@@ -486,10 +486,16 @@ TEST_F(Save, Format6AppliedForceRestoresAsALoadAtTheCentroid) {
         ASSERT_EQ(n, 0u);
     }
     file.insert(cont + 12 + 32, std::string(8, '\0'));
+    // Format 18 dropped the sub-contacts' normal stresses: an empty array among the empty
+    // sub-contact arrays that follow the offsets (gap, joint material and model, glued: empty;
+    // the offsets: none, or one 0).
+    std::memcpy(&n, &file[cont + 12 + 72], 8);
+    ASSERT_LE(n, 1u);
+    file.insert(cont + 12 + 80 + 4 * n, std::string(8, '\0'));
     for (size_t at_length : {cont + 4, payload_length_at}) {
         std::uint64_t len = 0;
         std::memcpy(&len, &file[at_length], 8);
-        len += 8;
+        len += 16;
         std::memcpy(&file[at_length], &len, 8);
     }
     const size_t prof = file.find("PROF", payload_length_at + 8);
@@ -780,14 +786,15 @@ TEST(SaveLayout, EveryFieldIsSaved) {
     EXPECT_EQ(count_fields<GridpointSet>(), 19u) << fix;
     EXPECT_EQ(count_fields<StressBoundary>(), 1u) << fix;
     EXPECT_EQ(count_fields<BoundaryFace>(), 3u) << fix;
-    // ContactSet: 28 saved fields (the file also has each sub-contact's contact, side and vertex,
-    // derived from the offsets and keys) and 14 derived ones (free_motion: made again at the next
+    // ContactSet: 27 saved fields (the file also has each sub-contact's contact, side and vertex,
+    // derived from the offsets and keys; format 18 dropped the normal stresses, derived from the
+    // closures) and 14 derived ones (free_motion: made again at the next
     // refresh, looked at every step until then; surface_*: rebuilt from the zones;
     // joint_k*: rebuilt every step; color_*, colored: rebuilt when the pairs in contact change;
     // revision, build_seconds, write_seconds: count the refreshes and their time in this
     // session; change_seen: a restored model's contacts are found again before they are used
     // while its geometry_changed is set).
-    EXPECT_EQ(count_fields<ContactSet>(), 42u) << fix;
+    EXPECT_EQ(count_fields<ContactSet>(), 41u) << fix;
     EXPECT_EQ(count_fields<Polyhedron>(), 4u) << fix;
     EXPECT_EQ(count_fields<Material>(), 8u) << fix;
     EXPECT_EQ(count_fields<JointMaterial>(), 12u) << fix;

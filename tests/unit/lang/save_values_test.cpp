@@ -126,7 +126,7 @@ std::string model_problem(const odec::Model& m) {
         if (!c.normal(k).allFinite() || !fin(c.gap[k])) return "contact numbers";
     }
     for (size_t k = 0; k < c.sub_key.size(); ++k) {
-        if (!fin(c.sub_area[k]) || !fin(c.sub_un[k]) || !fin(c.sub_sn[k]) || !c.sub_ss[k].allFinite() ||
+        if (!fin(c.sub_area[k]) || !fin(c.sub_un[k]) || !c.sub_ss[k].allFinite() ||
             !c.sub_us[k].allFinite() || !c.sub_point_local(k).allFinite())
             return "sub-contact numbers";
     }
@@ -289,7 +289,7 @@ TEST_F(SaveValues, EditedFieldsAreEachRefusedAndTheModelKept) {
         {"its blocks are not in order (a < b)", [](odec::Model& m) { std::swap(m.contacts.block_a[0], m.contacts.block_b[0]); }},
         {"the normal's code is out of range", [](odec::Model& m) { m.contacts.normal_code[1].u = odec::kNormalCodeLimit + 1; }},
         {"a sub-contact area is not a finite number", [&](odec::Model& m) { m.contacts.sub_area[0] = nan; }},
-        {"a normal stress is not a finite number", [&](odec::Model& m) { m.contacts.sub_sn[2] = inf; }},
+        {"a normal closure is not a finite number", [&](odec::Model& m) { m.contacts.sub_un[2] = inf; }},
         {"two contacts have the same id", [](odec::Model& m) { m.contacts.id[1] = m.contacts.id[0]; }},
         {"a history's samples do not match the model's", [](odec::Model& m) { m.histories.items[0].values.push_back(1); }},
         {"a history's samples do not match the model's", [](odec::Model& m) { m.histories.items[1].values.pop_back(); }},

@@ -273,7 +273,7 @@ TEST(Verification, SameScriptSameBits) {
         EXPECT_EQ(std::memcmp(a.model.blocks.centroid[k].data(), b.model.blocks.centroid[k].data(), 3 * sizeof(double)), 0);
         EXPECT_EQ(std::memcmp(a.model.blocks.vel[k].data(), b.model.blocks.vel[k].data(), 3 * sizeof(double)), 0);
     }
-    EXPECT_EQ(a.model.contacts.sub_sn, b.model.contacts.sub_sn);
+    EXPECT_EQ(a.model.contacts.sub_un, b.model.contacts.sub_un);
 }
 
 // Adaptive damping is set from the frequency of the motion the model shows, at 0.7 of critical.

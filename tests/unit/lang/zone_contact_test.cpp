@@ -21,7 +21,7 @@ namespace {
 double normal_force(const Model& m, int c) {
     const ContactSet& cs = m.contacts;
     double f = 0;
-    for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) f += cs.sub_area[k] * cs.sub_sn[k];
+    for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) f += cs.sub_area[k] * odec::sub_normal_stress(m, c, k);
     return f;
 }
 
@@ -151,7 +151,7 @@ TEST(ZoneContacts, SaveAndRestoreContinueToTheSameBits) {
         ASSERT_EQ(ga.pos[i], gb.pos[i]) << i;
         ASSERT_EQ(ga.vel[i], gb.vel[i]) << i;
     }
-    ASSERT_EQ(a.model.contacts.sub_sn, b.model.contacts.sub_sn);
+    ASSERT_EQ(a.model.contacts.sub_un, b.model.contacts.sub_un);
     // The upper block presses on the middle one: their contact carries load.
     const int c = contact_between(a.model, 2, 3);
     ASSERT_GE(c, 0);
@@ -284,7 +284,7 @@ TEST(ZoneContacts, GridpointHistoriesFollowTheirGridpointsWhenOthersAreRenumbere
         ensure_contacts_current(s.model, true);
         std::vector<std::pair<Vec3, double>> out;
         for (int k = 0; k < cs.n_subs(); ++k) {
-            if (cs.sub_side(k) == 4) out.emplace_back(s.model.gridpoints.pos[cs.sub_vertex(k)], cs.sub_sn[k]);
+            if (cs.sub_side(k) == 4) out.emplace_back(s.model.gridpoints.pos[cs.sub_vertex(k)], odec::sub_normal_stress(s.model, k));
         }
         std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) {
             return std::lexicographical_compare(a.first.data(), a.first.data() + 3, b.first.data(), b.first.data() + 3);
