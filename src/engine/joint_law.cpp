@@ -164,24 +164,30 @@ void color_contacts(ContactSet& cs, int n_blocks) {
     // list after the colours. Contacts without sub-contacts (blocks near one another, or meeting
     // along an edge: most of a jointed rock mass's) are not listed: the contact update would
     // only look at them to find nothing to do (a refresh that makes one carry colours again).
+    // Two passes of the same greedy choice, the first counting each colour's contacts, the second
+    // placing them, so that no colour is kept per contact.
     constexpr int kColors = 64;
     const int nc = cs.size();
     std::vector<std::uint64_t> used(n_blocks, 0);
-    std::vector<int> color(nc, -1);
+    auto each_colored = [&](auto&& put) {
+        std::fill(used.begin(), used.end(), 0);
+        for (int c = 0; c < nc; ++c) {
+            if (cs.sub_offset[c] == cs.sub_offset[c + 1]) continue;
+            const std::uint64_t free = ~(used[cs.block_a[c]] | used[cs.block_b[c]]);
+            const int k = free ? __builtin_ctzll(free) : kColors;
+            if (k < kColors) {
+                used[cs.block_a[c]] |= std::uint64_t{1} << k;
+                used[cs.block_b[c]] |= std::uint64_t{1} << k;
+            }
+            put(c, k);
+        }
+    };
     std::vector<int> count(kColors + 1, 0);
     int listed = 0;
-    for (int c = 0; c < nc; ++c) {
-        if (cs.sub_offset[c] == cs.sub_offset[c + 1]) continue;
-        ++listed;
-        const std::uint64_t free = ~(used[cs.block_a[c]] | used[cs.block_b[c]]);
-        const int k = free ? __builtin_ctzll(free) : kColors;
-        if (k < kColors) {
-            used[cs.block_a[c]] |= std::uint64_t{1} << k;
-            used[cs.block_b[c]] |= std::uint64_t{1} << k;
-        }
-        color[c] = k;
+    each_colored([&](int, int k) {
         ++count[k];
-    }
+        ++listed;
+    });
     int n_colors = 0;
     for (int k = 0; k < kColors; ++k) {
         if (count[k] > 0) n_colors = k + 1;
@@ -191,9 +197,7 @@ void color_contacts(ContactSet& cs, int n_blocks) {
     std::vector<int> fill(cs.color_offset.begin(), cs.color_offset.end() - 1);
     fill.push_back(cs.color_offset.back()); // the uncoloured, after the colours
     cs.color_order.assign(listed, 0);
-    for (int c = 0; c < nc; ++c) {
-        if (color[c] >= 0) cs.color_order[fill[std::min(color[c], n_colors)]++] = c;
-    }
+    each_colored([&](int c, int k) { cs.color_order[fill[std::min(k, n_colors)]++] = c; });
     cs.colored = true;
 }
 
