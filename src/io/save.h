@@ -39,9 +39,10 @@ namespace odec {
 // shear displacements and stresses as two components on their contact's shear axes (older
 // files' vectors are put on the axes as they are read), and no reference point of a contact's
 // plane (derived from its blocks: older files' points are checked and left); 18: a contact's
-// normal as its octahedral code, its gap in single precision and its joint model in a byte, and
-// the sub-contacts' points as codes of fourteen bytes (older files' are coded and narrowed as
-// they are read).
+// normal as its octahedral code, its gap in single precision and its joint model in a byte, the
+// sub-contacts' points as codes of fourteen bytes, and no normal stresses (derived from the
+// closures) (older files' are coded and narrowed as they are read, their stresses checked and
+// left).
 constexpr std::uint32_t kSaveFormatVersion = 18;
 
 // Write the model to `path`. A model that restore would refuse (a velocity that is not a finite
