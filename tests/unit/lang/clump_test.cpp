@@ -405,6 +405,15 @@ std::string without_clumps(std::string file, const std::vector<int>& clumps, con
     cut(damp + 12 + damp_length - 24, 24, {damp + 4, payload_length_at});
     const size_t cont = file.find("CONT", payload_length_at + 8);
     if (cont == std::string::npos) return "";
+    // The section and the payload grow by `bytes` (an array widened or put back).
+    auto grow_contacts = [&](size_t bytes) {
+        for (size_t at_length : {cont + 4, payload_length_at}) {
+            std::uint64_t len = 0;
+            std::memcpy(&len, &file[at_length], 8);
+            len += bytes;
+            std::memcpy(&file[at_length], &len, 8);
+        }
+    };
     size_t from = cont;
     // Format 18 holds the normals as codes of 8 bytes (vectors before), each contact's gap as a
     // float (a double before) and its joint model as a byte (an int); format 17 dropped the
@@ -440,12 +449,7 @@ std::string without_clumps(std::string file, const std::vector<int>& clumps, con
         }
         const std::string new_part = wide + points + wide_gaps + jmats + wide_jcons;
         file.replace(at, old_part.size(), new_part);
-        for (size_t at_length : {cont + 4, payload_length_at}) {
-            std::uint64_t len = 0;
-            std::memcpy(&len, &file[at_length], 8);
-            len += new_part.size() - old_part.size();
-            std::memcpy(&file[at_length], &len, 8);
-        }
+        grow_contacts(new_part.size() - old_part.size());
         from = at + new_part.size();
     }
     // Format 18 holds the sub-contacts' points as codes of 14 bytes (vectors before).
@@ -463,12 +467,7 @@ std::string without_clumps(std::string file, const std::vector<int>& clumps, con
             std::memcpy(&wide[8 + 24 * k], x.data(), 24);
         }
         file.replace(at, pattern.size(), wide);
-        for (size_t at_length : {cont + 4, payload_length_at}) {
-            std::uint64_t len = 0;
-            std::memcpy(&len, &file[at_length], 8);
-            len += wide.size() - pattern.size();
-            std::memcpy(&file[at_length], &len, 8);
-        }
+        grow_contacts(wide.size() - pattern.size());
         from = at + wide.size();
     }
     auto widen = [&](const odec::PodArray<Eigen::Vector2d>& v, bool disp) {
@@ -494,12 +493,7 @@ std::string without_clumps(std::string file, const std::vector<int>& clumps, con
         }
         file.replace(at, pattern.size(), stresses + wide);
         from = at + stresses.size() + wide.size();
-        for (size_t at_length : {cont + 4, payload_length_at}) {
-            std::uint64_t len = 0;
-            std::memcpy(&len, &file[at_length], 8);
-            len += 8 * ns + stresses.size();
-            std::memcpy(&file[at_length], &len, 8);
-        }
+        grow_contacts(8 * ns + stresses.size());
         return true;
     };
     if (!widen(cs.sub_us, true) || !widen(cs.sub_ss, false)) return "";
