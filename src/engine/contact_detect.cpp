@@ -1252,8 +1252,27 @@ struct Detector {
 };
 
 // One contact to build in a pass: blocks a < b, carrying the history of old contact oc (-1: new).
-struct Job {
-    int a, b, oc;
+// A contact to (re)build: its old contact (>= 0), whose blocks it is between, or ~i for the i-th
+// pair of blocks new to the set (Jobs::pairs). Four bytes a job: in a settling mass nearly
+// every contact is rebuilt at a refresh pass, and the jobs are planned for the whole pass.
+struct Jobs {
+    std::vector<int> job;
+    std::vector<std::array<int, 2>> pairs; // blocks a < b of the new pairs (full passes only)
+    int size() const { return static_cast<int>(job.size()); }
+    // The old contact of job j, or -1.
+    int old(int j) const { return job[j] >= 0 ? job[j] : -1; }
+    void clear() {
+        job.clear();
+        pairs.clear();
+    }
+    void add(int a, int b, int oc) {
+        if (oc >= 0) {
+            job.push_back(oc);
+        } else {
+            job.push_back(~static_cast<int>(pairs.size()));
+            pairs.push_back({a, b});
+        }
+    }
 };
 
 // Jobs built at a time: the contacts of one window are all that a pass holds besides the set.
@@ -1263,7 +1282,7 @@ constexpr int kBuildWindow = 2048;
 // fresh[j - j0] is the fresh index of job j's contact, or -1 when its blocks were farther apart
 // than ctol. Each contact is built alone from the old set and the blocks, so the result is the
 // same whatever the threads and the windows.
-void build_jobs(Model& m, ContactSet& cs, const std::vector<Job>& jobs, int j0, int j1, const Rewrite& rw, Rebuilt& rb,
+void build_jobs(Model& m, ContactSet& cs, const Jobs& jobs, int j0, int j1, const Rewrite& rw, Rebuilt& rb,
                 std::vector<int>& fresh) {
     const int nj = j1 - j0;
     const int threads = thread_count();
@@ -1274,14 +1293,20 @@ void build_jobs(Model& m, ContactSet& cs, const std::vector<Job>& jobs, int j0, 
     fresh.assign(nj, -1);
     ContactSet* parts = rb.parts.data();
     int* where = fresh.data();
-    const Job* job = jobs.data() + j0;
+    const int* job = jobs.job.data() + j0;
+    const std::array<int, 2>* new_pair = jobs.pairs.data();
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1) if (on_threads)
     for (int p = 0; p < n_parts; ++p) {
         const int i0 = static_cast<int>(static_cast<long>(nj) * p / n_parts);
         const int i1 = static_cast<int>(static_cast<long>(nj) * (p + 1) / n_parts);
         Detector d{m, cs, parts[p], cs.ctol, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}};
         for (int i = i0; i < i1; ++i) {
-            if (d.build(job[i].a, job[i].b, rw.old(job[i].oc), true)) where[i] = parts[p].size() - 1;
+            // An old contact's blocks are read where the pass has it (not yet overwritten: its
+            // window is being built).
+            const int v = job[i];
+            const OldRef o = rw.old(v >= 0 ? v : -1);
+            const int a = v >= 0 ? cs.block_a[o.c] : new_pair[~v][0], b = v >= 0 ? cs.block_b[o.c] : new_pair[~v][1];
+            if (d.build(a, b, o, true)) where[i] = parts[p].size() - 1;
         }
     }
     rb.part.clear();
@@ -1514,7 +1539,7 @@ void detect_contacts(Model& m) {
     refresh_contact_surface(m);
 
     thread_local Rebuilt rebuilt;
-    thread_local std::vector<Job> jobs;
+    thread_local Jobs jobs;
     thread_local std::vector<int> fresh; // per job of a window: its fresh contact, or -1
     thread_local std::vector<std::int64_t> pairs;
     thread_local std::vector<char> moved;
@@ -1550,8 +1575,8 @@ void detect_contacts(Model& m) {
     jobs.clear();
     // Plan an old contact kept as it is, or a contact (re)built.
     auto rebuild = [&](int a, int b, int oc) {
-        plan.push_back(~static_cast<int>(jobs.size()));
-        jobs.push_back(Job{a, b, oc});
+        plan.push_back(~jobs.size());
+        jobs.add(a, b, oc);
     };
 
     if (full) {
@@ -1767,7 +1792,7 @@ void detect_contacts(Model& m) {
             }
             // Kept contacts are read as they are written, the old contacts of jobs when their
             // window is built.
-            auto pending = [&](int q) { return plan[q] >= 0 || (~plan[q] >= j1 && jobs[~plan[q]].oc >= 0); };
+            auto pending = [&](int q) { return plan[q] >= 0 || (~plan[q] >= j1 && jobs.old(~plan[q]) >= 0); };
             for (; pi < np && (plan[pi] >= 0 || ~plan[pi] < j1); ++pi) {
                 const int e = plan[pi];
                 if (e >= 0) {
@@ -1784,19 +1809,19 @@ void detect_contacts(Model& m) {
                     colouring_holds = false;
                     continue;
                 }
-                colouring_holds = colouring_holds && jobs[~e].oc == rw.written();
+                colouring_holds = colouring_holds && jobs.old(~e) == rw.written();
                 // The colouring lists the contacts that carry sub-contacts: one that starts or
                 // stops carrying any needs a new one (its old count from the old offsets, which
                 // the writing leaves as they were).
                 if (colouring_holds) {
-                    const OldRef o = rw.old(jobs[~e].oc);
+                    const OldRef o = rw.old(jobs.old(~e));
                     const ContactSet& x = rebuilt.set(f);
                     const int lf = rebuilt.local[f];
                     colouring_holds = (o.k1 > o.k0) == (x.sub_offset[lf + 1] > x.sub_offset[lf]);
                 }
                 pend = std::max(pend, pi + 1);
                 while (pend < np && !pending(pend)) ++pend;
-                const int next = pend < np ? (plan[pend] >= 0 ? plan[pend] : jobs[~plan[pend]].oc) : -1;
+                const int next = pend < np ? (plan[pend] >= 0 ? plan[pend] : jobs.old(~plan[pend])) : -1;
                 rw.put_fresh(rebuilt.set(f), rebuilt.local[f], next);
             }
             if (j1 >= nj) break;
@@ -1813,7 +1838,8 @@ void detect_contacts(Model& m) {
     // the candidate pairs, most of which (blocks near one another without a contact) the
     // passes between two full ones never see: they are given back then.
     if (full) {
-        std::vector<Job>().swap(jobs);
+        std::vector<int>().swap(jobs.job);
+        std::vector<std::array<int, 2>>().swap(jobs.pairs);
         std::vector<int>().swap(plan);
     }
     std::size_t held = 0;
