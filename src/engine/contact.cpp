@@ -117,10 +117,15 @@ Vec3 contact_point(const Model& m, int c) {
     return plane_point(BlockView{pa.vertices.data(), &pa}, BlockView{pb.vertices.data(), &pb}, cs.normal(c));
 }
 
-double contact_kn(const Model& m, int c) {
+const JointMaterial* contact_joint_material(const Model& m, int c) {
     const int jm = m.contacts.jmat[c];
-    if (jm <= 0 || jm >= static_cast<int>(m.joint_materials.size()) || !m.joint_materials[jm].defined) return 0.0;
-    return m.joint_materials[jm].kn;
+    if (jm <= 0 || jm >= static_cast<int>(m.joint_materials.size()) || !m.joint_materials[jm].defined) return nullptr;
+    return &m.joint_materials[jm];
+}
+
+double contact_kn(const Model& m, int c) {
+    const JointMaterial* j = contact_joint_material(m, c);
+    return j ? j->kn : 0.0;
 }
 
 double sub_normal_stress(const Model& m, int c, int k) { return m.contacts.sub_sn_for(c, k, contact_kn(m, c)); }
@@ -179,14 +184,12 @@ int assign_joint_material(Model& m, const Range& r, int jmat, int jcons) {
 
 int contact_without_joint_properties(const Model& m, bool loaded_only) {
     const ContactSet& cs = m.contacts;
-    const int n_jmat = static_cast<int>(m.joint_materials.size());
     bool any_defined = false;
     for (const JointMaterial& j : m.joint_materials) any_defined = any_defined || j.defined;
     if (!any_defined) return -1;
     auto without = [&](int c) {
-        const int jm = cs.jmat[c];
-        if (jm > 0 && jm < n_jmat && m.joint_materials[jm].defined) return false;
-        return loaded_only ? cs.gap[c] < 0 : jm > 0;
+        if (contact_joint_material(m, c)) return false;
+        return loaded_only ? cs.gap[c] < 0 : cs.jmat[c] > 0;
     };
     // Looked for on the threads: the run-away checks ask after every step.
     const int nc = cs.size();

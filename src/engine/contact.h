@@ -41,6 +41,7 @@
 namespace odec {
 
 struct Model;
+struct JointMaterial;
 struct Range;
 struct Polyhedron;
 
@@ -353,6 +354,8 @@ Eigen::Vector3d contact_point(const Model& m, int contact_index);
 double contact_touch_area(const Model& m, int contact_index);
 // World position of sub-contact k (of contact c) now.
 Eigen::Vector3d sub_point(const Model& m, int c, int k);
+// The joint material of contact c, or null when its number names no defined one.
+const JointMaterial* contact_joint_material(const Model& m, int c);
 // The normal stiffness of contact c's joint (Pa/m; 0 without a defined joint material).
 double contact_kn(const Model& m, int c);
 // The normal stress of sub-contact k of contact c, Pa, compression positive (ContactSet::sub_sn_for

@@ -992,7 +992,8 @@ struct Detector {
         const BlockSet& s = m.blocks;
         new_n = cp.normal;
         shear_axes(new_n, new_e1, new_e2);
-        same_axes = oc < 0 || cs.normal_code[oc] == encode_normal(cp.normal);
+        const NormalCode code = encode_normal(cp.normal);
+        same_axes = oc < 0 || cs.normal_code[oc] == code;
         if (!same_axes) shear_axes(cs.normal(oc), old_e1, old_e2);
         if (oc >= 0) {
             next.id.push_back(cs.id[oc]);
@@ -1032,9 +1033,9 @@ struct Detector {
         }
         next.block_a.push_back(a);
         next.block_b.push_back(b);
-        next.normal_code.push_back(encode_normal(cp.normal));
+        next.normal_code.push_back(code);
         next.gap.push_back(float_nearest(cp.gap));
-        next.free_motion.push_back(-std::numeric_limits<double>::infinity());
+        next.free_motion.push_back(-std::numeric_limits<float>::infinity());
     }
 
     // Build contact (a, b), one of them deformable, from its gridpoints (contact_gridpoint.h).
@@ -1251,9 +1252,9 @@ struct Detector {
     bool same_axes = true;                                                     // its plane did not turn
 };
 
-// One contact to build in a pass: blocks a < b, carrying the history of old contact oc (-1: new).
-// A contact to (re)build: its old contact (>= 0), whose blocks it is between, or ~i for the i-th
-// pair of blocks new to the set (Jobs::pairs). Four bytes a job: in a settling mass nearly
+// The contacts to (re)build in a pass, one int a job: its old contact (>= 0), whose blocks it is
+// between and whose history it carries, or ~i for the i-th pair of blocks new to the set
+// (Jobs::pairs, a < b). Four bytes a job: in a settling mass nearly
 // every contact is rebuilt at a refresh pass, and the jobs are planned for the whole pass.
 struct Jobs {
     std::vector<int> job;

@@ -78,12 +78,11 @@ EnergyReading energy_reading(const Model& m) {
 
 double joint_strain_energy(const Model& m) {
     const ContactSet& cs = m.contacts;
-    const int n_jmat = static_cast<int>(m.joint_materials.size());
     double e = 0;
     for (int c = 0; c < cs.size(); ++c) {
-        const int jm = cs.jmat[c];
-        if (jm <= 0 || jm >= n_jmat || !m.joint_materials[jm].defined || !contact_live(m, c)) continue;
-        const JointMaterial& j = m.joint_materials[jm];
+        const JointMaterial* jp = contact_joint_material(m, c);
+        if (!jp || !contact_live(m, c)) continue;
+        const JointMaterial& j = *jp;
         const double hn = j.kn > 0 ? 0.5 / j.kn : 0.0, hs = j.ks > 0 ? 0.5 / j.ks : 0.0;
         for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
             const double sn = cs.sub_sn_for(c, k, j.kn);

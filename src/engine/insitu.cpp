@@ -174,10 +174,8 @@ struct Strength {
 
 // Contact c's joint material when it has a normal stiffness to load, else null.
 const JointMaterial* stiff_material(const Model& m, int c) {
-    const int jm = m.contacts.jmat[c];
-    const bool ok = jm > 0 && jm < static_cast<int>(m.joint_materials.size()) && m.joint_materials[jm].defined &&
-                    m.joint_materials[jm].kn > 0;
-    return ok ? &m.joint_materials[jm] : nullptr;
+    const JointMaterial* j = contact_joint_material(m, c);
+    return j && j->kn > 0 ? j : nullptr;
 }
 
 // The limits of joint material j under joint model jcons.

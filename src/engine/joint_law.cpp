@@ -434,9 +434,9 @@ double stiffest_contact(const Model& m) {
     const ContactSet& cs = m.contacts;
     double k_max = 0;
     for (int c = 0; c < cs.size(); ++c) {
-        const int jm = cs.jmat[c];
-        if (jm <= 0 || jm >= static_cast<int>(m.joint_materials.size()) || !m.joint_materials[jm].defined) continue;
-        const JointMaterial& j = m.joint_materials[jm];
+        const JointMaterial* jp = contact_joint_material(m, c);
+        if (!jp) continue;
+        const JointMaterial& j = *jp;
         double area = 0;
         for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) area += cs.sub_area[k];
         k_max = std::max(k_max, std::max(j.kn, j.ks) * area);

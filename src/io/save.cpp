@@ -431,6 +431,17 @@ std::vector<std::uint8_t> sub_sides(const ContactSet& x) {
     return side;
 }
 
+// An array an older format wrote with elements of type Old, read into `to`: each element checked
+// (`ok`; else the file is refused, saying `why`) and converted (`convert`).
+template <class Old, class IO, class A, class Ok, class Convert>
+void read_converted(IO& io, A& to, Ok&& ok, const char* why, Convert&& convert) {
+    std::vector<Old> old;
+    io(old);
+    io.check(std::all_of(old.begin(), old.end(), ok), why);
+    to.resize(old.size());
+    for (size_t i = 0; i < old.size(); ++i) to[i] = convert(old[i]);
+}
+
 // A sub-contact's contact, side and vertex are not kept in memory (they follow from the offsets
 // and the key), but the file has them: they are written as they derive, and on reading they must
 // be what they derive to. The triangles are kept only once some sub-contact has one; the file has
@@ -442,13 +453,9 @@ auto fields(IO& io, M& x) -> If<M, ContactSet> {
     if (io.format >= 18) {
         io(x.normal_code);
     } else if constexpr (!std::is_const_v<M>) {
-        std::vector<Vec3> normal;
-        io(normal);
-        io.check(std::all_of(normal.begin(), normal.end(),
-                             [](const Vec3& n) { return n.allFinite() && std::abs(n.norm() - 1) <= 1e-6; }),
-                 "a contact normal is not a unit vector");
-        x.normal_code.resize(normal.size());
-        for (size_t i = 0; i < normal.size(); ++i) x.normal_code[i] = encode_normal(normal[i]);
+        read_converted<Vec3>(
+            io, x.normal_code, [](const Vec3& n) { return n.allFinite() && std::abs(n.norm() - 1) <= 1e-6; },
+            "a contact normal is not a unit vector", [](const Vec3& n) { return encode_normal(n); });
     }
     // Format 17 has no reference point of the plane (contact_point derives it from the blocks);
     // older files have one, checked and left.
@@ -467,16 +474,10 @@ auto fields(IO& io, M& x) -> If<M, ContactSet> {
         io(x.gap);
         io(x.jmat); io(x.jcons);
     } else if constexpr (!std::is_const_v<M>) {
-        std::vector<double> gap;
-        std::vector<int> jcons;
-        io(gap);
-        io(x.jmat); io(jcons);
-        io.check(std::all_of(jcons.begin(), jcons.end(), [](int j) { return j == 1 || j == 2; }),
-                 "a joint model is out of range");
-        x.gap.resize(gap.size());
-        for (size_t i = 0; i < gap.size(); ++i) x.gap[i] = float_nearest(gap[i]);
-        x.jcons.resize(jcons.size());
-        for (size_t i = 0; i < jcons.size(); ++i) x.jcons[i] = static_cast<std::uint8_t>(jcons[i]);
+        read_converted<double>(io, x.gap, [](double) { return true; }, "", [](double g) { return float_nearest(g); });
+        io(x.jmat);
+        read_converted<int>(io, x.jcons, [](int j) { return j == 1 || j == 2; }, "a joint model is out of range",
+                            [](int j) { return static_cast<std::uint8_t>(j); });
     }
     io(x.joined); io(x.sub_offset);
     if constexpr (std::is_const_v<M>) {
@@ -505,12 +506,8 @@ auto fields(IO& io, M& x) -> If<M, ContactSet> {
     if (io.format >= 18) {
         io(x.sub_local);
     } else if constexpr (!std::is_const_v<M>) {
-        std::vector<Vec3> local;
-        io(local);
-        io.check(std::all_of(local.begin(), local.end(), [](const Vec3& v) { return v.allFinite(); }),
-                 "a sub-contact point is not a finite number");
-        x.sub_local.resize(local.size());
-        for (size_t i = 0; i < local.size(); ++i) x.sub_local[i] = encode_point(local[i]);
+        read_converted<Vec3>(io, x.sub_local, [](const Vec3& v) { return v.allFinite(); },
+                             "a sub-contact point is not a finite number", [](const Vec3& v) { return encode_point(v); });
     }
     io(x.sub_un);
     // The dilations are kept only once some sub-contact has one; the file has them for every
