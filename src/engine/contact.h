@@ -28,6 +28,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <vector>
 
@@ -54,6 +55,25 @@ constexpr double kFlatToPlane = 0.9396926207859084;
 inline float float_not_above(double x) {
     float f = static_cast<float>(x);
     if (static_cast<double>(f) > x) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+    return f;
+}
+
+// A bound in sixteen bits: the upper half of the largest single-precision number not above x,
+// rounded down again (its range, eight bits of precision), so that it still never promises more
+// than was found; not a number stays so. Read through bound16_value.
+inline std::uint16_t bound16_not_above(double x) {
+    const float f = float_not_above(x);
+    if (f != f) return 0x7FC0;
+    std::uint32_t u;
+    std::memcpy(&u, &f, sizeof u);
+    std::uint32_t hi = u >> 16;
+    if ((u & 0xFFFFu) && (u >> 31)) ++hi; // below zero, down is away from it
+    return static_cast<std::uint16_t>(hi);
+}
+inline float bound16_value(std::uint16_t h) {
+    const std::uint32_t u = static_cast<std::uint32_t>(h) << 16;
+    float f;
+    std::memcpy(&f, &u, sizeof f);
     return f;
 }
 
@@ -109,14 +129,14 @@ struct ContactSet {
     PodArray<std::uint8_t> jcons;         // (n_contacts) joint model (1 or 2)
     PodArray<std::uint8_t> joined;        // (n_contacts) 1: glued (no slip, no opening)
     PodArray<int> sub_offset;             // (n_contacts + 1) first sub-contact of each contact
-    PodArray<float> free_motion;          // (n_contacts) m, derived (not saved): how far its blocks may
+    PodArray<std::uint16_t> free_motion;  // (n_contacts) m, derived (not saved): how far its blocks may
                                           //          move (`movement` since their geometry references)
                                           //          before a corner that carries no sub-contact could
                                           //          press into the other block (for a contact that
                                           //          carries none, before its blocks could touch at
                                           //          all: no more than its gap); -infinity: unknown;
-                                          //          rounded down to single precision
-                                          //          (float_not_above), so it never says more
+                                          //          rounded down to sixteen bits
+                                          //          (bound16_not_above), so it never says more
 
     // ---- per sub-contact (n_subs) ----
     // Its contact is the one whose sub_offset range holds it (sub_owner), its side and the vertex

@@ -1035,7 +1035,7 @@ struct Detector {
         next.block_b.push_back(b);
         next.normal_code.push_back(code);
         next.gap.push_back(float_nearest(cp.gap));
-        next.free_motion.push_back(-std::numeric_limits<float>::infinity());
+        next.free_motion.push_back(bound16_not_above(-std::numeric_limits<double>::infinity()));
     }
 
     // Build contact (a, b), one of them deformable, from its gridpoints (contact_gridpoint.h).
@@ -1083,7 +1083,7 @@ struct Detector {
                 push_sub(next, cs.sub_key[k], cs.sub_area[k], cs.sub_local[k]);
                 push_history(k, cs.sub_un[k], false);
             }
-            next.free_motion.back() = float_not_above(clearance(a, b, cp.normal, first));
+            next.free_motion.back() = bound16_not_above(clearance(a, b, cp.normal, first));
             next.sub_offset.push_back(next.n_subs());
             return true;
         }
@@ -1153,7 +1153,7 @@ struct Detector {
             }
         }
         if (m.settings.dynamic && oc >= 0) limit_rebuild_energy(old, first);
-        next.free_motion.back() = float_not_above(clearance(a, b, cp.normal, first));
+        next.free_motion.back() = bound16_not_above(clearance(a, b, cp.normal, first));
         next.sub_offset.push_back(next.n_subs());
         return true;
     }
@@ -1529,7 +1529,7 @@ void renumber_contacts(Model& m, const std::vector<int>* new_block, const std::v
 void detect_contacts(Model& m) {
     // Unknown (a restored model, contacts made elsewhere): looked at every step until rebuilt.
     if (m.contacts.free_motion.size() != static_cast<size_t>(m.contacts.size())) {
-        m.contacts.free_motion.assign(m.contacts.size(), -std::numeric_limits<double>::infinity());
+        m.contacts.free_motion.assign(m.contacts.size(), bound16_not_above(-std::numeric_limits<double>::infinity()));
     }
     ContactSet& cs = m.contacts;
     BlockSet& s = m.blocks;
@@ -1544,10 +1544,14 @@ void detect_contacts(Model& m) {
     thread_local std::vector<int> fresh; // per job of a window: its fresh contact, or -1
     thread_local std::vector<std::int64_t> pairs;
     thread_local std::vector<char> moved;
-    thread_local std::vector<char> closing; // per contact: touching nowhere and now overlapping
-    thread_local std::vector<char> grown;   // per contact: its overlap grew past its area
+    // Per contact: its overlap grew past its area, and then (the same bytes, once those are
+    // applied) it touches nowhere and is now overlapping.
+    thread_local std::vector<char> closing;
     thread_local std::vector<double> motion; // m, movement since the last refresh
-    thread_local std::vector<int> plan; // per contact of the result: old index, or ~job
+    // Per contact of the result: its old index, or ~job (full passes only: a refresh pass keeps
+    // or rebuilds every old contact in order, so its plan is the old contacts with the jobs'
+    // own in their places, read through plan_at without being written out).
+    thread_local std::vector<int> plan;
     std::vector<Vec3>& geo_c = cs.geo_centroid;
     std::vector<Quat>& geo_q = cs.geo_orientation;
 
@@ -1646,6 +1650,7 @@ void detect_contacts(Model& m) {
         if (any_motion) {
             // Marked on the threads, then applied in order (the same blocks whatever the threads).
             const int nc = cs.size();
+            std::vector<char>& grown = closing;
             grown.assign(nc, 0);
             char* grown_of = grown.data();
             const double* motion_of = motion.data();
@@ -1673,7 +1678,7 @@ void detect_contacts(Model& m) {
         const double depth_min = kClosingDepth * cs.ctol;
         const int nc = cs.size();
         closing.assign(nc, 0);
-        const float* free_motion = cs.free_motion.data();
+        const std::uint16_t* free_motion = cs.free_motion.data();
         // The threads reach these thread_local arrays through pointers (named in the loop, a
         // thread_local would be each worker's own).
         char* close_mark = closing.data();
@@ -1686,7 +1691,7 @@ void detect_contacts(Model& m) {
             // other's, a corner that comes down beside a face on a face.
             if (k1 - k0 > 2 && ((s.flags[a] | s.flags[b]) & kDeformable)) return;
             if (!(mot[a] + mot[b] > 0)) return;
-            if (mot[a] + mot[b] < free_motion[c]) return; // no corner could have reached in yet
+            if (mot[a] + mot[b] < bound16_value(free_motion[c])) return; // no corner could have reached in yet
             // Deeper than when it was built by depth_min; for a contact that touches nowhere and
             // was built touching (blocks cut from one another, meeting along an edge) or already
             // overlapping without area (edges along one line), by a thousandth of ctol: looking
@@ -1763,8 +1768,7 @@ void detect_contacts(Model& m) {
         if (!any && std::find(closing.begin(), closing.end(), 1) == closing.end()) return;
         for (int c = 0; c < nc; ++c) {
             const int a = cs.block_a[c], b = cs.block_b[c];
-            if (!(moved[a] || moved[b]) && !closing[c]) plan.push_back(c);
-            else rebuild(a, b, c);
+            if (moved[a] || moved[b] || closing[c]) jobs.add(a, b, c);
         }
         for (int b = 0; b < n; ++b) {
             if (moved[b]) { geo_c[b] = s.centroid[b]; geo_q[b] = s.orientation[b]; }
@@ -1778,12 +1782,20 @@ void detect_contacts(Model& m) {
     const Clock::time_point pass_start = Clock::now();
     double build_time = 0;
     thread_local PodArray<int> old_off;
-    bool colouring_holds = static_cast<int>(plan.size()) == cs.size();
+    const int np = full ? static_cast<int>(plan.size()) : cs.size(), nj = static_cast<int>(jobs.size());
+    bool colouring_holds = np == cs.size();
+    // Entry q of the plan. The entries are read front to back, each reader with a cursor of
+    // its own into the jobs (in a refresh pass, the first job whose old contact is not before q).
+    auto plan_at = [&](int q, int& cursor) -> int {
+        if (full) return plan[q];
+        while (cursor < nj && jobs.old(cursor) < q) ++cursor;
+        return cursor < nj && jobs.old(cursor) == q ? ~cursor : q;
+    };
     {
         Rewrite rw(cs, old_off);
-        const int np = static_cast<int>(plan.size()), nj = static_cast<int>(jobs.size());
         int pi = 0;   // the next entry of the plan to write
         int pend = 0; // the first entry after it whose old contact is still to be read
+        int at_pi = 0, at_pend = 0; // their cursors
         for (int j0 = 0;;) {
             const int j1 = std::min(nj, j0 + kBuildWindow);
             if (j1 > j0) {
@@ -1793,14 +1805,17 @@ void detect_contacts(Model& m) {
             }
             // Kept contacts are read as they are written, the old contacts of jobs when their
             // window is built.
-            auto pending = [&](int q) { return plan[q] >= 0 || (~plan[q] >= j1 && jobs.old(~plan[q]) >= 0); };
-            for (; pi < np && (plan[pi] >= 0 || ~plan[pi] < j1); ++pi) {
-                const int e = plan[pi];
+            auto pending = [&](int q) {
+                const int e = plan_at(q, at_pend);
+                return e >= 0 || (~e >= j1 && jobs.old(~e) >= 0);
+            };
+            for (; pi < np && (plan_at(pi, at_pi) >= 0 || ~plan_at(pi, at_pi) < j1); ++pi) {
+                const int e = plan_at(pi, at_pi);
                 if (e >= 0) {
                     // A run of kept contacts, old contacts e, e + 1, ...: written in one move.
                     colouring_holds = colouring_holds && e == rw.written();
                     int r = 1;
-                    while (pi + r < np && plan[pi + r] == e + r) ++r;
+                    while (pi + r < np && plan_at(pi + r, at_pi) == e + r) ++r;
                     rw.put_kept(e, r);
                     pi += r - 1;
                     continue;
@@ -1822,7 +1837,8 @@ void detect_contacts(Model& m) {
                 }
                 pend = std::max(pend, pi + 1);
                 while (pend < np && !pending(pend)) ++pend;
-                const int next = pend < np ? (plan[pend] >= 0 ? plan[pend] : jobs.old(~plan[pend])) : -1;
+                const int pe = pend < np ? plan_at(pend, at_pend) : -1;
+                const int next = pend < np ? (pe >= 0 ? pe : jobs.old(~pe)) : -1;
                 rw.put_fresh(rebuilt.set(f), rebuilt.local[f], next);
             }
             if (j1 >= nj) break;

@@ -207,7 +207,6 @@ void update_contacts(Model& m, double dt) {
     GridpointSet& g = m.gridpoints;
     const int n = s.size();
     const int threads = thread_count();
-    thread_local std::vector<Mat3> rot;
     // What each block did over the last step: its displacement, and its turn about its
     // centroid by the angle |w| dt about w (integrate.cpp), as the axis and the sine and
     // 1 - cosine of the angle. A material point at r from the centroid (now) moved by
@@ -220,7 +219,6 @@ void update_contacts(Model& m, double dt) {
     // (scaled masses and inertias) and keeps the first-order form, v dt + w x r dt.
     thread_local std::vector<Vec3> disp, axis;
     thread_local std::vector<double> turn_sin, turn_cos1;
-    rot.resize(n);
     disp.resize(n);
     axis.resize(n);
     turn_sin.resize(n);
@@ -228,14 +226,12 @@ void update_contacts(Model& m, double dt) {
     {
         // Block by block, each on its own: on the threads in a large model (the pointers: a
         // thread_local named inside the loop would be each worker's own).
-        Mat3* rot_w = rot.data();
         Vec3* disp_w = disp.data();
         Vec3* axis_w = axis.data();
         double* sin_w = turn_sin.data();
         double* cos1_w = turn_cos1.data();
         const bool dynamic = m.settings.dynamic;
         parallel_for(n, threads, n >= kParallelMinBlocks, [&](int b) {
-            rot_w[b] = s.orientation[b].toRotationMatrix();
             // A block whose velocity was given at t has not moved with it yet.
             const bool still = s.half_kick[b] || ((s.flags[b] & kFixed) && !s.vel_bc[b]);
             disp_w[b] = still ? Vec3::Zero() : Vec3(s.vel[b] * dt);
@@ -282,7 +278,6 @@ void update_contacts(Model& m, double dt) {
     // The threads reach the caller's thread_local arrays through these pointers (a thread_local
     // named inside the parallel loop would be each worker's own, empty).
     const LawParams* law = params.data();
-    const Mat3* rot_of = rot.data();
     const Vec3* disp_of = disp.data();
     const Vec3* axis_of = axis.data();
     const double* sin_of = turn_sin.data();
@@ -324,11 +319,13 @@ void update_contacts(Model& m, double dt) {
         shear_axes(nrm, e1, e2);
         const Vec3 ca = s.centroid[a], cb = s.centroid[b];
         const double k = std::max(p.kn, p.ks);
+        // The blocks' rotations, made here rather than kept for every block (72 bytes a block).
+        const Mat3 rot_a = s.orientation[a].toRotationMatrix(), rot_b = s.orientation[b].toRotationMatrix();
         Vec3 fb = Vec3::Zero(), ma = Vec3::Zero(), mb = Vec3::Zero();
         double scale = 0, kt = 0, kra = 0, krb = 0;
         for (int q = cs.sub_offset[c]; q < cs.sub_offset[c + 1]; ++q) {
-            const int owner = cs.sub_side(q) == 1 ? b : a;
-            const Vec3 x = s.centroid[owner] + rot_of[owner] * cs.sub_point_local(q);
+            const bool of_b = cs.sub_side(q) == 1;
+            const Vec3 x = s.centroid[of_b ? b : a] + (of_b ? rot_b : rot_a) * cs.sub_point_local(q);
             const Vec3 ra = x - ca, rb = x - cb;
             const Vec3 f = joint_step(cs, q, p, joined, nrm, e1, e2, moved(b, rb) - moved(a, ra), dissipation ? dissipation + c : nullptr);
             fb += f;
@@ -395,7 +392,7 @@ void update_contacts(Model& m, double dt) {
                     w = cs.sub_weights(k);
                     dxo = (w[0] * gp_vel(tri[0]) + w[1] * gp_vel(tri[1]) + w[2] * gp_vel(tri[2])) * dt;
                 } else {
-                    lever = rot[o] * cs.sub_point_local(k);
+                    lever = s.orientation[o].toRotationMatrix() * cs.sub_point_local(k);
                     dxo = moved(o, lever);
                 }
                 const Vec3 dxg = gp_vel(gp) * dt;
