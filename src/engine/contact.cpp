@@ -26,7 +26,7 @@ const char* contact_state_name(ContactState s) {
 void ContactSet::clear() {
     id.clear(); block_a.clear(); block_b.clear(); normal_code.clear(); gap.clear();
     jmat.clear(); jcons.clear(); joined.clear(); free_motion.clear(); sub_offset.assign(1, 0);
-    sub_key.clear(); sub_area.clear();
+    sub_code.clear(); key_table = KeyTable{}; sub_area.clear();
     sub_local.clear(); sub_un.clear(); sub_udil.clear(); sub_us.clear(); sub_ss.clear();
     sub_flags.clear(); sub_tri.clear();
     detected = false;
@@ -34,6 +34,24 @@ void ContactSet::clear() {
     colored = false;
     ref_centroid.clear(); ref_orientation.clear(); geo_centroid.clear(); geo_orientation.clear();
     radius.clear();
+}
+
+void ContactSet::compact_key_table() {
+    std::size_t live = 0;
+    for (const std::uint32_t code : sub_code) live += key_code_in_table(code);
+    if (key_table.keys.size() <= 2 * live + 1024) {
+        key_table.live = live;
+        return;
+    }
+    std::vector<std::int64_t> keys;
+    keys.reserve(live);
+    for (std::uint32_t& code : sub_code) {
+        if (!key_code_in_table(code)) continue;
+        keys.push_back(key_table.keys[key_code_index(code)]);
+        code = table_key_code(keys.size() - 1);
+    }
+    key_table.keys.swap(keys);
+    key_table.live = live;
 }
 
 int ContactSet::sub_owner(int k) const {

@@ -30,6 +30,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <new>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -37,6 +38,7 @@
 
 #include "engine/normal_code.h"
 #include "engine/point_code.h"
+#include "engine/sub_key.h"
 #include "engine/pod_array.h"
 
 namespace odec {
@@ -141,13 +143,16 @@ struct ContactSet {
     // ---- per sub-contact (n_subs) ----
     // Its contact is the one whose sub_offset range holds it (sub_owner), its side and the vertex
     // or gridpoint it stands for are in its key (sub_side, sub_vertex): none is stored.
-    PodArray<std::int64_t> sub_key;       // (n_subs) what the point is (vertex, or pair of edges): the
-                                          //          identity that carries its history across refreshes.
-                                          //          Sides 0, 1: (side << 61) | vertex; sides 3, 4:
+    PodArray<std::uint32_t> sub_code;     // (n_subs) its key (read through sub_key: what the point is,
+                                          //          vertex, or pair of edges: the identity that
+                                          //          carries its history across refreshes; sides
+                                          //          0, 1: (side << 61) | vertex; sides 3, 4:
                                           //          ((side - 3) << 61) | kGridpointKey | gridpoint, so
                                           //          that a gridpoint never takes over the history
                                           //          of a vertex of the same number when its block
-                                          //          is zoned; side 2: bit 62 set
+                                          //          is zoned; side 2: bit 62 set), in four bytes
+                                          //          (sub_key.h): written through push_key, set_key
+    KeyTable key_table;                   // the keys no four-byte code holds (saved as the keys)
     PodArray<double> sub_area;            // (n_subs) m^2, share of the contact area (they sum to it)
     PodArray<PointCode> sub_local;        // (n_subs) m, point in the owner's body frame (block b for
                                           //          side 1, else block a); sides 3 and 4: where the
@@ -225,14 +230,46 @@ struct ContactSet {
     }
     // The unit normal of contact c, from a to b.
     [[gnu::always_inline]] Eigen::Vector3d normal(int c) const { return decode_normal(normal_code[c]); }
-    int n_subs() const { return static_cast<int>(sub_key.size()); }
+    int n_subs() const { return static_cast<int>(sub_code.size()); }
+    // The key of sub-contact k.
+    std::int64_t sub_key(int k) const { return key_of_code(sub_code[k]); }
+    std::int64_t key_of_code(std::uint32_t code) const {
+        return key_code_in_table(code) ? key_table.keys[key_code_index(code)] : key_of_short_code(code);
+    }
+    // The code of key, entered in the table when no short code holds it.
+    std::uint32_t code_of_key(std::int64_t key) {
+        std::uint32_t code;
+        if (short_key_code(key, code)) return code;
+        if (key_table.keys.size() >= kKeyTableLimit) throw std::bad_alloc(); // 8 GB of keys
+        key_table.keys.push_back(key);
+        return table_key_code(key_table.keys.size() - 1);
+    }
+    // A sub-contact with this key after the last.
+    void push_key(std::int64_t key) { sub_code.push_back(code_of_key(key)); }
+    void set_key(int k, std::int64_t key) { sub_code[k] = code_of_key(key); }
+    // The table's entries of sub-contacts that are gone given back, once they are more than
+    // those in use (and 1024): the keys in use keep their order, the codes follow them.
+    void compact_key_table();
+    // The keys of all sub-contacts, in order (for the file).
+    std::vector<std::int64_t> sub_keys() const {
+        std::vector<std::int64_t> keys(sub_code.size());
+        for (size_t k = 0; k < keys.size(); ++k) keys[k] = key_of_code(sub_code[k]);
+        return keys;
+    }
     // The block vertex (sides 0, 1) or gridpoint (sides 3, 4) sub-contact k stands for; -1 for
     // a crossing of edges (side 2).
-    int sub_vertex(int k) const { return key_vertex(sub_key[k]); }
+    int sub_vertex(int k) const { return key_vertex(sub_key(k)); }
     // What sub-contact k stands for: 0, a vertex of block a; 1, a vertex of block b; 2, where an
     // edge of one crosses an edge of the other; 3, a gridpoint of deformable block a pressing on
     // b; 4, a gridpoint of deformable block b pressing on a.
-    int sub_side(int k) const { return key_side(sub_key[k]); }
+    int sub_side(int k) const { return code_side(sub_code[k]); }
+    int code_side(std::uint32_t code) const {
+        switch (code >> 30) {
+        case 0: return (code >> 28) & 1 ? 3 + static_cast<int>((code >> 29) & 1) : static_cast<int>((code >> 29) & 1);
+        case 1: return 2;
+        default: return key_side(key_of_code(code));
+        }
+    }
     static int key_side(std::int64_t key) {
         if ((key >> 62) & 1) return 2;
         const int of_b = static_cast<int>((key >> 61) & 1);

@@ -609,7 +609,7 @@ bool corner_carried(const ContactSet& x, int k0, int k1, const std::vector<Vec3>
     for (int k = k0; k < k1; ++k) {
         const int sk = x.sub_side(k);
         if (sk > 1) continue;
-        const int vk = corner_vertex(x.sub_key[k]);
+        const int vk = corner_vertex(x.sub_key(k));
         if (sk == side) {
             if (vk == vertex) return true;
             continue;
@@ -623,7 +623,7 @@ bool corner_carried(const ContactSet& x, int k0, int k1, const std::vector<Vec3>
 void clear_arrays(ContactSet& x) {
     x.id.clear(); x.block_a.clear(); x.block_b.clear(); x.normal_code.clear(); x.gap.clear();
     x.jmat.clear(); x.jcons.clear(); x.joined.clear(); x.free_motion.clear(); x.sub_offset.assign(1, 0);
-    x.sub_key.clear();
+    x.sub_code.clear(); x.key_table = KeyTable{};
     x.sub_area.clear(); x.sub_local.clear(); x.sub_un.clear(); x.sub_udil.clear();
     x.sub_us.clear(); x.sub_ss.clear(); x.sub_flags.clear(); x.sub_tri.clear();
 }
@@ -638,7 +638,7 @@ void each_contact_array(ContactSet& x, F&& f) {
 // when `dil`.
 template <class F>
 void each_sub_array(ContactSet& x, bool tri, bool dil, F&& f) {
-    f(x.sub_key); f(x.sub_area); f(x.sub_local); f(x.sub_un);
+    f(x.sub_code); f(x.sub_area); f(x.sub_local); f(x.sub_un);
     f(x.sub_us); f(x.sub_ss); f(x.sub_flags);
     if (tri) f(x.sub_tri);
     if (dil) f(x.sub_udil);
@@ -653,10 +653,10 @@ constexpr std::array<int, 3> kNoTri = {-1, -1, -1};
 void push_sub(ContactSet& to, std::int64_t key, double area, const PointCode& local,
               const std::array<int, 3>& tri = kNoTri) {
     if (tri[0] >= 0 || !to.sub_tri.empty()) {
-        to.sub_tri.resize(to.sub_key.size(), kNoTri);
+        to.sub_tri.resize(to.sub_code.size(), kNoTri);
         to.sub_tri.push_back(tri);
     }
-    to.sub_key.push_back(key);
+    to.push_key(key);
     to.sub_area.push_back(area);
     to.sub_local.push_back(local);
 }
@@ -733,11 +733,11 @@ public:
         const int j0 = x.sub_offset[f], n = x.sub_offset[f + 1] - j0;
         if (!x.sub_tri.empty() && !tri_) {
             tri_ = true;
-            cs_.sub_tri.assign(cs_.sub_key.size(), kNoTri);
+            cs_.sub_tri.assign(cs_.sub_code.size(), kNoTri);
         }
         if (!x.sub_udil.empty() && !dil_) {
             dil_ = true;
-            cs_.sub_udil.assign(cs_.sub_key.size(), 0.0);
+            cs_.sub_udil.assign(cs_.sub_code.size(), 0.0);
         }
         room(n, next);
         const int c = wc_;
@@ -746,7 +746,7 @@ public:
         cs_.jmat[c] = x.jmat[f]; cs_.jcons[c] = x.jcons[f]; cs_.joined[c] = x.joined[f]; cs_.free_motion[c] = x.free_motion[f];
         for (int i = 0; i < n; ++i) {
             const int j = j0 + i, k = wk_ + i;
-            cs_.sub_key[k] = x.sub_key[j]; cs_.sub_area[k] = x.sub_area[j];
+            cs_.sub_code[k] = cs_.code_of_key(x.sub_key(j)); cs_.sub_area[k] = x.sub_area[j];
             cs_.sub_local[k] = x.sub_local[j]; cs_.sub_un[k] = x.sub_un[j];
             cs_.sub_us[k] = x.sub_us[j]; cs_.sub_ss[k] = x.sub_ss[j];
             cs_.sub_flags[k] = x.sub_flags[j];
@@ -761,6 +761,7 @@ public:
         each_contact_array(cs_, [&](auto& v) { v.resize(wc_); trim(v); });
         each_sub_array(cs_, tri_, dil_, [&](auto& v) { v.resize(wk_); trim(v); });
         trim(cs_.sub_offset);
+        if (cs_.key_table.keys.size() > 2 * cs_.key_table.live + 1024) cs_.compact_key_table();
     }
 
 private:
@@ -800,7 +801,7 @@ private:
     }
     // Room for one more contact with nk sub-contacts before old contact `next`.
     void room(int nk, int next) {
-        const long pc = static_cast<long>(cs_.id.size()), pk = static_cast<long>(cs_.sub_key.size());
+        const long pc = static_cast<long>(cs_.id.size()), pk = static_cast<long>(cs_.sub_code.size());
         const long lc = next >= 0 ? next + gc_ : pc;
         const long lk = next >= 0 ? old_off_[next] + gk_ : pk;
         if (wc_ + 1 > lc) {
@@ -897,7 +898,7 @@ struct Detector {
     // has one (then it has an entry for each).
     void push_dilation(double udil) {
         if (udil == 0 && next.sub_udil.empty()) return;
-        next.sub_udil.resize(next.sub_key.size() - 1, 0.0);
+        next.sub_udil.resize(next.sub_code.size() - 1, 0.0);
         next.sub_udil.push_back(udil);
     }
 
@@ -1053,9 +1054,9 @@ struct Detector {
         int k = old.k0;
         const int k_end = old.k1;
         for (const GridpointSub& gs : gsubs) {
-            while (k < k_end && cs.sub_key[k] < gs.key) ++k;
+            while (k < k_end && cs.sub_key(k) < gs.key) ++k;
             push_sub(next, gs.key, gs.area, gs.local, gs.tri);
-            push_history(k < k_end && cs.sub_key[k] == gs.key ? k : -1, gs.closure, false);
+            push_history(k < k_end && cs.sub_key(k) == gs.key ? k : -1, gs.closure, false);
         }
         next.sub_offset.push_back(next.n_subs());
         return true;
@@ -1080,7 +1081,7 @@ struct Detector {
             push_header(a, b, oc, va, vb, cp);
             const int first = next.n_subs();
             for (int k = old.k0; k < old.k1; ++k) {
-                push_sub(next, cs.sub_key[k], cs.sub_area[k], cs.sub_local[k]);
+                push_sub(next, cs.sub_key(k), cs.sub_area[k], cs.sub_local[k]);
                 push_history(k, cs.sub_un[k], false);
             }
             next.free_motion.back() = bound16_not_above(clearance(a, b, cp.normal, first));
@@ -1108,7 +1109,7 @@ struct Detector {
         // touches where nothing did, and a copy of the toe's shear stress would be energy the
         // springs never took up (that the joint would then dissipate as the copy slips).
         auto hands_on = [&](int j) {
-            const std::int64_t key = cs.sub_key[j];
+            const std::int64_t key = cs.sub_key(j);
             const auto it = std::lower_bound(subs.begin(), subs.end(), key,
                                              [](const NewSub& x, std::int64_t kk) { return x.key < kk; });
             return it == subs.end() || it->key != key || it->area < cs.sub_area[j] * (1 - 1e-9);
@@ -1120,13 +1121,13 @@ struct Detector {
         born.clear();
         old_area.clear();
         for (const NewSub& ns : subs) {
-            while (k < k_end && cs.sub_key[k] < ns.key) ++k;
+            while (k < k_end && cs.sub_key(k) < ns.key) ++k;
             const int side = ContactSet::key_side(ns.key);
             const int owner = side == 1 ? b : a;
             const Vec3 local = rot[side == 1 ? 1 : 0].transpose() * (ns.x - s.centroid[owner]);
             push_sub(next, ns.key, ns.area, local);
             const bool moving = on_touch_line(ns.key);
-            const bool kept = k < k_end && cs.sub_key[k] == ns.key; // the same point as before
+            const bool kept = k < k_end && cs.sub_key(k) == ns.key; // the same point as before
             born.push_back(!kept || moving || plane_turned);
             old_area.push_back(kept ? cs.sub_area[k] : 0.0);
             if (kept) {
@@ -1148,7 +1149,7 @@ struct Detector {
             // has lifted clear.
             for (int j = old.k0; j < old.k1; ++j) {
                 if (cs.sub_side(j) > 1 || !(cs.sub_un[j] + cs.sub_dilation(j) > -1e-6 * tol)) continue;
-                push_sub(next, cs.sub_key[j], cs.sub_area[j], cs.sub_local[j]);
+                push_sub(next, cs.sub_key(j), cs.sub_area[j], cs.sub_local[j]);
                 push_history(j, cs.sub_un[j], false);
             }
         }
@@ -1456,7 +1457,7 @@ void renumber_contacts(Model& m, const std::vector<int>* new_block, const std::v
             if (cs.sub_side(k) < 3 || new_gp == nullptr) continue;
             const int g = mapped(new_gp, cs.sub_vertex(k));
             bool ok = g >= 0;
-            if (ok) cs.sub_key[k] = gridpoint_sub_key(cs.sub_side(k) - 3, g);
+            if (ok) cs.set_key(k, gridpoint_sub_key(cs.sub_side(k) - 3, g));
             if (!cs.sub_tri.empty()) {
                 for (int& q : cs.sub_tri[k]) {
                     if (q < 0) continue;
@@ -1659,7 +1660,7 @@ void detect_contacts(Model& m) {
                 double deepest = 0;
                 bool tracked = false;
                 for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
-                    tracked |= on_touch_line(cs.sub_key[k]);
+                    tracked |= on_touch_line(cs.sub_key(k));
                     deepest = std::max(deepest, cs.sub_un[k] + cs.sub_dilation(k));
                 }
                 grown_of[c] = tracked && motion_of[a] + motion_of[b] > 0.25 * deepest + 1e-3 * cs.ctol;
@@ -1860,8 +1861,8 @@ void detect_contacts(Model& m) {
         std::vector<int>().swap(plan);
     }
     std::size_t held = 0;
-    for (const ContactSet& x : rebuilt.parts) held += x.sub_key.capacity() + x.id.capacity();
-    if (held > 8192 + (cs.sub_key.size() + cs.id.size()) / 8 + 4 * kBuildWindow) rebuilt = Rebuilt{};
+    for (const ContactSet& x : rebuilt.parts) held += x.sub_code.capacity() + x.id.capacity();
+    if (held > 8192 + (cs.sub_code.size() + cs.id.size()) / 8 + 4 * kBuildWindow) rebuilt = Rebuilt{};
 }
 
 double contact_touch_area(const Model& m, int c) {
@@ -1931,7 +1932,7 @@ double contact_touch_area(const Model& m, int c) {
     std::sort(pressing.begin(), pressing.end());
     for (int k = k0; k < k1; ++k) {
         if (cs.sub_flags[k] & kSubOpen) continue;
-        if (std::binary_search(pressing.begin(), pressing.end(), cs.sub_key[k])) continue;
+        if (std::binary_search(pressing.begin(), pressing.end(), cs.sub_key(k))) continue;
         area += cs.sub_area[k];
     }
     return area;

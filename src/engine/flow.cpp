@@ -116,7 +116,7 @@ std::uint64_t contact_shape(const Model& m) {
         mix(flow_contact(m, c) ? 1 : 0);
         mix(static_cast<std::uint64_t>(cs.sub_offset[c + 1] - cs.sub_offset[c]));
         for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
-            mix(static_cast<std::uint64_t>(cs.sub_key[k]));
+            mix(static_cast<std::uint64_t>(cs.sub_key(k)));
             mix(cs.sub_side(k));
             if (cs.sub_side(k) >= 3) {
                 const std::array<int, 3> t = cs.sub_triangle(k);

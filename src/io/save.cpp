@@ -398,7 +398,7 @@ auto fields(IO& io, M& x) -> If<M, StressBoundary> {
 // Whether the sub-contact offsets of x are whole: one more than its contacts, from 0 to its
 // sub-contacts, never decreasing (check_consistent says so when they are not).
 bool sub_offsets_whole(const ContactSet& x) {
-    const size_t nc = x.block_a.size(), ns = x.sub_key.size();
+    const size_t nc = x.block_a.size(), ns = x.sub_code.size();
     if (x.sub_offset.empty()) return nc == 0 && ns == 0;
     if (x.sub_offset.size() != nc + 1 || x.sub_offset[0] != 0 || static_cast<size_t>(x.sub_offset[nc]) != ns) return false;
     for (size_t c = 0; c < nc; ++c) {
@@ -409,7 +409,7 @@ bool sub_offsets_whole(const ContactSet& x) {
 
 // Each sub-contact's contact, from the offsets (as far as they go, when they are not whole).
 std::vector<int> sub_owners(const ContactSet& x) {
-    std::vector<int> owner(x.sub_key.size(), -1);
+    std::vector<int> owner(x.sub_code.size(), -1);
     const int ns = static_cast<int>(owner.size());
     for (int c = 0; c + 1 < static_cast<int>(x.sub_offset.size()); ++c) {
         for (int k = std::max(x.sub_offset[c], 0); k < std::min(x.sub_offset[c + 1], ns); ++k) owner[k] = c;
@@ -419,14 +419,14 @@ std::vector<int> sub_owners(const ContactSet& x) {
 
 // Each sub-contact's vertex or gridpoint (ContactSet::sub_vertex), -1 where its side is missing.
 std::vector<int> sub_vertices(const ContactSet& x) {
-    std::vector<int> vertex(x.sub_key.size(), -1);
+    std::vector<int> vertex(x.sub_code.size(), -1);
     for (size_t k = 0; k < vertex.size(); ++k) vertex[k] = x.sub_vertex(static_cast<int>(k));
     return vertex;
 }
 
 // Each sub-contact's side (ContactSet::sub_side), as the file has it.
 std::vector<std::uint8_t> sub_sides(const ContactSet& x) {
-    std::vector<std::uint8_t> side(x.sub_key.size());
+    std::vector<std::uint8_t> side(x.sub_code.size());
     for (size_t k = 0; k < side.size(); ++k) side[k] = static_cast<std::uint8_t>(x.sub_side(static_cast<int>(k)));
     return side;
 }
@@ -481,20 +481,24 @@ auto fields(IO& io, M& x) -> If<M, ContactSet> {
     }
     io(x.joined); io(x.sub_offset);
     if constexpr (std::is_const_v<M>) {
-        io(sub_owners(x)); io(sub_sides(x)); io(x.sub_key); io(sub_vertices(x));
+        io(sub_owners(x)); io(sub_sides(x)); io(x.sub_keys()); io(sub_vertices(x));
     } else {
         std::vector<int> owner, vertex;
         std::vector<std::uint8_t> side;
-        io(owner); io(side); io(x.sub_key); io(vertex);
+        std::vector<std::int64_t> keys;
+        io(owner); io(side); io(keys); io(vertex);
         // Format 16 marks the keys of gridpoints (kGridpointKey); older files have them bare.
         if (io.format < 16) {
-            for (size_t k = 0; k < x.sub_key.size() && k < side.size(); ++k) {
-                if (side[k] >= 3 && x.sub_key[k] >= 0 && x.sub_key[k] < (std::int64_t{1} << 62)) {
-                    x.sub_key[k] |= kGridpointKey;
-                }
+            for (size_t k = 0; k < keys.size() && k < side.size(); ++k) {
+                if (side[k] >= 3 && keys[k] >= 0 && keys[k] < (std::int64_t{1} << 62)) keys[k] |= kGridpointKey;
             }
         }
-        const size_t ns = x.sub_key.size();
+        // In memory, in four bytes each (sub_key.h).
+        x.sub_code.clear();
+        x.key_table = KeyTable{};
+        x.sub_code.reserve(keys.size());
+        for (const std::int64_t key : keys) x.push_key(key);
+        const size_t ns = x.sub_code.size();
         io.check(owner.size() == ns && vertex.size() == ns && side.size() == ns,
                  "the sub-contact arrays differ in length");
         io.check(!sub_offsets_whole(x) || owner == sub_owners(x), "a sub-contact belongs to another contact");
@@ -513,7 +517,7 @@ auto fields(IO& io, M& x) -> If<M, ContactSet> {
     // The dilations are kept only once some sub-contact has one; the file has them for every
     // sub-contact.
     if constexpr (std::is_const_v<M>) {
-        if (x.sub_udil.empty()) io(std::vector<double>(x.sub_key.size(), 0.0));
+        if (x.sub_udil.empty()) io(std::vector<double>(x.sub_code.size(), 0.0));
         else io(x.sub_udil);
     } else {
         io(x.sub_udil);
@@ -527,7 +531,7 @@ auto fields(IO& io, M& x) -> If<M, ContactSet> {
         if (io.format < 18) {
             std::vector<double> sn;
             io(sn);
-            io.check(sn.size() == x.sub_key.size(), "the sub-contact arrays differ in length");
+            io.check(sn.size() == x.sub_code.size(), "the sub-contact arrays differ in length");
             io.check(std::all_of(sn.begin(), sn.end(), [](double v) { return std::isfinite(v); }),
                      "a normal stress is not a finite number");
         }
@@ -539,7 +543,7 @@ auto fields(IO& io, M& x) -> If<M, ContactSet> {
     } else if constexpr (!std::is_const_v<M>) {
         std::vector<Vec3> us, ss;
         io(us); io(ss);
-        const size_t ns = x.sub_key.size();
+        const size_t ns = x.sub_code.size();
         io.check(us.size() == ns && ss.size() == ns, "the sub-contact arrays differ in length");
         io.check(sub_offsets_whole(x) && x.normal_code.size() == x.block_a.size(), "the sub-contact offsets are wrong");
         x.sub_us.resize(ns);
@@ -555,7 +559,7 @@ auto fields(IO& io, M& x) -> If<M, ContactSet> {
     // Format 4: contacts of deformable blocks (older files have rigid sub-contacts only).
     if (io.format >= 4) {
         if constexpr (std::is_const_v<M>) {
-            if (x.sub_tri.empty()) io(std::vector<std::array<int, 3>>(x.sub_key.size(), {-1, -1, -1}));
+            if (x.sub_tri.empty()) io(std::vector<std::array<int, 3>>(x.sub_code.size(), {-1, -1, -1}));
             else io(x.sub_tri);
         } else {
             io(x.sub_tri);
@@ -1293,7 +1297,7 @@ std::string check_consistent(const Model& m) {
         c.gap.size() != nc || c.jmat.size() != nc || c.jcons.size() != nc || c.joined.size() != nc) {
         return "the contact arrays differ in length";
     }
-    const size_t ns = c.sub_key.size();
+    const size_t ns = c.sub_code.size();
     if (c.sub_area.size() != ns || c.sub_local.size() != ns || c.sub_un.size() != ns ||
         (!c.sub_udil.empty() && c.sub_udil.size() != ns) ||
         c.sub_us.size() != ns || c.sub_ss.size() != ns || c.sub_flags.size() != ns ||
@@ -1650,7 +1654,7 @@ std::string check_values(const Model& m) {
                 if (!(s.flags[own] & kDeformable) || cs.sub_vertex(i) < 0 || cs.sub_vertex(i) >= ng) {
                     c.fail(w, "a sub-contact gridpoint is out of range");
                 }
-                if (cs.sub_key[i] != gridpoint_sub_key(side - 3, cs.sub_vertex(i))) {
+                if (cs.sub_key(i) != gridpoint_sub_key(side - 3, cs.sub_vertex(i))) {
                     c.fail(w, "a sub-contact key does not match its gridpoint");
                 }
                 const std::array<int, 3> t = cs.sub_triangle(i);

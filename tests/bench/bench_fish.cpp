@@ -39,7 +39,7 @@ int main(int argc, char** argv) {
         c.joined.push_back(0);
         c.sub_offset.push_back(4 * k);
         for (int s = 0; s < 4; ++s) {
-            c.sub_key.push_back(s);
+            c.push_key(s);
             c.sub_area.push_back(0.25);
             c.sub_local.push_back(odec::PointCode{});
             c.sub_un.push_back(0);

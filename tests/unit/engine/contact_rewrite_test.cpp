@@ -61,7 +61,7 @@ TEST(ContactRewrite, APassRebuildingEveryContactFindsWhatAFreshDetectionFinds) {
     ASSERT_EQ(a.sub_offset, f.sub_offset);
     EXPECT_EQ(a.block_a, f.block_a);
     EXPECT_EQ(a.block_b, f.block_b);
-    EXPECT_EQ(a.sub_key, f.sub_key);
+    EXPECT_EQ(a.sub_keys(), f.sub_keys());
     EXPECT_EQ(a.jmat, f.jmat);
     // The old contacts kept their ids, the new ones took the next ones: all different.
     std::vector<int> ids(a.id.begin(), a.id.end());

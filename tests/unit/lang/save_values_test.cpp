@@ -125,7 +125,7 @@ std::string model_problem(const odec::Model& m) {
         if (c.block_a[k] < 0 || c.block_b[k] >= static_cast<int>(n) || c.block_a[k] >= c.block_b[k]) return "contact blocks";
         if (!c.normal(k).allFinite() || !fin(c.gap[k])) return "contact numbers";
     }
-    for (size_t k = 0; k < c.sub_key.size(); ++k) {
+    for (size_t k = 0; k < c.sub_code.size(); ++k) {
         if (!fin(c.sub_area[k]) || !fin(c.sub_un[k]) || !c.sub_ss[k].allFinite() ||
             !c.sub_us[k].allFinite() || !c.sub_point_local(k).allFinite())
             return "sub-contact numbers";
@@ -386,12 +386,12 @@ TEST_F(SaveValues, ASubContactsContactOrVertexEditedInThePayloadIsRefused) {
     }
     {
         // The keys, then the vertex of each sub-contact.
-        const std::string pattern = file_bytes(c.sub_key) + file_bytes(vertex);
+        const std::string pattern = file_bytes(c.sub_keys()) + file_bytes(vertex);
         const size_t at_vertex = good.find(pattern, payload_start(good));
         ASSERT_NE(at_vertex, std::string::npos);
         std::string file = good;
         const std::int32_t other = vertex[0] + 1;
-        std::memcpy(&file[at_vertex + file_bytes(c.sub_key).size() + 8], &other, 4);
+        std::memcpy(&file[at_vertex + file_bytes(c.sub_keys()).size() + 8], &other, 4);
         recompute_checksum(file);
         write_bytes(at("edit.sav"), file);
         refused(at("edit.sav"), "a sub-contact vertex or gridpoint does not match its key");
