@@ -217,16 +217,17 @@ void update_contacts(Model& m, double dt) {
     // the joint forces do on the blocks' turn (the energy the joints hold and give back would
     // not be what the blocks put in). In static mode the path to equilibrium is not physical
     // (scaled masses and inertias) and keeps the first-order form, v dt + w x r dt.
-    thread_local std::vector<Vec3> disp, axis;
+    // The displacement is the velocity's over the step (made where it is used, block_disp), and
+    // for a piece of a clump what its turn about the clump's centroid adds (clump_shift, kept
+    // only in a model with clumps).
+    thread_local std::vector<Vec3> axis, clump_shift;
     thread_local std::vector<double> turn_sin, turn_cos1;
-    disp.resize(n);
     axis.resize(n);
     turn_sin.resize(n);
     turn_cos1.resize(n);
     {
         // Block by block, each on its own: on the threads in a large model (the pointers: a
         // thread_local named inside the loop would be each worker's own).
-        Vec3* disp_w = disp.data();
         Vec3* axis_w = axis.data();
         double* sin_w = turn_sin.data();
         double* cos1_w = turn_cos1.data();
@@ -234,7 +235,6 @@ void update_contacts(Model& m, double dt) {
         parallel_for(n, threads, n >= kParallelMinBlocks, [&](int b) {
             // A block whose velocity was given at t has not moved with it yet.
             const bool still = s.half_kick[b] || ((s.flags[b] & kFixed) && !s.vel_bc[b]);
-            disp_w[b] = still ? Vec3::Zero() : Vec3(s.vel[b] * dt);
             const Vec3 w = still ? Vec3::Zero() : s.ang_vel[b];
             const double angle = w.norm() * dt;
             axis_w[b] = angle > 0 ? Vec3(w / w.norm()) : Vec3::Zero();
@@ -248,6 +248,8 @@ void update_contacts(Model& m, double dt) {
     {
         thread_local ClumpList clumps;
         list_clumps(s, clumps);
+        if (clumps.size() > 0) clump_shift.assign(n, Vec3::Zero());
+        else std::vector<Vec3>().swap(clump_shift);
         for (int c = 0; c < clumps.size(); ++c) {
             const int* p = clumps.pieces.data() + clumps.offset[c];
             const int np = clumps.offset[c + 1] - clumps.offset[c];
@@ -256,7 +258,7 @@ void update_contacts(Model& m, double dt) {
                 const int b = p[i];
                 if (s.half_kick[b] || ((s.flags[b] & kFixed) && !s.vel_bc[b])) continue;
                 const Vec3 r = s.centroid[b] - centre, k = axis[b];
-                disp[b] += turn_cos1[b] * (r - k.dot(r) * k) + turn_sin[b] * k.cross(r) - s.ang_vel[b].cross(r) * dt;
+                clump_shift[b] = turn_cos1[b] * (r - k.dot(r) * k) + turn_sin[b] * k.cross(r) - s.ang_vel[b].cross(r) * dt;
             }
         }
     }
@@ -278,14 +280,21 @@ void update_contacts(Model& m, double dt) {
     // The threads reach the caller's thread_local arrays through these pointers (a thread_local
     // named inside the parallel loop would be each worker's own, empty).
     const LawParams* law = params.data();
-    const Vec3* disp_of = disp.data();
+    const Vec3* shift_of = clump_shift.empty() ? nullptr : clump_shift.data();
+    // The displacement of block b's centroid over the last step (a block whose velocity was
+    // given at t has not moved with it yet).
+    auto block_disp = [&s, dt, shift_of](int b) -> Vec3 {
+        if (s.half_kick[b] || ((s.flags[b] & kFixed) && !s.vel_bc[b])) return Vec3::Zero();
+        const Vec3 d = s.vel[b] * dt;
+        return shift_of && s.clump[b] != 0 ? Vec3(d + shift_of[b]) : d;
+    };
     const Vec3* axis_of = axis.data();
     const double* sin_of = turn_sin.data();
     const double* cos1_of = turn_cos1.data();
     // The displacement over the last step of the point of block b at r from its centroid.
     auto moved = [=](int b, const Vec3& r) -> Vec3 {
         const Vec3& k = axis_of[b];
-        return disp_of[b] + cos1_of[b] * (r - k.dot(r) * k) + sin_of[b] * k.cross(r);
+        return block_disp(b) + cos1_of[b] * (r - k.dot(r) * k) + sin_of[b] * k.cross(r);
     };
     auto law_of = [&](int c) -> const LawParams& {
         const int jm = cs.jmat[c];
