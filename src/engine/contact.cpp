@@ -27,8 +27,8 @@ void ContactSet::clear() {
     id.clear(); block_a.clear(); block_b.clear(); normal_code.clear(); gap.clear();
     jmat.clear(); jcons.clear(); joined.clear(); free_motion.clear(); sub_offset.assign(1, 0);
     sub_code.clear(); key_table = KeyTable{}; sub_area.clear();
-    sub_local.clear(); sub_un.clear(); sub_udil.clear(); sub_us.clear(); sub_ss.clear();
-    sub_flags.clear(); sub_tri.clear();
+    sub_point.clear(); sub_un.clear(); sub_udil.clear(); sub_us.clear(); sub_ss.clear();
+    sub_tri.clear();
     detected = false;
     surface_ready = false;
     colored = false;
@@ -83,9 +83,9 @@ ContactInfo contact_info(const Model& m, int c, bool touch_area) {
         un += w * (cs.sub_un[k] + cs.sub_dilation(k));
         ss += w * cs.sub_shear_stress(c, k);
         us += w * cs.sub_shear_disp(c, k);
-        any_slip |= (cs.sub_flags[k] & kSubSlip) != 0;
-        all_open &= (cs.sub_flags[k] & kSubOpen) != 0;
-        any_failed |= (cs.sub_flags[k] & kSubFailed) != 0;
+        any_slip |= (cs.sub_flags(k) & kSubSlip) != 0;
+        all_open &= (cs.sub_flags(k) & kSubOpen) != 0;
+        any_failed |= (cs.sub_flags(k) & kSubFailed) != 0;
     }
     info.area = touch_area ? contact_touch_area(m, c) : 0.0;
     if (area > 0) {

@@ -154,14 +154,16 @@ struct ContactSet {
                                           //          (sub_key.h): written through push_key, set_key
     KeyTable key_table;                   // the keys no four-byte code holds (saved as the keys)
     PodArray<double> sub_area;            // (n_subs) m^2, share of the contact area (they sum to it)
-    PodArray<PointCode> sub_local;        // (n_subs) m, point in the owner's body frame (block b for
+    PodArray<TaggedPointCode> sub_point;  // (n_subs) m, point in the owner's body frame (block b for
                                           //          side 1, else block a); sides 3 and 4: where the
                                           //          gridpoint meets the other block, in that block's
                                           //          body frame when it is rigid, else the weights of
                                           //          the corners of sub_triangle. Made anew at every
                                           //          refresh, it is held in fourteen bytes
-                                          //          (point_code.h): read through sub_point_local
-                                          //          and sub_weights
+                                          //          (point_code.h) with the sub-contact's flags
+                                          //          (SubContactFlags) in the five bits its exponent
+                                          //          leaves: read through sub_point_local,
+                                          //          sub_weights and sub_flags
     PodArray<std::array<int, 3>> sub_tri;    // (n_subs, or empty when no sub-contact has one) sides 3
                                           //          and 4 against a deformable block: the gridpoints
                                           //          of the surface triangle the gridpoint meets; else
@@ -179,7 +181,6 @@ struct ContactSet {
     // sub_shear_stress.
     PodArray<Eigen::Vector2d> sub_us;     // (n_subs) m, shear displacement of b relative to a
     PodArray<Eigen::Vector2d> sub_ss;     // (n_subs) Pa, shear stress on b (opposes its slip)
-    PodArray<std::uint8_t> sub_flags;     // (n_subs) SubContactFlags
 
     // ---- detection bookkeeping ----
     double ctol = 0;                      // m, tolerance in use (settings.ctol or chosen)
@@ -220,12 +221,15 @@ struct ContactSet {
     bool colored = false;
 
     int size() const { return static_cast<int>(block_a.size()); }
-    // Sub-contact k's point in its owner's body frame (sub_local), m.
-    Eigen::Vector3d sub_point_local(int k) const { return decode_point(sub_local[k]); }
+    // Sub-contact k's point in its owner's body frame (sub_point), m.
+    Eigen::Vector3d sub_point_local(int k) const { return decode_point(sub_point[k]); }
+    // Sub-contact k's flags (SubContactFlags), kept with its point.
+    std::uint8_t sub_flags(int k) const { return static_cast<std::uint8_t>(point_tag(sub_point[k])); }
+    void set_sub_flags(int k, std::uint8_t flags) { set_point_tag(sub_point[k], flags); }
     // The weights of the corners of sub_triangle(k) (sides 3 and 4 against a deformable block):
     // the third is what the first two leave of 1, so that they share out a force whole.
     Eigen::Vector3d sub_weights(int k) const {
-        const Eigen::Vector3d w = decode_point(sub_local[k]);
+        const Eigen::Vector3d w = decode_point(sub_point[k]);
         return Eigen::Vector3d(w[0], w[1], 1.0 - w[0] - w[1]);
     }
     // The unit normal of contact c, from a to b.
@@ -302,7 +306,7 @@ struct ContactSet {
     // the dilation counts on a joint that is not glued), 0 while it is open and until its first
     // step (a sub-contact a refresh made).
     [[gnu::always_inline]] double sub_sn_for(int c, int k, double kn) const {
-        if (sub_flags[k] & (kSubOpen | kSubNew | kSubFresh)) return 0.0;
+        if (sub_flags(k) & (kSubOpen | kSubNew | kSubFresh)) return 0.0;
         return joined[c] ? kn * sub_un[k] : kn * (sub_un[k] + sub_dilation(k));
     }
     // The surface triangle sub-contact k meets (sides 3 and 4 against a deformable block), else -1s.

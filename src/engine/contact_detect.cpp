@@ -624,8 +624,8 @@ void clear_arrays(ContactSet& x) {
     x.id.clear(); x.block_a.clear(); x.block_b.clear(); x.normal_code.clear(); x.gap.clear();
     x.jmat.clear(); x.jcons.clear(); x.joined.clear(); x.free_motion.clear(); x.sub_offset.assign(1, 0);
     x.sub_code.clear(); x.key_table = KeyTable{};
-    x.sub_area.clear(); x.sub_local.clear(); x.sub_un.clear(); x.sub_udil.clear();
-    x.sub_us.clear(); x.sub_ss.clear(); x.sub_flags.clear(); x.sub_tri.clear();
+    x.sub_area.clear(); x.sub_point.clear(); x.sub_un.clear(); x.sub_udil.clear();
+    x.sub_us.clear(); x.sub_ss.clear(); x.sub_tri.clear();
 }
 
 // f applied to each per-contact array of x but the offsets.
@@ -638,8 +638,8 @@ void each_contact_array(ContactSet& x, F&& f) {
 // when `dil`.
 template <class F>
 void each_sub_array(ContactSet& x, bool tri, bool dil, F&& f) {
-    f(x.sub_code); f(x.sub_area); f(x.sub_local); f(x.sub_un);
-    f(x.sub_us); f(x.sub_ss); f(x.sub_flags);
+    f(x.sub_code); f(x.sub_area); f(x.sub_point); f(x.sub_un);
+    f(x.sub_us); f(x.sub_ss);
     if (tri) f(x.sub_tri);
     if (dil) f(x.sub_udil);
 }
@@ -649,8 +649,8 @@ constexpr std::array<int, 3> kNoTri = {-1, -1, -1};
 // sub_tri is kept only once some sub-contact has a triangle: then it has an entry for each
 // sub-contact (-1s for those without).
 // The point as the set holds it: a code (point_code.h), copied as it is when a sub-contact keeps
-// its point.
-void push_sub(ContactSet& to, std::int64_t key, double area, const PointCode& local,
+// its point. Its flags are none until its history is pushed (push_history, push_inherited).
+void push_sub(ContactSet& to, std::int64_t key, double area, const TaggedPointCode& local,
               const std::array<int, 3>& tri = kNoTri) {
     if (tri[0] >= 0 || !to.sub_tri.empty()) {
         to.sub_tri.resize(to.sub_code.size(), kNoTri);
@@ -658,11 +658,12 @@ void push_sub(ContactSet& to, std::int64_t key, double area, const PointCode& lo
     }
     to.push_key(key);
     to.sub_area.push_back(area);
-    to.sub_local.push_back(local);
+    to.sub_point.push_back(local);
+    to.set_sub_flags(to.n_subs() - 1, 0);
 }
 void push_sub(ContactSet& to, std::int64_t key, double area, const Vec3& local,
               const std::array<int, 3>& tri = kNoTri) {
-    push_sub(to, key, area, encode_point(local), tri);
+    push_sub(to, key, area, tagged_point(encode_point(local), 0), tri);
 }
 
 // Where an old contact's state is while a pass rewrites the set (Rewrite): its entries at c,
@@ -747,9 +748,8 @@ public:
         for (int i = 0; i < n; ++i) {
             const int j = j0 + i, k = wk_ + i;
             cs_.sub_code[k] = cs_.code_of_key(x.sub_key(j)); cs_.sub_area[k] = x.sub_area[j];
-            cs_.sub_local[k] = x.sub_local[j]; cs_.sub_un[k] = x.sub_un[j];
+            cs_.sub_point[k] = x.sub_point[j]; cs_.sub_un[k] = x.sub_un[j]; // the point with its flags
             cs_.sub_us[k] = x.sub_us[j]; cs_.sub_ss[k] = x.sub_ss[j];
-            cs_.sub_flags[k] = x.sub_flags[j];
             if (tri_) cs_.sub_tri[k] = x.sub_triangle(j);
             if (dil_) cs_.sub_udil[k] = x.sub_dilation(j);
         }
@@ -915,13 +915,13 @@ struct Detector {
             push_dilation(moving ? 0.0 : cs.sub_dilation(k));
             next.sub_us.push_back(turned(cs.sub_us[k]));
             next.sub_ss.push_back(turned(cs.sub_ss[k]));
-            next.sub_flags.push_back(cs.sub_flags[k] & ~(kSubNew | kSubFresh));
+            next.set_sub_flags(next.n_subs() - 1, cs.sub_flags(k) & ~(kSubNew | kSubFresh));
         } else {
             next.sub_un.push_back(closure);
             push_dilation(0);
             next.sub_us.push_back(Eigen::Vector2d::Zero());
             next.sub_ss.push_back(Eigen::Vector2d::Zero());
-            next.sub_flags.push_back(kSubNew);
+            next.set_sub_flags(next.n_subs() - 1, kSubNew);
         }
     }
 
@@ -939,12 +939,12 @@ struct Detector {
         double kn = 0, ten = 0;
         if (const JointMaterial* jm = material()) {
             kn = jm->kn;
-            ten = (cs.sub_flags[k] & kSubFailed) ? 0.0 : jm->tension;
+            ten = (cs.sub_flags(k) & kSubFailed) ? 0.0 : jm->tension;
         }
         const double sn = kn * (closure + cs.sub_dilation(k));
         const bool opens = !next.joined.back() && (sn < -ten || (sn <= 0 && ten <= 0));
         next.sub_ss.push_back(opens ? Eigen::Vector2d(Eigen::Vector2d::Zero()) : turned(cs.sub_ss[k]));
-        next.sub_flags.push_back(static_cast<std::uint8_t>((cs.sub_flags[k] & kSubFailed) | kSubFresh));
+        next.set_sub_flags(next.n_subs() - 1, static_cast<std::uint8_t>((cs.sub_flags(k) & kSubFailed) | kSubFresh));
     }
 
     // The joint material of the contact being built, or null when it has none defined.
@@ -1081,7 +1081,7 @@ struct Detector {
             push_header(a, b, oc, va, vb, cp);
             const int first = next.n_subs();
             for (int k = old.k0; k < old.k1; ++k) {
-                push_sub(next, cs.sub_key(k), cs.sub_area[k], cs.sub_local[k]);
+                push_sub(next, cs.sub_key(k), cs.sub_area[k], cs.sub_point[k]);
                 push_history(k, cs.sub_un[k], false);
             }
             next.free_motion.back() = bound16_not_above(clearance(a, b, cp.normal, first));
@@ -1149,7 +1149,7 @@ struct Detector {
             // has lifted clear.
             for (int j = old.k0; j < old.k1; ++j) {
                 if (cs.sub_side(j) > 1 || !(cs.sub_un[j] + cs.sub_dilation(j) > -1e-6 * tol)) continue;
-                push_sub(next, cs.sub_key(j), cs.sub_area[j], cs.sub_local[j]);
+                push_sub(next, cs.sub_key(j), cs.sub_area[j], cs.sub_point[j]);
                 push_history(j, cs.sub_un[j], false);
             }
         }
@@ -1874,7 +1874,7 @@ double contact_touch_area(const Model& m, int c) {
         // Gridpoints pressing on a surface: each carries its own share of it.
         double area = 0;
         for (int k = k0; k < k1; ++k) {
-            if (!(cs.sub_flags[k] & kSubOpen)) area += cs.sub_area[k];
+            if (!(cs.sub_flags(k) & kSubOpen)) area += cs.sub_area[k];
         }
         return area;
     }
@@ -1931,7 +1931,7 @@ double contact_touch_area(const Model& m, int c) {
                    pressing.end());
     std::sort(pressing.begin(), pressing.end());
     for (int k = k0; k < k1; ++k) {
-        if (cs.sub_flags[k] & kSubOpen) continue;
+        if (cs.sub_flags(k) & kSubOpen) continue;
         if (std::binary_search(pressing.begin(), pressing.end(), cs.sub_key(k))) continue;
         area += cs.sub_area[k];
     }

@@ -196,7 +196,7 @@ int load_sub(ContactSet& cs, int k, const Vec3& n, const Vec3& traction_on_b, do
              const Strength& st) {
     double sn = traction_on_b.dot(n);
     Vec3 ss = traction_on_b - sn * n;
-    std::uint8_t flags = cs.sub_flags[k] & static_cast<std::uint8_t>(~(kSubOpen | kSubSlip | kSubNew | kSubFresh));
+    std::uint8_t flags = cs.sub_flags(k) & static_cast<std::uint8_t>(~(kSubOpen | kSubSlip | kSubNew | kSubFresh));
     int result = 1;
     if (!joined) {
         const bool failed = flags & kSubFailed;
@@ -232,7 +232,7 @@ int load_sub(ContactSet& cs, int k, const Vec3& n, const Vec3& traction_on_b, do
     cs.sub_un[k] = sn / kn; // the closure that carries it (the springs' stress: effective)
     if (!cs.sub_udil.empty()) cs.sub_udil[k] = 0;
     cs.sub_us[k].setZero();
-    cs.sub_flags[k] = flags;
+    cs.set_sub_flags(k, flags);
     return result;
 }
 
@@ -241,7 +241,7 @@ void unload_sub(ContactSet& cs, int k) {
     cs.sub_un[k] = 0;
     if (!cs.sub_udil.empty()) cs.sub_udil[k] = 0;
     cs.sub_us[k].setZero();
-    cs.sub_flags[k] = (cs.sub_flags[k] & kSubFailed) | kSubOpen;
+    cs.set_sub_flags(k, (cs.sub_flags(k) & kSubFailed) | kSubOpen);
 }
 
 
@@ -473,7 +473,7 @@ int shift_joint_water(Model& m, const std::vector<double>& old_pp) {
         for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
             const int node = f.sub_node[k];
             const double sn = cs.sub_sn_for(c, k, j->kn);
-            if (node < 0 || (cs.sub_flags[k] & kSubOpen) || !(sn > 0)) continue;
+            if (node < 0 || (cs.sub_flags(k) & kSubOpen) || !(sn > 0)) continue;
             const double dp = (f.pp[node] - old_pp[node]) * f.sub_wet[k];
             if (dp == 0) continue;
             // The total stress stays: the springs carry what the water no longer does.

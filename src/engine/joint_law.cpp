@@ -76,7 +76,7 @@ LawParams law_params(const Model& m, int jmat, int jcons) {
 // the step, and what the normal spring held in tension if that breaks it.
 [[gnu::always_inline]] inline Vec3 joint_step(ContactSet& cs, int k, const LawParams& p, bool joined, const Vec3& nrm,
                                               const Vec3& e1, const Vec3& e2, const Vec3& du, double* dissipated = nullptr) {
-    std::uint8_t flags = cs.sub_flags[k];
+    std::uint8_t flags = cs.sub_flags(k);
     // The normal stress before the step (for the energy account alone), as its last step left it.
     const double un_old = cs.sub_un[k] + cs.sub_dilation(k);
     const double sn_old =
@@ -152,7 +152,7 @@ LawParams law_params(const Model& m, int jmat, int jcons) {
         }
     }
     cs.sub_ss[k] = ss;
-    cs.sub_flags[k] = flags;
+    cs.set_sub_flags(k, flags);
     return cs.sub_area[k] * (sn * nrm + ss[0] * e1 + ss[1] * e2);
 }
 

@@ -291,7 +291,7 @@ Value f_cx_sstress(Runtime& rt, A a, int, L loc) { SUB("cx_sstress"); return vec
 // The closure the joint's spring carries (the dilation included), as print, hist and export give it.
 Value f_cx_ndis(Runtime& rt, A a, int, L loc) { SUB("cx_ndis"); return num(C.sub_un[s] + C.sub_dilation(s)); }
 Value f_cx_sdis(Runtime& rt, A a, int, L loc) { SUB("cx_sdis"); return num(C.sub_shear_disp(C.sub_owner(s), s).norm()); }
-Value f_cx_state(Runtime& rt, A a, int, L loc) { SUB("cx_state"); return Value::integer(C.sub_flags[s] & (kSubSlip | kSubOpen | kSubFailed)); }
+Value f_cx_state(Runtime& rt, A a, int, L loc) { SUB("cx_state"); return Value::integer(C.sub_flags(s) & (kSubSlip | kSubOpen | kSubFailed)); }
 
 // -- gridpoints ------------------------------------------------------------------------------------
 Value f_gp_head(Runtime& rt, A, int, L) { return model(rt).gridpoints.size() > 0 ? Value::pointer(PtrKind::Gridpoint, 0) : Value::null(); }

@@ -431,6 +431,18 @@ std::vector<std::uint8_t> sub_sides(const ContactSet& x) {
     return side;
 }
 
+// An array the file has and memory derives, written element by element as it is made (no copy
+// of it is held): n elements of type T, the k-th at(k).
+template <class T, class F>
+struct Derived {
+    size_t n;
+    F at;
+};
+template <class T, class F>
+Derived<T, F> derived(size_t n, F at) {
+    return Derived<T, F>{n, at};
+}
+
 // An array an older format wrote with elements of type Old, read into `to`: each element checked
 // (`ok`; else the file is refused, saying `why`) and converted (`convert`).
 template <class Old, class IO, class A, class Ok, class Convert>
@@ -481,7 +493,9 @@ auto fields(IO& io, M& x) -> If<M, ContactSet> {
     }
     io(x.joined); io(x.sub_offset);
     if constexpr (std::is_const_v<M>) {
-        io(sub_owners(x)); io(sub_sides(x)); io(x.sub_keys()); io(sub_vertices(x));
+        io(sub_owners(x)); io(sub_sides(x));
+        io(derived<std::int64_t>(x.sub_code.size(), [&x](size_t k) { return x.sub_key(static_cast<int>(k)); }));
+        io(sub_vertices(x));
     } else {
         std::vector<int> owner, vertex;
         std::vector<std::uint8_t> side;
@@ -507,11 +521,19 @@ auto fields(IO& io, M& x) -> If<M, ContactSet> {
     }
     io(x.sub_area);
     // Format 18: the points as their codes (point_code.h); older files have vectors, coded here.
+    // Memory keeps each sub-contact's flags in its code's spare bits; the file has the codes
+    // bare and the flags apart (below).
     if (io.format >= 18) {
-        io(x.sub_local);
+        if constexpr (std::is_const_v<M>) {
+            io(derived<PointCode>(x.sub_point.size(), [&x](size_t k) { return untagged_point(x.sub_point[k]); }));
+        } else {
+            read_converted<PointCode>(io, x.sub_point, [](const PointCode& p) { return point_code_valid(p); },
+                                      "a sub-contact point's code is out of range",
+                                      [](const PointCode& p) { return tagged_point(p, 0); });
+        }
     } else if constexpr (!std::is_const_v<M>) {
-        read_converted<Vec3>(io, x.sub_local, [](const Vec3& v) { return v.allFinite(); },
-                             "a sub-contact point is not a finite number", [](const Vec3& v) { return encode_point(v); });
+        read_converted<Vec3>(io, x.sub_point, [](const Vec3& v) { return v.allFinite(); }, "a sub-contact point is not a finite number",
+                             [](const Vec3& v) { return tagged_point(encode_point(v), 0); });
     }
     io(x.sub_un);
     // The dilations are kept only once some sub-contact has one; the file has them for every
@@ -555,7 +577,17 @@ auto fields(IO& io, M& x) -> If<M, ContactSet> {
             }
         }
     }
-    io(x.sub_flags);
+    if constexpr (std::is_const_v<M>) {
+        io(derived<std::uint8_t>(x.sub_point.size(), [&x](size_t k) { return x.sub_flags(static_cast<int>(k)); }));
+    } else {
+        std::vector<std::uint8_t> flags;
+        io(flags);
+        io.check(flags.size() == x.sub_point.size(), "the sub-contact arrays differ in length");
+        io.check(std::all_of(flags.begin(), flags.end(),
+                             [](std::uint8_t f) { return f <= (kSubSlip | kSubOpen | kSubFailed | kSubNew | kSubFresh); }),
+                 "a sub-contact flag is out of range");
+        for (size_t k = 0; k < flags.size() && k < x.sub_point.size(); ++k) x.set_sub_flags(static_cast<int>(k), flags[k]);
+    }
     // Format 4: contacts of deformable blocks (older files have rigid sub-contacts only).
     if (io.format >= 4) {
         if constexpr (std::is_const_v<M>) {
@@ -733,6 +765,16 @@ public:
     void operator()(const std::vector<T>& v) { array(v); }
     template <class T>
     void operator()(const PodArray<T>& v) { array(v); }
+    // A derived array: as an array of its elements.
+    template <class T, class F>
+    void operator()(const Derived<T, F>& d) {
+        raw(static_cast<std::uint64_t>(d.n));
+        for (size_t k = 0; k < d.n; ++k) {
+            const T x = d.at(k);
+            if constexpr (Bulk<T>::value) bytes(&x, sizeof x);
+            else (*this)(x);
+        }
+    }
     // An array: its length, then its elements.
     template <class V>
     void array(const V& v) {
@@ -1298,9 +1340,9 @@ std::string check_consistent(const Model& m) {
         return "the contact arrays differ in length";
     }
     const size_t ns = c.sub_code.size();
-    if (c.sub_area.size() != ns || c.sub_local.size() != ns || c.sub_un.size() != ns ||
+    if (c.sub_area.size() != ns || c.sub_point.size() != ns || c.sub_un.size() != ns ||
         (!c.sub_udil.empty() && c.sub_udil.size() != ns) ||
-        c.sub_us.size() != ns || c.sub_ss.size() != ns || c.sub_flags.size() != ns ||
+        c.sub_us.size() != ns || c.sub_ss.size() != ns ||
         (!c.sub_tri.empty() && c.sub_tri.size() != ns)) {
         return "the sub-contact arrays differ in length";
     }
@@ -1672,13 +1714,13 @@ std::string check_values(const Model& m) {
                 }
             }
             c.at_least(cs.sub_area[i], 0, w, "a sub-contact area");
-            if (!point_code_valid(cs.sub_local[i])) c.fail(w, "a sub-contact point's code is out of range");
+            if (!point_code_valid(untagged_point(cs.sub_point[i]))) c.fail(w, "a sub-contact point's code is out of range");
             c.finite(cs.sub_un[i], w, "a normal closure");
             c.finite(cs.sub_dilation(i), w, "a dilation");
             c.finite(sub_normal_stress(m, k, i), w, "a normal stress");
             c.vec(Vec3(cs.sub_us[i][0], cs.sub_us[i][1], 0), w, "a shear displacement");
             c.vec(Vec3(cs.sub_ss[i][0], cs.sub_ss[i][1], 0), w, "a shear stress");
-            if (cs.sub_flags[i] > (kSubSlip | kSubOpen | kSubFailed | kSubNew | kSubFresh)) c.fail(w, "a sub-contact flag is out of range");
+            if (cs.sub_flags(i) > (kSubSlip | kSubOpen | kSubFailed | kSubNew | kSubFresh)) c.fail(w, "a sub-contact flag is out of range");
         }
     }
     if (!c.ok()) return c.problem;

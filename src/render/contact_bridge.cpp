@@ -94,7 +94,7 @@ ContactView make_contact_view(const Model& m, const std::vector<int>* contact_in
                 subs.normal_disp.push_back(cs.sub_un[k] + cs.sub_dilation(k));
                 subs.shear_disp.push_back(cs.sub_shear_disp(c, k));
                 subs.force.push_back(f);
-                subs.state.push_back(static_cast<int>(sub_state(cs.sub_flags[k])));
+                subs.state.push_back(static_cast<int>(sub_state(cs.sub_flags(k))));
                 subs.parent.push_back(row);
                 if (flow) {
                     const int node = fl.sub_node[k];

@@ -144,9 +144,9 @@ void run(int n, long steps) {
                                    bytes(cs.gap) + bytes(cs.jmat) + bytes(cs.jcons) +
                                    bytes(cs.joined) + bytes(cs.sub_offset) + bytes(cs.free_motion) +
                                    bytes(cs.color_order);
-        const double per_sub = bytes(cs.sub_code) + bytes(cs.sub_area) + bytes(cs.sub_local) +
+        const double per_sub = bytes(cs.sub_code) + bytes(cs.sub_area) + bytes(cs.sub_point) +
                                bytes(cs.sub_tri) + bytes(cs.sub_un) + bytes(cs.sub_udil) +
-                               bytes(cs.sub_us) + bytes(cs.sub_ss) + bytes(cs.sub_flags) + bytes(cs.key_table.keys);
+                               bytes(cs.sub_us) + bytes(cs.sub_ss) + bytes(cs.key_table.keys);
         int carrying = 0;
         for (int c = 0; c < cs.size(); ++c) carrying += cs.sub_offset[c + 1] > cs.sub_offset[c];
         std::printf("  contact set arrays: %.1f MB per-contact (%.0f B a contact), %.1f MB per-sub-contact (%.0f B a "

@@ -41,11 +41,10 @@ int main(int argc, char** argv) {
         for (int s = 0; s < 4; ++s) {
             c.push_key(s);
             c.sub_area.push_back(0.25);
-            c.sub_local.push_back(odec::PointCode{});
+            c.sub_point.push_back(odec::TaggedPointCode{});
             c.sub_un.push_back(0);
             c.sub_us.push_back(Eigen::Vector2d::Zero());
             c.sub_ss.push_back(Eigen::Vector2d::Zero());
-            c.sub_flags.push_back(0);
         }
     }
     c.sub_offset.push_back(4 * n);

@@ -97,9 +97,9 @@ TEST(ContactArea, ALiftedHeelIsOpenAndAddsNoArea) {
         const Vec3 x = sub_point(m, s.contact, k - cs.sub_offset[s.contact]);
         if (x.x() > 0.5) {
             ++heel;
-            EXPECT_TRUE(cs.sub_flags[k] & kSubOpen) << "a heel sub-contact at x = " << x.x() << " is not open";
+            EXPECT_TRUE(cs.sub_flags(k) & kSubOpen) << "a heel sub-contact at x = " << x.x() << " is not open";
             EXPECT_EQ(sub_normal_stress(m, k), 0.0);
-        } else if (!(cs.sub_flags[k] & kSubOpen)) {
+        } else if (!(cs.sub_flags(k) & kSubOpen)) {
             ++closed;
             closed_area += cs.sub_area[k];
         }

@@ -82,7 +82,7 @@ TEST(ContactRewrite, APassRebuildingEveryContactFindsWhatAFreshDetectionFinds) {
     }
     EXPECT_EQ(mismatched, 0);
     // The arrays hold no more than an eighth over what they need.
-    EXPECT_LE(a.sub_local.capacity(), a.sub_local.size() + a.sub_local.size() / 8 + 1024);
+    EXPECT_LE(a.sub_point.capacity(), a.sub_point.size() + a.sub_point.size() / 8 + 1024);
     EXPECT_LE(a.normal_code.capacity(), a.normal_code.size() + a.normal_code.size() / 8 + 1024);
 }
 

@@ -5,7 +5,9 @@
 
 #include <cmath>
 #include <limits>
+#include <cstring>
 #include <random>
+#include <vector>
 
 #include "engine/point_code.h"
 
@@ -58,4 +60,31 @@ TEST(PointCode, TheRangeOfTheModelIsHeldAndEveryCodeIsChecked) {
     EXPECT_TRUE(odec::point_code_valid(bad));
     bad.e = 4;
     EXPECT_FALSE(odec::point_code_valid(bad)); // the origin has one code
+}
+
+// A code with its holder's five bits (the contact set keeps a sub-contact's flags so): the same
+// point whatever the bits, the bits whatever the point, and the bare code back whole, at the
+// ends of the exponents' range too.
+TEST(PointCode, FiveBitsBesideTheCodeLeaveThePointAlone) {
+    std::mt19937_64 rng(5);
+    std::normal_distribution<double> g;
+    std::uniform_real_distribution<double> decade(-250, 300);
+    std::vector<Vec3> points = {Vec3::Zero(), Vec3(1e-270, 0, -3e-271),
+                                Vec3(std::numeric_limits<double>::max(), -1, 0)};
+    for (int i = 0; i < 20000; ++i) points.push_back(Vec3(g(rng), g(rng), g(rng)) * std::pow(10.0, decade(rng)));
+    for (const Vec3& x : points) {
+        const PointCode p = encode_point(x);
+        ASSERT_TRUE(odec::point_code_valid(p));
+        for (unsigned tag : {0u, 1u, 17u, 31u}) {
+            odec::TaggedPointCode t = odec::tagged_point(p, tag);
+            EXPECT_EQ(odec::point_tag(t), tag);
+            const PointCode back = odec::untagged_point(t);
+            ASSERT_TRUE(back == p) << x.transpose() << " tag " << tag;
+            const Vec3 d = decode_point(t), e = decode_point(p);
+            ASSERT_EQ(std::memcmp(d.data(), e.data(), sizeof(double) * 3), 0);
+            odec::set_point_tag(t, 31 - tag);
+            EXPECT_EQ(odec::point_tag(t), 31 - tag);
+            EXPECT_TRUE(odec::untagged_point(t) == p);
+        }
+    }
 }

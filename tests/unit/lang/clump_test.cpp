@@ -454,10 +454,13 @@ std::string without_clumps(std::string file, const std::vector<int>& clumps, con
     }
     // Format 18 holds the sub-contacts' points as codes of 14 bytes (vectors before).
     {
-        const std::uint64_t ns = cs.sub_local.size();
+        const std::uint64_t ns = cs.sub_point.size();
         std::string pattern(8 + 14 * ns, '\0');
         std::memcpy(&pattern[0], &ns, 8);
-        if (ns > 0) std::memcpy(&pattern[8], cs.sub_local.data(), 14 * ns);
+        for (std::uint64_t k = 0; k < ns; ++k) {
+            const odec::PointCode p = odec::untagged_point(cs.sub_point[k]); // the file's code, without the flags
+            std::memcpy(&pattern[8 + 14 * k], &p, 14);
+        }
         const size_t at = file.find(pattern, from);
         if (at == std::string::npos) return "";
         std::string wide(8 + 24 * ns, '\0');

@@ -169,7 +169,7 @@ TEST(ContactTrust, JointedCubeContactsAreConsistent) {
         if (ci.area == 0) {
             // No touching area: nothing to carry (its sub-contacts, if any, are all open).
             for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
-                EXPECT_TRUE(cs.sub_flags[k] & odec::kSubOpen) << "contact " << ci.id;
+                EXPECT_TRUE(cs.sub_flags(k) & odec::kSubOpen) << "contact " << ci.id;
             }
             EXPECT_EQ(ci.normal_stress, 0) << "contact " << ci.id;
             EXPECT_EQ(ci.shear_stress, 0) << "contact " << ci.id;
@@ -177,7 +177,7 @@ TEST(ContactTrust, JointedCubeContactsAreConsistent) {
         bool all_closed = ci.n_subs > 0;
         for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
             const double closure = cs.sub_un[k] + cs.sub_dilation(k);
-            if (cs.sub_flags[k] & odec::kSubOpen) {
+            if (cs.sub_flags(k) & odec::kSubOpen) {
                 EXPECT_EQ(odec::sub_normal_stress(s.model, c, k), 0) << "open sub-contact " << k << " of contact " << ci.id;
                 EXPECT_EQ(cs.sub_ss[k].norm(), 0) << "open sub-contact " << k << " of contact " << ci.id;
                 EXPECT_LE(closure, 0) << "open sub-contact " << k << " of contact " << ci.id;
@@ -230,7 +230,7 @@ TEST(ContactTrust, AnEdgeThatPressesInIsFeltAtOnce) {
     for (int k = 0; k < 3000; ++k) {
         ASSERT_TRUE(s.run("step 1")) << s.error();
         for (int j = 0; j < cs.n_subs(); ++j) {
-            if (cs.sub_flags[j] & odec::kSubNew) worst = std::max(worst, cs.sub_un[j]);
+            if (cs.sub_flags(j) & odec::kSubNew) worst = std::max(worst, cs.sub_un[j]);
         }
     }
     ASSERT_GT(cs.n_subs(), 0); // the edge does press in

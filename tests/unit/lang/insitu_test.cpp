@@ -387,14 +387,14 @@ TEST(Insitu, JointsBeyondTheirStrengthAreCappedWithAWarning) {
     for (int k = m.contacts.sub_offset[0]; k < m.contacts.sub_offset[1]; ++k) {
         EXPECT_NEAR(sub_normal_stress(m, k), 1e6, 1e-3);
         EXPECT_NEAR(m.contacts.sub_ss[k].norm(), 1e6 * std::tan(M_PI / 6), 1e-3);
-        EXPECT_TRUE(m.contacts.sub_flags[k] & kSubSlip);
+        EXPECT_TRUE(m.contacts.sub_flags(k) & kSubSlip);
     }
     // Tension across it, with no tensile strength: open and unloaded.
     ASSERT_TRUE(s.run("insitu stress -1e6 -1e6 2e5 0 0 0")) << s.error();
     EXPECT_NE(s.error().find("sub-contacts are pulled apart by the in-situ stress"), std::string::npos) << s.error();
     for (int k = m.contacts.sub_offset[0]; k < m.contacts.sub_offset[1]; ++k) {
         EXPECT_EQ(sub_normal_stress(m, k), 0.0);
-        EXPECT_TRUE(m.contacts.sub_flags[k] & kSubOpen);
+        EXPECT_TRUE(m.contacts.sub_flags(k) & kSubOpen);
     }
     // A joined joint has no limits: it carries both.
     ASSERT_TRUE(s.run("join\ninsitu stress -1e6 -1e6 2e5 0 1e6 0")) << s.error();
