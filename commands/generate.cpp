@@ -373,7 +373,7 @@ const CommandSpec& generate_command() {
             };
             const ContactSet& cs = m.contacts;
             for (int c = 0; c < cs.size(); ++c) {
-                if (!cs.joined[c]) continue;
+                if (!cs.joined(c)) continue;
                 const int ka = position[cs.block_a[c]], kb = position[cs.block_b[c]];
                 if (ka >= 0 && kb >= 0) unite(ka, kb);
             }

@@ -54,7 +54,7 @@ static std::string unheld_contact(const Model& m) {
     if (c < 0) return "";
     const ContactSet& cs = m.contacts;
     const BlockSet& s = m.blocks;
-    const int jm = cs.jmat[c];
+    const int jm = cs.jmat(c);
     return "contact " + std::to_string(cs.id[c]) + " between blocks " + std::to_string(s.id[cs.block_a[c]]) + " and " +
            std::to_string(s.id[cs.block_b[c]]) + " (step " + std::to_string(m.step) + ") has joint material " +
            std::to_string(jm) +
@@ -87,7 +87,7 @@ std::string runaway_after_step(EnergyWatch& watch, const Model& m) {
         if ((s.flags[mover] & kFixed) || (!(s.flags[other] & kFixed) && s.mass[other] < s.mass[mover])) {
             std::swap(mover, other);
         }
-        const int jm = cs.jmat[deep];
+        const int jm = cs.jmat(deep);
         const bool has_jmat = jm > 0 && jm < static_cast<int>(m.joint_materials.size());
         return "the motion of block " + std::to_string(s.id[mover]) + " has run away (step " +
                std::to_string(m.step) + "): it has sunk " + num_text(depth) + " m into block " +

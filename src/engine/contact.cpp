@@ -25,7 +25,7 @@ const char* contact_state_name(ContactState s) {
 
 void ContactSet::clear() {
     id.clear(); block_a.clear(); block_b.clear(); normal_code.clear(); gap.clear();
-    jmat.clear(); jcons.clear(); joined.clear(); free_motion.clear(); sub_offset.assign(1, 0);
+    joint.clear(); free_motion.clear(); sub_offset.assign(1, 0);
     sub_code.clear(); key_table = KeyTable{}; sub_area.clear();
     sub_point.clear(); sub_un.clear(); sub_udil.clear(); sub_us.clear(); sub_ss.clear();
     sub_tri.clear();
@@ -66,9 +66,9 @@ ContactInfo contact_info(const Model& m, int c, bool touch_area) {
     info.block_a = cs.block_a[c];
     info.block_b = cs.block_b[c];
     info.normal = cs.normal(c);
-    info.jmat = cs.jmat[c];
-    info.jcons = cs.jcons[c];
-    info.joined = cs.joined[c] != 0;
+    info.jmat = cs.jmat(c);
+    info.jcons = cs.jcons(c);
+    info.joined = cs.joined(c) != 0;
     const int k0 = cs.sub_offset[c], k1 = cs.sub_offset[c + 1];
     info.n_subs = k1 - k0;
     double area = 0, sn = 0, un = 0;
@@ -136,7 +136,7 @@ Vec3 contact_point(const Model& m, int c) {
 }
 
 const JointMaterial* contact_joint_material(const Model& m, int c) {
-    const int jm = m.contacts.jmat[c];
+    const int jm = m.contacts.jmat(c);
     if (jm <= 0 || jm >= static_cast<int>(m.joint_materials.size()) || !m.joint_materials[jm].defined) return nullptr;
     return &m.joint_materials[jm];
 }
@@ -193,8 +193,8 @@ int assign_joint_material(Model& m, const Range& r, int jmat, int jcons) {
         if (!r.contains_contact(m, contact_centroid(m, c), cs.block_a[c], cs.block_b[c])) continue;
         // As for blocks: hidden ones are left alone (3DEC's hide ... show ... change jmat).
         if ((m.blocks.flags[cs.block_a[c]] | m.blocks.flags[cs.block_b[c]]) & kHidden) continue;
-        if (jmat > 0) cs.jmat[c] = jmat;
-        if (jcons > 0) cs.jcons[c] = jcons;
+        if (jmat > 0) cs.set_jmat(c, jmat);
+        if (jcons > 0) cs.set_jcons(c, jcons);
         ++changed;
     }
     return changed;
@@ -207,7 +207,7 @@ int contact_without_joint_properties(const Model& m, bool loaded_only) {
     if (!any_defined) return -1;
     auto without = [&](int c) {
         if (contact_joint_material(m, c)) return false;
-        return loaded_only ? cs.gap[c] < 0 : cs.jmat[c] > 0;
+        return loaded_only ? cs.gap[c] < 0 : cs.jmat(c) > 0;
     };
     // Looked for on the threads: the run-away checks ask after every step.
     const int nc = cs.size();
@@ -224,7 +224,7 @@ int join_blocks(Model& m, const std::vector<int>& block_indices) {
     int n = 0;
     for (int c = 0; c < cs.size(); ++c) {
         if (sel[cs.block_a[c]] && sel[cs.block_b[c]]) {
-            cs.joined[c] = 1;
+            cs.set_joined(c, 1);
             ++n;
         }
     }

@@ -127,9 +127,11 @@ struct ContactSet {
     PodArray<float> gap;                  // (n_contacts) m, signed gap at the last refresh (< 0 overlap),
                                           //          in single precision (it only decides when
                                           //          the contact's geometry is looked at again)
-    PodArray<int> jmat;                   // (n_contacts) joint material number
-    PodArray<std::uint8_t> jcons;         // (n_contacts) joint model (1 or 2)
-    PodArray<std::uint8_t> joined;        // (n_contacts) 1: glued (no slip, no opening)
+    PodArray<std::uint32_t> joint;        // (n_contacts) its joint in one word: the joint material number
+                                          //          (bits 0..29; at most 1,000,000 on file), the
+                                          //          joint model 2 (bit 30; else 1) and glued (bit 31:
+                                          //          no slip, no opening); read through jmat, jcons
+                                          //          and joined
     PodArray<int> sub_offset;             // (n_contacts + 1) first sub-contact of each contact
     PodArray<std::uint16_t> free_motion;  // (n_contacts) m, derived (not saved): how far its blocks may
                                           //          move (`movement` since their geometry references)
@@ -221,6 +223,17 @@ struct ContactSet {
     bool colored = false;
 
     int size() const { return static_cast<int>(block_a.size()); }
+    // Contact c's joint material number, joint model (1 or 2) and whether it is glued.
+    int jmat(int c) const { return static_cast<int>(joint[c] & kJointMaterialMask); }
+    int jcons(int c) const { return (joint[c] & kJointModel2) ? 2 : 1; }
+    bool joined(int c) const { return (joint[c] & kJointGlued) != 0; }
+    void set_jmat(int c, int jm) { joint[c] = (joint[c] & ~kJointMaterialMask) | (static_cast<std::uint32_t>(jm) & kJointMaterialMask); }
+    void set_jcons(int c, int jc) { joint[c] = jc == 2 ? joint[c] | kJointModel2 : joint[c] & ~kJointModel2; }
+    void set_joined(int c, bool glued) { joint[c] = glued ? joint[c] | kJointGlued : joint[c] & ~kJointGlued; }
+    static std::uint32_t joint_word(int jm, int jc, bool glued) {
+        return (static_cast<std::uint32_t>(jm) & kJointMaterialMask) | (jc == 2 ? kJointModel2 : 0u) | (glued ? kJointGlued : 0u);
+    }
+    static constexpr std::uint32_t kJointMaterialMask = (1u << 30) - 1, kJointModel2 = 1u << 30, kJointGlued = 1u << 31;
     // Sub-contact k's point in its owner's body frame (sub_point), m.
     Eigen::Vector3d sub_point_local(int k) const { return decode_point(sub_point[k]); }
     // Sub-contact k's flags (SubContactFlags), kept with its point.
@@ -307,7 +320,7 @@ struct ContactSet {
     // step (a sub-contact a refresh made).
     [[gnu::always_inline]] double sub_sn_for(int c, int k, double kn) const {
         if (sub_flags(k) & (kSubOpen | kSubNew | kSubFresh)) return 0.0;
-        return joined[c] ? kn * sub_un[k] : kn * (sub_un[k] + sub_dilation(k));
+        return joined(c) ? kn * sub_un[k] : kn * (sub_un[k] + sub_dilation(k));
     }
     // The surface triangle sub-contact k meets (sides 3 and 4 against a deformable block), else -1s.
     std::array<int, 3> sub_triangle(int k) const {

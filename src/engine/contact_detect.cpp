@@ -622,7 +622,7 @@ bool corner_carried(const ContactSet& x, int k0, int k1, const std::vector<Vec3>
 
 void clear_arrays(ContactSet& x) {
     x.id.clear(); x.block_a.clear(); x.block_b.clear(); x.normal_code.clear(); x.gap.clear();
-    x.jmat.clear(); x.jcons.clear(); x.joined.clear(); x.free_motion.clear(); x.sub_offset.assign(1, 0);
+    x.joint.clear(); x.free_motion.clear(); x.sub_offset.assign(1, 0);
     x.sub_code.clear(); x.key_table = KeyTable{};
     x.sub_area.clear(); x.sub_point.clear(); x.sub_un.clear(); x.sub_udil.clear();
     x.sub_us.clear(); x.sub_ss.clear(); x.sub_tri.clear();
@@ -631,7 +631,7 @@ void clear_arrays(ContactSet& x) {
 // f applied to each per-contact array of x but the offsets.
 template <class F>
 void each_contact_array(ContactSet& x, F&& f) {
-    f(x.id); f(x.block_a); f(x.block_b); f(x.normal_code); f(x.gap); f(x.jmat); f(x.jcons); f(x.joined);
+    f(x.id); f(x.block_a); f(x.block_b); f(x.normal_code); f(x.gap); f(x.joint);
     f(x.free_motion);
 }
 // f applied to each per-sub-contact array of x, the triangles too when `tri` and the dilations
@@ -692,33 +692,32 @@ int take_id(ContactSet& cs, int id) { return id > 0 ? id : cs.next_id++; }
 
 // Rewrites the contact set in place, front to back, into the contacts a pass lists, while the
 // contacts still to be rebuilt read their old state from it. The old state not yet read lies
-// beyond what is written: old contact e at e + gc, its sub-contacts from old_off[e] + gk. Kept
+// beyond what is written: old contact e at e + gc, its sub-contacts from its old offset + gk,
+// that offset at e + go of the offsets (which the pass writes anew below it: the new offsets
+// of what is written run up to wc, which stays below the old offsets still to be read). Kept
 // contacts only move down (or stay where they are, untouched); when a rebuilt one would reach
 // old state still to be read (it gained sub-contacts, or is a new contact), the unread rest is
-// moved up by a gap, one array at a time. So a pass never holds two whole contact sets, and
-// the result is the same arrays whatever the gaps were.
+// moved up by a gap, one array at a time. So a pass never holds two whole contact sets, nor
+// two sets of offsets, and the result is the same arrays whatever the gaps were.
 class Rewrite {
 public:
-    Rewrite(ContactSet& cs, PodArray<int>& old_off)
-        : cs_(cs), old_off_(old_off), tri_(!cs.sub_tri.empty()), dil_(!cs.sub_udil.empty()) {
-        old_off_.swap(cs_.sub_offset); // the old offsets; cs.sub_offset is written anew
-        if (old_off_.empty()) old_off_.assign(1, 0);
-        cs_.sub_offset.clear();
-        cs_.sub_offset.reserve(old_off_.size());
-        cs_.sub_offset.push_back(0);
+    explicit Rewrite(ContactSet& cs) : cs_(cs), tri_(!cs.sub_tri.empty()), dil_(!cs.sub_udil.empty()) {
+        if (cs_.sub_offset.empty()) cs_.sub_offset.assign(1, 0);
     }
     int written() const { return wc_; }
-    // Where old contact e is now (e < 0: none).
+    // Where old contact e is now (e < 0: none), while it is still to be read.
     OldRef old(int e) const {
         if (e < 0) return OldRef{};
-        return OldRef{static_cast<int>(e + gc_), static_cast<int>(old_off_[e] + gk_), static_cast<int>(old_off_[e + 1] + gk_)};
+        const int* off = cs_.sub_offset.data() + e + go_;
+        return OldRef{static_cast<int>(e + gc_), static_cast<int>(off[0] + gk_), static_cast<int>(off[1] + gk_)};
     }
     // Old contacts e .. e + r - 1 next, as they are. Everything before them was written or
     // read already, so they only move down; they lie together, as they will once written, so
     // each array moves in one piece (on the threads when it is long: the same bytes).
     void put_kept(int e, int r) {
+        offsets_room(e, 0);
         const OldRef o = old(e);
-        const long k1 = old_off_[e + r] + gk_;
+        const long k1 = cs_.sub_offset[e + r + go_] + gk_;
         const int threads = thread_count();
         if (o.c != wc_) {
             each_contact_array(cs_, [&](auto& v) { move_down(v, o.c, o.c + r, o.c - wc_, threads); });
@@ -726,7 +725,8 @@ public:
         if (o.k0 != wk_) {
             each_sub_array(cs_, tri_, dil_, [&](auto& v) { move_down(v, o.k0, k1, o.k0 - wk_, threads); });
         }
-        for (int i = 0; i < r; ++i) advance(old_off_[e + i + 1] - old_off_[e + i]);
+        // Each new offset goes below the old one it follows (wc + i + 1 < e + i + 1 + go).
+        for (int i = 0; i < r; ++i) advance(cs_.sub_offset[e + i + 1 + go_] - cs_.sub_offset[e + i + go_]);
     }
     // Contact f of x next, with its id taken now when it is new; `next` is the first old
     // contact still to be read (-1: none), which it must not overwrite.
@@ -741,10 +741,11 @@ public:
             cs_.sub_udil.assign(cs_.sub_code.size(), 0.0);
         }
         room(n, next);
+        offsets_room(next, 1);
         const int c = wc_;
         cs_.id[c] = take_id(cs_, x.id[f]); cs_.block_a[c] = x.block_a[f]; cs_.block_b[c] = x.block_b[f];
         cs_.normal_code[c] = x.normal_code[f]; cs_.gap[c] = x.gap[f];
-        cs_.jmat[c] = x.jmat[f]; cs_.jcons[c] = x.jcons[f]; cs_.joined[c] = x.joined[f]; cs_.free_motion[c] = x.free_motion[f];
+        cs_.joint[c] = x.joint[f]; cs_.free_motion[c] = x.free_motion[f];
         for (int i = 0; i < n; ++i) {
             const int j = j0 + i, k = wk_ + i;
             cs_.sub_code[k] = cs_.code_of_key(x.sub_key(j)); cs_.sub_area[k] = x.sub_area[j];
@@ -760,6 +761,7 @@ public:
     void finish() {
         each_contact_array(cs_, [&](auto& v) { v.resize(wc_); trim(v); });
         each_sub_array(cs_, tri_, dil_, [&](auto& v) { v.resize(wk_); trim(v); });
+        cs_.sub_offset.resize(wc_ + 1);
         trim(cs_.sub_offset);
         if (cs_.key_table.keys.size() > 2 * cs_.key_table.live + 1024) cs_.compact_key_table();
     }
@@ -768,7 +770,19 @@ private:
     void advance(int n) {
         ++wc_;
         wk_ += n;
-        cs_.sub_offset.push_back(wk_);
+        if (static_cast<size_t>(wc_) >= cs_.sub_offset.size()) cs_.sub_offset.push_back(wk_);
+        else cs_.sub_offset[wc_] = wk_;
+    }
+    // Room below old contact `next`'s offset (next < 0: none is left to read) for the new
+    // offsets of `extra` contacts more than wc + 1: the unread offsets moved up by a gap.
+    void offsets_room(int next, int extra) {
+        if (next < 0) return;
+        const long lo = next + go_;
+        if (wc_ + 1 + extra <= lo) return;
+        const long p = static_cast<long>(cs_.sub_offset.size());
+        const long g = wc_ + 1 + extra - lo + (p - lo) / 32 + 64;
+        open(cs_.sub_offset, lo, g, false);
+        go_ += g;
     }
     template <class V>
     static void trim(V& v) {
@@ -803,7 +817,7 @@ private:
     void room(int nk, int next) {
         const long pc = static_cast<long>(cs_.id.size()), pk = static_cast<long>(cs_.sub_code.size());
         const long lc = next >= 0 ? next + gc_ : pc;
-        const long lk = next >= 0 ? old_off_[next] + gk_ : pk;
+        const long lk = next >= 0 ? cs_.sub_offset[next + go_] + gk_ : pk;
         if (wc_ + 1 > lc) {
             // Past the end: grow by half again; before old state: a gap a 32nd of what follows.
             const long g = wc_ + 1 - lc + (next >= 0 ? (pc - lc) / 32 : pc / 2) + 64;
@@ -818,8 +832,8 @@ private:
     }
 
     ContactSet& cs_;
-    PodArray<int>& old_off_;
     long gc_ = 0, gk_ = 0; // how far the unread old state has been moved up
+    long go_ = 0;          // how far the unread old offsets have been moved up
     int wc_ = 0, wk_ = 0;  // contacts and sub-contacts written
     bool tri_;             // the set has triangles (sub_tri)
     bool dil_;             // the set has dilations (sub_udil)
@@ -942,14 +956,14 @@ struct Detector {
             ten = (cs.sub_flags(k) & kSubFailed) ? 0.0 : jm->tension;
         }
         const double sn = kn * (closure + cs.sub_dilation(k));
-        const bool opens = !next.joined.back() && (sn < -ten || (sn <= 0 && ten <= 0));
+        const bool opens = !next.joined(next.size() - 1) && (sn < -ten || (sn <= 0 && ten <= 0));
         next.sub_ss.push_back(opens ? Eigen::Vector2d(Eigen::Vector2d::Zero()) : turned(cs.sub_ss[k]));
         next.set_sub_flags(next.n_subs() - 1, static_cast<std::uint8_t>((cs.sub_flags(k) & kSubFailed) | kSubFresh));
     }
 
     // The joint material of the contact being built, or null when it has none defined.
     const JointMaterial* material() const {
-        const int jm = next.jmat.back();
+        const int jm = next.jmat(next.size() - 1);
         if (jm <= 0 || jm >= static_cast<int>(m.joint_materials.size()) || !m.joint_materials[jm].defined) return nullptr;
         return &m.joint_materials[jm];
     }
@@ -998,9 +1012,7 @@ struct Detector {
         if (!same_axes) shear_axes(cs.normal(oc), old_e1, old_e2);
         if (oc >= 0) {
             next.id.push_back(cs.id[oc]);
-            next.jmat.push_back(cs.jmat[oc]);
-            next.jcons.push_back(cs.jcons[oc]);
-            next.joined.push_back(cs.joined[oc]);
+            next.joint.push_back(cs.joint[oc]);
         } else {
             next.id.push_back(0); // its id comes when it joins the contact set (take_id)
             int jmat = m.settings.default_jmat, jcons = m.settings.default_jcons;
@@ -1028,9 +1040,7 @@ struct Detector {
                 // piece between them face each other across it, apart.
                 joined = jp.joined && cp.gap <= 1e-3 * tol;
             }
-            next.jmat.push_back(jmat);
-            next.jcons.push_back(jcons);
-            next.joined.push_back(joined ? 1 : 0);
+            next.joint.push_back(ContactSet::joint_word(jmat, jcons, joined));
         }
         next.block_a.push_back(a);
         next.block_b.push_back(b);
@@ -1072,7 +1082,7 @@ struct Detector {
         const CommonPlane cp = common_plane(va, vb, oc >= 0 ? &old_n : nullptr, oc >= 0 ? tol : 0.0, 0.1 * tol);
         if (require_close && cp.gap > tol) return false;
         plane_turned = false;
-        if (oc >= 0 && cs.joined[oc] && old.k1 > old.k0) {
+        if (oc >= 0 && cs.joined(oc) && old.k1 > old.k0) {
             // A glued joint is a bond between the material points it was glued over: it keeps
             // its sub-contacts, their places on their blocks and their areas, and only turns
             // with the common plane. Shared out anew as the blocks shear and bend on it, the
@@ -1285,7 +1295,7 @@ constexpr int kBuildWindow = 2048;
 // than ctol. Each contact is built alone from the old set and the blocks, so the result is the
 // same whatever the threads and the windows.
 void build_jobs(Model& m, ContactSet& cs, const Jobs& jobs, int j0, int j1, const Rewrite& rw, Rebuilt& rb,
-                std::vector<int>& fresh) {
+                std::vector<int>& fresh, std::vector<char>& carried) {
     const int nj = j1 - j0;
     const int threads = thread_count();
     const bool on_threads = threads > 1 && nj >= kParallelMinBuilds;
@@ -1293,8 +1303,10 @@ void build_jobs(Model& m, ContactSet& cs, const Jobs& jobs, int j0, int j1, cons
     if (static_cast<int>(rb.parts.size()) < n_parts) rb.parts.resize(n_parts);
     for (ContactSet& x : rb.parts) clear_arrays(x);
     fresh.assign(nj, -1);
+    carried.assign(nj, 0);
     ContactSet* parts = rb.parts.data();
     int* where = fresh.data();
+    char* had = carried.data();
     const int* job = jobs.job.data() + j0;
     const std::array<int, 2>* new_pair = jobs.pairs.data();
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1) if (on_threads)
@@ -1307,6 +1319,7 @@ void build_jobs(Model& m, ContactSet& cs, const Jobs& jobs, int j0, int j1, cons
             // window is being built).
             const int v = job[i];
             const OldRef o = rw.old(v >= 0 ? v : -1);
+            had[i] = o.k1 > o.k0;
             const int a = v >= 0 ? cs.block_a[o.c] : new_pair[~v][0], b = v >= 0 ? cs.block_b[o.c] : new_pair[~v][1];
             if (d.build(a, b, o, true)) where[i] = parts[p].size() - 1;
         }
@@ -1543,6 +1556,7 @@ void detect_contacts(Model& m) {
     thread_local Rebuilt rebuilt;
     thread_local Jobs jobs;
     thread_local std::vector<int> fresh; // per job of a window: its fresh contact, or -1
+    thread_local std::vector<char> carried; // per job of a window: its old contact carried sub-contacts
     thread_local std::vector<std::int64_t> pairs;
     thread_local std::vector<char> moved;
     // Per contact: its overlap grew past its area, and then (the same bytes, once those are
@@ -1782,7 +1796,6 @@ void detect_contacts(Model& m) {
     using Clock = std::chrono::steady_clock;
     const Clock::time_point pass_start = Clock::now();
     double build_time = 0;
-    thread_local PodArray<int> old_off;
     const int np = full ? static_cast<int>(plan.size()) : cs.size(), nj = static_cast<int>(jobs.size());
     bool colouring_holds = np == cs.size();
     // Entry q of the plan. The entries are read front to back, each reader with a cursor of
@@ -1793,7 +1806,7 @@ void detect_contacts(Model& m) {
         return cursor < nj && jobs.old(cursor) == q ? ~cursor : q;
     };
     {
-        Rewrite rw(cs, old_off);
+        Rewrite rw(cs);
         int pi = 0;   // the next entry of the plan to write
         int pend = 0; // the first entry after it whose old contact is still to be read
         int at_pi = 0, at_pend = 0; // their cursors
@@ -1801,7 +1814,7 @@ void detect_contacts(Model& m) {
             const int j1 = std::min(nj, j0 + kBuildWindow);
             if (j1 > j0) {
                 const Clock::time_point t0 = Clock::now();
-                build_jobs(m, cs, jobs, j0, j1, rw, rebuilt, fresh);
+                build_jobs(m, cs, jobs, j0, j1, rw, rebuilt, fresh, carried);
                 build_time += std::chrono::duration<double>(Clock::now() - t0).count();
             }
             // Kept contacts are read as they are written, the old contacts of jobs when their
@@ -1828,13 +1841,12 @@ void detect_contacts(Model& m) {
                 }
                 colouring_holds = colouring_holds && jobs.old(~e) == rw.written();
                 // The colouring lists the contacts that carry sub-contacts: one that starts or
-                // stops carrying any needs a new one (its old count from the old offsets, which
-                // the writing leaves as they were).
+                // stops carrying any needs a new one (whether it carried any was seen when its
+                // window was built: the writing may have overwritten its old offsets since).
                 if (colouring_holds) {
-                    const OldRef o = rw.old(jobs.old(~e));
                     const ContactSet& x = rebuilt.set(f);
                     const int lf = rebuilt.local[f];
-                    colouring_holds = (o.k1 > o.k0) == (x.sub_offset[lf + 1] > x.sub_offset[lf]);
+                    colouring_holds = (carried[~e - j0] != 0) == (x.sub_offset[lf + 1] > x.sub_offset[lf]);
                 }
                 pend = std::max(pend, pi + 1);
                 while (pend < np && !pending(pend)) ++pend;

@@ -25,7 +25,7 @@ namespace {
 bool flow_contact(const Model& m, int c) {
     const BlockSet& s = m.blocks;
     const int a = m.contacts.block_a[c], b = m.contacts.block_b[c];
-    return !((s.flags[a] | s.flags[b]) & kExcavated) && !m.contacts.joined[c];
+    return !((s.flags[a] | s.flags[b]) & kExcavated) && !m.contacts.joined(c);
 }
 
 // Whether contact c has a deformable block: its sub-contacts are gridpoints (contact_gridpoint.h).
@@ -610,7 +610,7 @@ void flow_apertures(Model& m) {
     std::fill(f.area.begin(), f.area.end(), 0.0);
     const int n_jmat = static_cast<int>(m.joint_materials.size());
     for (int c = 0; c < cs.size(); ++c) {
-        const int jm = cs.jmat[c];
+        const int jm = cs.jmat(c);
         const JointMaterial* j = (jm > 0 && jm < n_jmat && m.joint_materials[jm].defined) ? &m.joint_materials[jm] : nullptr;
         for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
             const int node = f.sub_node[k];

@@ -36,7 +36,7 @@ FosReducible fos_reducible(const Model& m, const FosTargets& t) {
         auto use = [&](int jm) {
             if (jm > 0 && jm < n) used[jm] = 1;
         };
-        for (int jm : m.contacts.jmat) use(jm);
+        for (int c = 0; c < m.contacts.size(); ++c) use(m.contacts.jmat(c));
         for (const JointPlane& p : m.joint_planes) use(p.jmat > 0 ? p.jmat : m.settings.default_jmat);
         use(m.settings.default_jmat);
         for (int k = 1; k < n; ++k) {
@@ -71,7 +71,7 @@ FosIsolation fos_isolate(Model& m, const Range& range, FosReducible& r) {
     for (int k : r.zone_materials) material_copy[k] = -1;
     ContactSet& cs = m.contacts;
     for (int c = 0; c < cs.size(); ++c) {
-        const int jm = cs.jmat[c];
+        const int jm = cs.jmat(c);
         if (jm <= 0 || jm >= iso.n_joint_materials || joint_copy[jm] == 0) continue;
         if (!range.contains_contact(m, contact_centroid(m, c), cs.block_a[c], cs.block_b[c])) continue;
         if (joint_copy[jm] < 0) {
@@ -79,7 +79,7 @@ FosIsolation fos_isolate(Model& m, const Range& range, FosReducible& r) {
             m.joint_materials.push_back(m.joint_materials[jm]);
             iso.joint_original.push_back(jm);
         }
-        cs.jmat[c] = joint_copy[jm];
+        cs.set_jmat(c, joint_copy[jm]);
     }
     BlockSet& s = m.blocks;
     std::vector<char> zoned_mc(s.size(), 0);
@@ -109,8 +109,8 @@ void fos_unisolate(Model& m, const FosIsolation& iso) {
     if (!iso.active) return;
     ContactSet& cs = m.contacts;
     for (int c = 0; c < cs.size(); ++c) {
-        const int k = cs.jmat[c] - iso.n_joint_materials;
-        if (k >= 0 && k < static_cast<int>(iso.joint_original.size())) cs.jmat[c] = iso.joint_original[k];
+        const int k = cs.jmat(c) - iso.n_joint_materials;
+        if (k >= 0 && k < static_cast<int>(iso.joint_original.size())) cs.set_jmat(c, iso.joint_original[k]);
     }
     BlockSet& s = m.blocks;
     for (int b = 0; b < s.size(); ++b) {

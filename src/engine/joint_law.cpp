@@ -297,8 +297,8 @@ void update_contacts(Model& m, double dt) {
         return block_disp(b) + cos1_of[b] * (r - k.dot(r) * k) + sin_of[b] * k.cross(r);
     };
     auto law_of = [&](int c) -> const LawParams& {
-        const int jm = cs.jmat[c];
-        return (jm > 0 && jm < n_jmat) ? law[2 * jm + (cs.jcons[c] == 2 ? 1 : 0)] : none;
+        const int jm = cs.jmat(c);
+        return (jm > 0 && jm < n_jmat) ? law[2 * jm + (cs.jcons(c) == 2 ? 1 : 0)] : none;
     };
     // Static mode: the joint stiffness each rigid block feels, for its mass (mass_scaling.h).
     const bool stiffness = !m.settings.dynamic;
@@ -322,7 +322,7 @@ void update_contacts(Model& m, double dt) {
         const int a = cs.block_a[c], b = cs.block_b[c];
         if ((s.flags[a] | s.flags[b]) & (kExcavated | kDeformable)) return;
         const LawParams& p = law_of(c);
-        const bool joined = cs.joined[c] != 0;
+        const bool joined = cs.joined(c) != 0;
         const Vec3 nrm = cs.normal(c);
         Vec3 e1, e2;
         shear_axes(nrm, e1, e2);
@@ -385,7 +385,7 @@ void update_contacts(Model& m, double dt) {
         if ((s.flags[a] | s.flags[b]) & kExcavated) continue;
         if ((s.flags[a] | s.flags[b]) & kDeformable) {
             const LawParams& p = law_of(c);
-            const bool joined = cs.joined[c] != 0;
+            const bool joined = cs.joined(c) != 0;
             const Vec3 nrm = cs.normal(c);
             Vec3 e1, e2;
             shear_axes(nrm, e1, e2);
@@ -486,7 +486,7 @@ double stable_timestep_limit(const Model& m, int* block_out) {
     bool any = false;
     const int n_jmat = static_cast<int>(m.joint_materials.size());
     for (int c = 0; c < cs.size(); ++c) {
-        const int jm = cs.jmat[c];
+        const int jm = cs.jmat(c);
         if (jm <= 0 || jm >= n_jmat || !m.joint_materials[jm].defined) continue;
         const int a = cs.block_a[c], b = cs.block_b[c];
         if ((s.flags[a] | s.flags[b]) & kExcavated) continue;

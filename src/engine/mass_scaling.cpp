@@ -174,7 +174,7 @@ void scale_block_masses(Model& m, bool from_contact_update) {
     kr.assign(n, 0.0);
     const int n_jmat = static_cast<int>(m.joint_materials.size());
     for (int c = 0; c < cs.size(); ++c) {
-        const int jm = cs.jmat[c];
+        const int jm = cs.jmat(c);
         if (jm <= 0 || jm >= n_jmat || !m.joint_materials[jm].defined) continue;
         const int a = cs.block_a[c], b = cs.block_b[c];
         if ((s.flags[a] | s.flags[b]) & kExcavated) continue;

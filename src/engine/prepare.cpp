@@ -144,7 +144,7 @@ std::string prepare_cycle_once(Model& m) {
     // A joint material may be assigned before its properties are given ('change jmat'), but not
     // cycled without them: such a joint would hold nothing.
     if (const int c = contact_without_joint_properties(m, false); c >= 0) {
-        const int jm = m.contacts.jmat[c];
+        const int jm = m.contacts.jmat(c);
         return "contact " + std::to_string(m.contacts.id[c]) + " has joint material " + std::to_string(jm) +
                ", which has no properties: give them with 'prop jmat=" + std::to_string(jm) + " jkn ... jks ...'";
     }

@@ -220,7 +220,7 @@ Value f_c_nx(Runtime& rt, A a, int, L loc) { CONTACT("c_nx"); return num(C.norma
 Value f_c_ny(Runtime& rt, A a, int, L loc) { CONTACT("c_ny"); return num(C.normal(c).y()); }
 Value f_c_nz(Runtime& rt, A a, int, L loc) { CONTACT("c_nz"); return num(C.normal(c).z()); }
 Value f_c_area(Runtime& rt, A a, int, L loc) { CONTACT("c_area"); return num(contact_info(model(rt), c).area); }
-Value f_c_jmat(Runtime& rt, A a, int, L loc) { CONTACT("c_jmat"); return Value::integer(C.jmat[c]); }
+Value f_c_jmat(Runtime& rt, A a, int, L loc) { CONTACT("c_jmat"); return Value::integer(C.jmat(c)); }
 Value f_c_nforce(Runtime& rt, A a, int, L loc) {
     CONTACT("c_nforce");
     double f = 0;

@@ -481,17 +481,40 @@ auto fields(IO& io, M& x) -> If<M, ContactSet> {
         }
     }
     // Format 18: the gap in single precision and the joint model in a byte; older files have a
-    // double and an int, narrowed here.
-    if (io.format >= 18) {
+    // double and an int, narrowed here. A contact's joint is one word in memory
+    // (ContactSet::joint); the file has its material, model and glue apart.
+    if constexpr (std::is_const_v<M>) {
         io(x.gap);
-        io(x.jmat); io(x.jcons);
-    } else if constexpr (!std::is_const_v<M>) {
-        read_converted<double>(io, x.gap, [](double) { return true; }, "", [](double g) { return float_nearest(g); });
-        io(x.jmat);
-        read_converted<int>(io, x.jcons, [](int j) { return j == 1 || j == 2; }, "a joint model is out of range",
-                            [](int j) { return static_cast<std::uint8_t>(j); });
+        const size_t nc = x.joint.size();
+        io(derived<int>(nc, [&x](size_t c) { return x.jmat(static_cast<int>(c)); }));
+        io(derived<std::uint8_t>(nc, [&x](size_t c) { return static_cast<std::uint8_t>(x.jcons(static_cast<int>(c))); }));
+        io(derived<std::uint8_t>(nc, [&x](size_t c) { return static_cast<std::uint8_t>(x.joined(static_cast<int>(c))); }));
+    } else {
+        if (io.format >= 18) io(x.gap);
+        else read_converted<double>(io, x.gap, [](double) { return true; }, "", [](double g) { return float_nearest(g); });
+        std::vector<int> jmat, jcons;
+        std::vector<std::uint8_t> joined;
+        io(jmat);
+        if (io.format >= 18) {
+            std::vector<std::uint8_t> narrow;
+            io(narrow);
+            jcons.assign(narrow.begin(), narrow.end());
+        } else {
+            io(jcons);
+        }
+        io(joined);
+        io.check(jcons.size() == jmat.size() && joined.size() == jmat.size(), "the contact arrays differ in length");
+        io.check(std::all_of(jmat.begin(), jmat.end(), [](int j) { return j >= 0 && j <= 1000000; }),
+                 "the joint material is out of range");
+        io.check(std::all_of(jcons.begin(), jcons.end(), [](int j) { return j == 1 || j == 2; }),
+                 "the joint model is out of range");
+        io.check(std::all_of(joined.begin(), joined.end(), [](std::uint8_t g) { return g <= 1; }), "a flag is out of range");
+        x.joint.resize(jmat.size());
+        for (size_t c = 0; c < jmat.size() && c < jcons.size() && c < joined.size(); ++c) {
+            x.joint[c] = ContactSet::joint_word(jmat[c], jcons[c], joined[c] != 0);
+        }
     }
-    io(x.joined); io(x.sub_offset);
+    io(x.sub_offset);
     if constexpr (std::is_const_v<M>) {
         io(sub_owners(x)); io(sub_sides(x));
         io(derived<std::int64_t>(x.sub_code.size(), [&x](size_t k) { return x.sub_key(static_cast<int>(k)); }));
@@ -1336,7 +1359,7 @@ std::string check_consistent(const Model& m) {
     const ContactSet& c = m.contacts;
     const size_t nc = c.block_a.size();
     if (c.id.size() != nc || c.block_b.size() != nc || c.normal_code.size() != nc ||
-        c.gap.size() != nc || c.jmat.size() != nc || c.jcons.size() != nc || c.joined.size() != nc) {
+        c.gap.size() != nc || c.joint.size() != nc) {
         return "the contact arrays differ in length";
     }
     const size_t ns = c.sub_code.size();
@@ -1678,9 +1701,7 @@ std::string check_values(const Model& m) {
             c.fail(w, "the normal's code is out of range");
         }
         c.finite(cs.gap[k], w, "the gap");
-        if (cs.jmat[k] < 0 || cs.jmat[k] > 1000000) c.fail(w, "the joint material is out of range");
-        if (cs.jcons[k] < 1 || cs.jcons[k] > 2) c.fail(w, "the joint model is out of range");
-        if (cs.joined[k] > 1) c.fail(w, "a flag is out of range");
+        if (cs.jmat(k) > 1000000) c.fail(w, "the joint material is out of range");
         for (int i = cs.sub_offset[k]; i < cs.sub_offset[k + 1] && c.ok(); ++i) {
             const int side = cs.sub_side(i);
             const int a = cs.block_a[k], b = cs.block_b[k];

@@ -141,8 +141,7 @@ void run(int n, long steps) {
         const ContactSet& cs = m.contacts;
         auto bytes = [](const auto& v) { return static_cast<double>(v.capacity() * sizeof(v[0])); };
         const double per_contact = bytes(cs.id) + bytes(cs.block_a) + bytes(cs.block_b) + bytes(cs.normal_code) +
-                                   bytes(cs.gap) + bytes(cs.jmat) + bytes(cs.jcons) +
-                                   bytes(cs.joined) + bytes(cs.sub_offset) + bytes(cs.free_motion) +
+                                   bytes(cs.gap) + bytes(cs.joint) + bytes(cs.sub_offset) + bytes(cs.free_motion) +
                                    bytes(cs.color_order);
         const double per_sub = bytes(cs.sub_code) + bytes(cs.sub_area) + bytes(cs.sub_point) +
                                bytes(cs.sub_tri) + bytes(cs.sub_un) + bytes(cs.sub_udil) +

@@ -34,9 +34,7 @@ int main(int argc, char** argv) {
         c.block_b.push_back(1);
         c.normal_code.push_back(odec::encode_normal(Eigen::Vector3d::UnitZ()));
         c.gap.push_back(0);
-        c.jmat.push_back(1);
-        c.jcons.push_back(1);
-        c.joined.push_back(0);
+        c.joint.push_back(odec::ContactSet::joint_word(1, 1, false));
         c.sub_offset.push_back(4 * k);
         for (int s = 0; s < 4; ++s) {
             c.push_key(s);

@@ -144,11 +144,11 @@ TEST(ContactPlane, JoinAndAssignMaterial) {
     r.filters.push_back(f);
     EXPECT_EQ(assign_joint_material(m, r, 2, 2), 1);
     const int upper = contact_between(m, 1, 2);
-    EXPECT_EQ(m.contacts.jmat[upper], 2);
-    EXPECT_EQ(m.contacts.jcons[upper], 2);
-    EXPECT_EQ(m.contacts.jmat[contact_between(m, 0, 1)], 1);
+    EXPECT_EQ(m.contacts.jmat(upper), 2);
+    EXPECT_EQ(m.contacts.jcons(upper), 2);
+    EXPECT_EQ(m.contacts.jmat(contact_between(m, 0, 1)), 1);
     EXPECT_EQ(join_blocks(m, {1, 2}), 1);
-    EXPECT_TRUE(m.contacts.joined[upper]);
+    EXPECT_TRUE(m.contacts.joined(upper));
     EXPECT_EQ(find_contact_at(m, Vec3(0.5, 0.5, 1.1)), upper);
     // Joined: the upper block hangs from the lower one when gravity turns upward.
     m.gravity = Vec3(0, 0, 10);

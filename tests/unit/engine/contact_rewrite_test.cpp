@@ -62,7 +62,7 @@ TEST(ContactRewrite, APassRebuildingEveryContactFindsWhatAFreshDetectionFinds) {
     EXPECT_EQ(a.block_a, f.block_a);
     EXPECT_EQ(a.block_b, f.block_b);
     EXPECT_EQ(a.sub_keys(), f.sub_keys());
-    EXPECT_EQ(a.jmat, f.jmat);
+    EXPECT_EQ(a.joint, f.joint);
     // The old contacts kept their ids, the new ones took the next ones: all different.
     std::vector<int> ids(a.id.begin(), a.id.end());
     std::sort(ids.begin(), ids.end());
@@ -84,6 +84,9 @@ TEST(ContactRewrite, APassRebuildingEveryContactFindsWhatAFreshDetectionFinds) {
     // The arrays hold no more than an eighth over what they need.
     EXPECT_LE(a.sub_point.capacity(), a.sub_point.size() + a.sub_point.size() / 8 + 1024);
     EXPECT_LE(a.normal_code.capacity(), a.normal_code.size() + a.normal_code.size() / 8 + 1024);
+    // The offsets, written anew below the old ones still to be read, the same.
+    EXPECT_EQ(a.sub_offset.size(), static_cast<size_t>(a.size()) + 1);
+    EXPECT_LE(a.sub_offset.capacity(), a.sub_offset.size() + a.sub_offset.size() / 8 + 1024);
 }
 
 // Two square prisms crossed edge to edge, 1 mm apart: their contact exists (within ctol) with

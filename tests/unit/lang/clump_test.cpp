@@ -277,7 +277,7 @@ TEST(Clump, ACutThroughAPieceEndsTheClump) {
     // the new cut is a joint.
     ASSERT_TRUE(s.run("step 1")) << s.error();
     int joined = 0;
-    for (int c = 0; c < s.model.contacts.size(); ++c) joined += s.model.contacts.joined[c];
+    for (int c = 0; c < s.model.contacts.size(); ++c) joined += s.model.contacts.joined(c);
     EXPECT_GE(joined, before - 1);
     EXPECT_GE(s.model.contacts.size() - joined, 1);
 }
@@ -429,10 +429,13 @@ std::string without_clumps(std::string file, const std::vector<int>& clumps, con
         if (nc > 0) std::memcpy(&gaps[8], cs.gap.data(), 4 * nc);
         std::string jmats(8 + 4 * nc, '\0');
         std::memcpy(&jmats[0], &nc, 8);
-        if (nc > 0) std::memcpy(&jmats[8], cs.jmat.data(), 4 * nc);
         std::string jconss(8 + nc, '\0');
         std::memcpy(&jconss[0], &nc, 8);
-        if (nc > 0) std::memcpy(&jconss[8], cs.jcons.data(), nc);
+        for (std::uint64_t c = 0; c < nc; ++c) {
+            const std::int32_t jm = cs.jmat(static_cast<int>(c));
+            std::memcpy(&jmats[8 + 4 * c], &jm, 4);
+            jconss[8 + c] = static_cast<char>(cs.jcons(static_cast<int>(c)));
+        }
         const std::string old_part = pattern + gaps + jmats + jconss;
         const size_t at = file.find(old_part, from);
         if (at == std::string::npos) return "";
@@ -442,7 +445,7 @@ std::string without_clumps(std::string file, const std::vector<int>& clumps, con
         for (std::uint64_t c = 0; c < nc; ++c) {
             const Eigen::Vector3d n = cs.normal(static_cast<int>(c));
             const double g = cs.gap[c];
-            const std::int32_t j = cs.jcons[c];
+            const std::int32_t j = cs.jcons(c);
             std::memcpy(&wide[8 + 24 * c], n.data(), 24);
             std::memcpy(&wide_gaps[8 + 8 * c], &g, 8);
             std::memcpy(&wide_jcons[8 + 4 * c], &j, 4);
@@ -555,7 +558,7 @@ TEST(Clump, SaveFilesOldAndNew) {
         const int x = c.model.contacts.block_a[k], y = c.model.contacts.block_b[k];
         if (!((c.model.blocks.flags[x] | c.model.blocks.flags[y]) & odec::kFixed)) {
             ++between;
-            EXPECT_TRUE(c.model.contacts.joined[k]);
+            EXPECT_TRUE(c.model.contacts.joined(k));
         }
     }
     EXPECT_GE(between, 1);

@@ -64,7 +64,7 @@ TEST(CommandMeaning, UndefinedJointMaterialIsAnError) {
     // refused when the model would cycle without them.
     EXPECT_TRUE(s.run("change jmat=2")) << s.error();
     EXPECT_NE(s.error().find("t.dat:1:8: warning: joint material 2 has no properties yet"), std::string::npos) << s.error();
-    for (int c = 0; c < s.model.contacts.size(); ++c) EXPECT_EQ(s.model.contacts.jmat[c], 2);
+    for (int c = 0; c < s.model.contacts.size(); ++c) EXPECT_EQ(s.model.contacts.jmat(c), 2);
     EXPECT_FALSE(s.run("step 1"));
     EXPECT_NE(s.error().find("has joint material 2, which has no properties"), std::string::npos) << s.error();
     EXPECT_EQ(s.model.step, 0);

@@ -337,7 +337,8 @@ TEST(SolveFos, ARangeNarrowsTheSearchToWhatItSelects) {
         << s.error();
     const double fa = std::tan(40 * M_PI / 180) / std::tan(M_PI / 6), fb = std::tan(50 * M_PI / 180) / std::tan(M_PI / 6);
     auto jmats = [&] {
-        std::vector<int> v(s.model.contacts.jmat.begin(), s.model.contacts.jmat.end());
+        std::vector<int> v;
+        for (int c = 0; c < s.model.contacts.size(); ++c) v.push_back(s.model.contacts.jmat(c));
         return v;
     };
     const std::vector<int> own = jmats();

@@ -226,7 +226,7 @@ TEST(Insitu, TunnelRingsAndRadialCutsStartAtRest) {
         EXPECT_EQ(m.blocks.size(), 32);
         int face_contacts = 0;
         for (int c = 0; c < m.contacts.size(); ++c) {
-            EXPECT_FALSE(m.contacts.joined[c]);
+            EXPECT_FALSE(m.contacts.joined(c));
             if (contact_info(m, c).normal_stress > 1e6) ++face_contacts;
         }
         EXPECT_EQ(face_contacts, 8 + 8 * 3 + 8 * 3); // core-ring, ring-ring and ring-box; radial cuts

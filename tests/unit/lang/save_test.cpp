@@ -786,8 +786,9 @@ TEST(SaveLayout, EveryFieldIsSaved) {
     EXPECT_EQ(count_fields<GridpointSet>(), 19u) << fix;
     EXPECT_EQ(count_fields<StressBoundary>(), 1u) << fix;
     EXPECT_EQ(count_fields<BoundaryFace>(), 3u) << fix;
-    // ContactSet: 27 saved fields (the keys' codes and their table are saved as the keys; the
-    // points' codes hold the sub-contacts' flags, which the file has apart; the file also has
+    // ContactSet: 25 saved fields (the keys' codes and their table are saved as the keys; the
+    // points' codes hold the sub-contacts' flags, and a contact's joint word its material, model
+    // and glue, which the file has apart; the file also has
     // each sub-contact's contact, side and vertex, derived from the offsets and keys; format 18
     // dropped the normal stresses, derived from the closures) and 14 derived ones (free_motion: made again at the next
     // refresh, looked at every step until then; surface_*: rebuilt from the zones;
@@ -795,7 +796,7 @@ TEST(SaveLayout, EveryFieldIsSaved) {
     // revision, build_seconds, write_seconds: count the refreshes and their time in this
     // session; change_seen: a restored model's contacts are found again before they are used
     // while its geometry_changed is set).
-    EXPECT_EQ(count_fields<ContactSet>(), 41u) << fix;
+    EXPECT_EQ(count_fields<ContactSet>(), 39u) << fix;
     EXPECT_EQ(count_fields<Polyhedron>(), 4u) << fix;
     EXPECT_EQ(count_fields<Material>(), 8u) << fix;
     EXPECT_EQ(count_fields<JointMaterial>(), 12u) << fix;

@@ -328,13 +328,13 @@ TEST(Tunnel, ContactsBetweenTheBlocksAreJoined) {
         const int a = cs.block_a[c], b = cs.block_b[c];
         if (a == brick || b == brick) {
             ++with_brick;
-            EXPECT_FALSE(cs.joined[c]) << "contact with the brick";
-            EXPECT_EQ(cs.jmat[c], 1);
+            EXPECT_FALSE(cs.joined(c)) << "contact with the brick";
+            EXPECT_EQ(cs.jmat(c), 1);
             continue;
         }
         // Blocks sharing a face, and blocks meeting only along an edge or at a corner.
-        EXPECT_TRUE(cs.joined[c]) << "blocks " << a + 1 << " and " << b + 1;
-        EXPECT_EQ(cs.jmat[c], 2);
+        EXPECT_TRUE(cs.joined(c)) << "blocks " << a + 1 << " and " << b + 1;
+        EXPECT_EQ(cs.jmat(c), 2);
         joined_pairs.emplace(std::min(a, b), std::max(a, b));
     }
     for (const auto& pair : faces.neighbours) EXPECT_EQ(joined_pairs.count(pair), 1u);
@@ -534,12 +534,12 @@ TEST(TunnelCut, OldJointsStayFreeNewCutsAreJoinedFacesMatch) {
         if ((m.blocks.centroid[a].y() < 4) != (m.blocks.centroid[b].y() < 4)) {
             // Across the old joint, face to face or along an edge of it.
             ++across_joint;
-            EXPECT_FALSE(m.contacts.joined[c]);
-            EXPECT_EQ(m.contacts.jmat[c], 1);
+            EXPECT_FALSE(m.contacts.joined(c));
+            EXPECT_EQ(m.contacts.jmat(c), 1);
         } else {
             // Pieces of one block: across the new cuts only.
-            EXPECT_TRUE(m.contacts.joined[c]) << "contact " << c + 1;
-            EXPECT_EQ(m.contacts.jmat[c], 2);
+            EXPECT_TRUE(m.contacts.joined(c)) << "contact " << c + 1;
+            EXPECT_EQ(m.contacts.jmat(c), 2);
             ++joined;
         }
     }
