@@ -290,9 +290,11 @@ void refresh_world_vertices(Model& m) {
     }
     s.vertex_offset[n] = total;
     s.world_vertices.resize(total);
+    s.rotation.resize(n);
     const int threads = thread_count();
     parallel_for(n, threads, n >= kParallelMinBlocks, [&](int b) {
         const Mat3 r = s.orientation[b].toRotationMatrix();
+        s.rotation[b] = r;
         const Vec3& c = s.centroid[b];
         Vec3* out = s.world_vertices.data() + s.vertex_offset[b];
         for (const Vec3& v : s.shape[b].vertices) *out++ = c + r * v;

@@ -280,6 +280,12 @@ struct ContactSet {
     // edge of one crosses an edge of the other; 3, a gridpoint of deformable block a pressing on
     // b; 4, a gridpoint of deformable block b pressing on a.
     int sub_side(int k) const { return code_side(sub_code[k]); }
+    // Whether sub-contact k is a vertex of block b (side 1), told from its code's top bits
+    // where they say it.
+    bool sub_is_vertex_of_b(int k) const {
+        const std::uint32_t top = sub_code[k] >> 28;
+        return top == 2 || (top >= 12 && key_side(key_of_code(sub_code[k])) == 1);
+    }
     int code_side(std::uint32_t code) const {
         switch (code >> 30) {
         case 0: return (code >> 28) & 1 ? 3 + static_cast<int>((code >> 29) & 1) : static_cast<int>((code >> 29) & 1);

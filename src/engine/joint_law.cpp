@@ -220,6 +220,13 @@ void update_contacts(Model& m, double dt) {
     // The displacement is the velocity's over the step (made where it is used, block_disp), and
     // for a piece of a clump what its turn about the clump's centroid adds (clump_shift, kept
     // only in a model with clumps).
+    // The blocks' rotation matrices are made with their world vertices (BlockSet::rotation),
+    // after each step's integration.
+    if (static_cast<int>(s.rotation.size()) != n) {
+        s.rotation.resize(n);
+        for (int b = 0; b < n; ++b) s.rotation[b] = s.orientation[b].toRotationMatrix();
+    }
+    const Mat3* rot_of = s.rotation.data();
     thread_local std::vector<Vec3> axis, clump_shift;
     thread_local std::vector<double> turn_sin, turn_cos1;
     axis.resize(n);
@@ -291,11 +298,13 @@ void update_contacts(Model& m, double dt) {
     const Vec3* axis_of = axis.data();
     const double* sin_of = turn_sin.data();
     const double* cos1_of = turn_cos1.data();
-    // The displacement over the last step of the point of block b at r from its centroid.
-    auto moved = [=](int b, const Vec3& r) -> Vec3 {
+    // The displacement over the last step of the point at r from the centroid of block b, whose
+    // own displacement is d (block_disp, made once for all the points of a contact).
+    auto moved_by = [=](int b, const Vec3& d, const Vec3& r) -> Vec3 {
         const Vec3& k = axis_of[b];
-        return block_disp(b) + cos1_of[b] * (r - k.dot(r) * k) + sin_of[b] * k.cross(r);
+        return d + cos1_of[b] * (r - k.dot(r) * k) + sin_of[b] * k.cross(r);
     };
+    auto moved = [=](int b, const Vec3& r) -> Vec3 { return moved_by(b, block_disp(b), r); };
     auto law_of = [&](int c) -> const LawParams& {
         const int jm = cs.jmat(c);
         return (jm > 0 && jm < n_jmat) ? law[2 * jm + (cs.jcons(c) == 2 ? 1 : 0)] : none;
@@ -328,15 +337,16 @@ void update_contacts(Model& m, double dt) {
         shear_axes(nrm, e1, e2);
         const Vec3 ca = s.centroid[a], cb = s.centroid[b];
         const double k = std::max(p.kn, p.ks);
-        // The blocks' rotations, made here rather than kept for every block (72 bytes a block).
-        const Mat3 rot_a = s.orientation[a].toRotationMatrix(), rot_b = s.orientation[b].toRotationMatrix();
+        const Mat3& rot_a = rot_of[a];
+        const Mat3& rot_b = rot_of[b];
+        const Vec3 da = block_disp(a), db = block_disp(b);
         Vec3 fb = Vec3::Zero(), ma = Vec3::Zero(), mb = Vec3::Zero();
         double scale = 0, kt = 0, kra = 0, krb = 0;
         for (int q = cs.sub_offset[c]; q < cs.sub_offset[c + 1]; ++q) {
-            const bool of_b = cs.sub_side(q) == 1;
+            const bool of_b = cs.sub_is_vertex_of_b(q);
             const Vec3 x = s.centroid[of_b ? b : a] + (of_b ? rot_b : rot_a) * cs.sub_point_local(q);
             const Vec3 ra = x - ca, rb = x - cb;
-            const Vec3 f = joint_step(cs, q, p, joined, nrm, e1, e2, moved(b, rb) - moved(a, ra), dissipation ? dissipation + c : nullptr);
+            const Vec3 f = joint_step(cs, q, p, joined, nrm, e1, e2, moved_by(b, db, rb) - moved_by(a, da, ra), dissipation ? dissipation + c : nullptr);
             fb += f;
             mb += rb.cross(f);
             ma -= ra.cross(f);
@@ -401,7 +411,7 @@ void update_contacts(Model& m, double dt) {
                     w = cs.sub_weights(k);
                     dxo = (w[0] * gp_vel(tri[0]) + w[1] * gp_vel(tri[1]) + w[2] * gp_vel(tri[2])) * dt;
                 } else {
-                    lever = s.orientation[o].toRotationMatrix() * cs.sub_point_local(k);
+                    lever = rot_of[o] * cs.sub_point_local(k);
                     dxo = moved(o, lever);
                 }
                 const Vec3 dxg = gp_vel(gp) * dt;

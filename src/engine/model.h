@@ -144,6 +144,9 @@ struct BlockSet {
     // Derived, refreshed every step: world vertex positions of all blocks.
     std::vector<int> vertex_offset;       // (n_blocks + 1) start of each block in world_vertices
     std::vector<Vec3> world_vertices;     // (sum of n_vertices) m
+    std::vector<Mat3> rotation;           // (n_blocks) each block's orientation as a matrix, made with the
+                                          //            world vertices (the contact update turns its
+                                          //            sub-contacts' points by it)
 
     int size() const { return static_cast<int>(id.size()); }
 };
