@@ -36,7 +36,7 @@ struct GridpointSub {
     int gp = -1;                          // the gridpoint
     double area = 0;                      // m^2
     double closure = 0;                   // m, > 0 where the two surfaces overlap
-    Vec3 local = Vec3::Zero();            // the partner point (see ContactSet::sub_local)
+    Vec3 local = Vec3::Zero();            // the partner point (see ContactSet::sub_point)
     std::array<int, 3> tri = {-1, -1, -1}; // partner triangle on a deformable block, else -1
     bool operator<(const GridpointSub& o) const { return key < o.key; }
 };

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -55,7 +56,7 @@ TEST(SubKey, OrdinaryKeysComeBackFromTheirCodesAlone) {
 TEST(SubKey, AnyOtherKeyComesBackThroughTheTable) {
     ContactSet cs;
     std::vector<std::int64_t> keys = {
-        corner(1, std::int64_t{1} << 28), odec::gridpoint_sub_key(1, (1 << 31) - 1),
+        corner(1, std::int64_t{1} << 28), odec::gridpoint_sub_key(1, std::numeric_limits<int>::max()),
         crossing(edge(0, 10, 90, 100), edge(1, 0, 1, 8)), // a block of 100 vertices
         crossing(touch(64, 0), band(0, 3)), crossing(band(1, 4096), band(0, 1)),
         crossing(touch(0x3FFF, 0x3FFF), (std::int64_t{1} << 31) - 1), -1, std::numeric_limits<std::int64_t>::min(),
