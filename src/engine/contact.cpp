@@ -68,7 +68,7 @@ ContactInfo contact_info(const Model& m, int c, bool touch_area) {
     info.normal = cs.normal(c);
     info.jmat = cs.jmat(c);
     info.jcons = cs.jcons(c);
-    info.joined = cs.joined(c) != 0;
+    info.joined = cs.joined(c);
     const int k0 = cs.sub_offset[c], k1 = cs.sub_offset[c + 1];
     info.n_subs = k1 - k0;
     double area = 0, sn = 0, un = 0;
@@ -135,11 +135,12 @@ Vec3 contact_point(const Model& m, int c) {
     return plane_point(BlockView{pa.vertices.data(), &pa}, BlockView{pb.vertices.data(), &pb}, cs.normal(c));
 }
 
-const JointMaterial* contact_joint_material(const Model& m, int c) {
-    const int jm = m.contacts.jmat(c);
+const JointMaterial* joint_material(const Model& m, int jm) {
     if (jm <= 0 || jm >= static_cast<int>(m.joint_materials.size()) || !m.joint_materials[jm].defined) return nullptr;
     return &m.joint_materials[jm];
 }
+
+const JointMaterial* contact_joint_material(const Model& m, int c) { return joint_material(m, m.contacts.jmat(c)); }
 
 double contact_kn(const Model& m, int c) {
     const JointMaterial* j = contact_joint_material(m, c);

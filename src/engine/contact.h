@@ -279,19 +279,9 @@ struct ContactSet {
     // What sub-contact k stands for: 0, a vertex of block a; 1, a vertex of block b; 2, where an
     // edge of one crosses an edge of the other; 3, a gridpoint of deformable block a pressing on
     // b; 4, a gridpoint of deformable block b pressing on a.
-    int sub_side(int k) const { return code_side(sub_code[k]); }
-    // Whether sub-contact k is a vertex of block b (side 1), told from its code's top bits
-    // where they say it.
-    bool sub_is_vertex_of_b(int k) const {
-        const std::uint32_t top = sub_code[k] >> 28;
-        return top == 2 || (top >= 12 && key_side(key_of_code(sub_code[k])) == 1);
-    }
-    int code_side(std::uint32_t code) const {
-        switch (code >> 30) {
-        case 0: return (code >> 28) & 1 ? 3 + static_cast<int>((code >> 29) & 1) : static_cast<int>((code >> 29) & 1);
-        case 1: return 2;
-        default: return key_side(key_of_code(code));
-        }
+    int sub_side(int k) const {
+        const std::uint32_t code = sub_code[k];
+        return key_code_in_table(code) ? key_side(key_of_code(code)) : short_code_side(code);
     }
     static int key_side(std::int64_t key) {
         if ((key >> 62) & 1) return 2;
@@ -434,7 +424,9 @@ Eigen::Vector3d contact_point(const Model& m, int contact_index);
 double contact_touch_area(const Model& m, int contact_index);
 // World position of sub-contact k (of contact c) now.
 Eigen::Vector3d sub_point(const Model& m, int c, int k);
-// The joint material of contact c, or null when its number names no defined one.
+// Joint material number jm, or null when it names no defined one.
+const JointMaterial* joint_material(const Model& m, int jm);
+// The joint material of contact c (joint_material of its number).
 const JointMaterial* contact_joint_material(const Model& m, int c);
 // The normal stiffness of contact c's joint (Pa/m; 0 without a defined joint material).
 double contact_kn(const Model& m, int c);

@@ -963,9 +963,7 @@ struct Detector {
 
     // The joint material of the contact being built, or null when it has none defined.
     const JointMaterial* material() const {
-        const int jm = next.jmat(next.size() - 1);
-        if (jm <= 0 || jm >= static_cast<int>(m.joint_materials.size()) || !m.joint_materials[jm].defined) return nullptr;
-        return &m.joint_materials[jm];
+        return joint_material(m, next.jmat(next.size() - 1));
     }
 
     // Whether the contact being built turned its plane by more than kTurned since it was last

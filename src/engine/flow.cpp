@@ -608,10 +608,8 @@ void flow_apertures(Model& m) {
     const ContactSet& cs = m.contacts;
     std::fill(f.volume.begin(), f.volume.end(), 0.0);
     std::fill(f.area.begin(), f.area.end(), 0.0);
-    const int n_jmat = static_cast<int>(m.joint_materials.size());
     for (int c = 0; c < cs.size(); ++c) {
-        const int jm = cs.jmat(c);
-        const JointMaterial* j = (jm > 0 && jm < n_jmat && m.joint_materials[jm].defined) ? &m.joint_materials[jm] : nullptr;
+        const JointMaterial* j = contact_joint_material(m, c);
         for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
             const int node = f.sub_node[k];
             if (node < 0) continue;

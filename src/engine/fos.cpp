@@ -203,8 +203,9 @@ bool fos_model_loaded(const Model& m) {
         }
     }
     for (int c = 0; c < m.contacts.size(); ++c) {
+        const double kn = contact_kn(m, c);
         for (int k = m.contacts.sub_offset[c]; k < m.contacts.sub_offset[c + 1]; ++k) {
-            if (sub_normal_stress(m, c, k) != 0) return true;
+            if (m.contacts.sub_sn_for(c, k, kn) != 0) return true;
         }
     }
     for (const Eigen::Vector2d& ss : m.contacts.sub_ss) {

@@ -68,8 +68,9 @@ double history_value(const Model& m, const History& h) {
         const ContactSet& cs = m.contacts;
         double fn = 0;
         Vec3 fs = Vec3::Zero();
+        const double kn = contact_kn(m, c);
         for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
-            fn += sub_normal_stress(m, c, k) * cs.sub_area[k];
+            fn += cs.sub_sn_for(c, k, kn) * cs.sub_area[k];
             fs += cs.sub_shear_stress(c, k) * static_cast<double>(cs.sub_area[k]);
         }
         return h.kind == HistoryKind::NForce ? fn : fs.norm();

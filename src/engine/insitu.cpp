@@ -300,7 +300,7 @@ void load_contacts(Model& m, const Range& r, const StressField& f, const std::ve
         }
         const JointMaterial& j = *jp;
         const Strength st = strength_of(j, cs.jcons(c));
-        const bool joined = cs.joined(c) != 0;
+        const bool joined = cs.joined(c);
         const Vec3 n = cs.normal(c);
         // The flat faces of a facing b (+n) and of b facing a (-n).
         const FlatFaces fa = flat_faces(m, a, n), fb = flat_faces(m, b, -n);
@@ -478,7 +478,7 @@ int shift_joint_water(Model& m, const std::vector<double>& old_pp) {
             if (dp == 0) continue;
             // The total stress stays: the springs carry what the water no longer does.
             const Vec3 traction = (sn - dp) * n + cs.sub_shear_stress(c, k);
-            load_sub(cs, k, n, traction, j->kn, cs.joined(c) != 0, st);
+            load_sub(cs, k, n, traction, j->kn, cs.joined(c), st);
             ++shifted;
         }
     }

@@ -34,6 +34,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/blocks.h"
 #include "engine/clump.h"
 #include "engine/contact.h"
 #include "engine/parallel.h"
@@ -222,10 +223,7 @@ void update_contacts(Model& m, double dt) {
     // only in a model with clumps).
     // The blocks' rotation matrices are made with their world vertices (BlockSet::rotation),
     // after each step's integration.
-    if (static_cast<int>(s.rotation.size()) != n) {
-        s.rotation.resize(n);
-        for (int b = 0; b < n; ++b) s.rotation[b] = s.orientation[b].toRotationMatrix();
-    }
+    if (static_cast<int>(s.rotation.size()) != n) refresh_world_vertices(m);
     const Mat3* rot_of = s.rotation.data();
     thread_local std::vector<Vec3> axis, clump_shift;
     thread_local std::vector<double> turn_sin, turn_cos1;
@@ -331,7 +329,7 @@ void update_contacts(Model& m, double dt) {
         const int a = cs.block_a[c], b = cs.block_b[c];
         if ((s.flags[a] | s.flags[b]) & (kExcavated | kDeformable)) return;
         const LawParams& p = law_of(c);
-        const bool joined = cs.joined(c) != 0;
+        const bool joined = cs.joined(c);
         const Vec3 nrm = cs.normal(c);
         Vec3 e1, e2;
         shear_axes(nrm, e1, e2);
@@ -343,7 +341,7 @@ void update_contacts(Model& m, double dt) {
         Vec3 fb = Vec3::Zero(), ma = Vec3::Zero(), mb = Vec3::Zero();
         double scale = 0, kt = 0, kra = 0, krb = 0;
         for (int q = cs.sub_offset[c]; q < cs.sub_offset[c + 1]; ++q) {
-            const bool of_b = cs.sub_is_vertex_of_b(q);
+            const bool of_b = cs.sub_side(q) == 1;
             const Vec3 x = s.centroid[of_b ? b : a] + (of_b ? rot_b : rot_a) * cs.sub_point_local(q);
             const Vec3 ra = x - ca, rb = x - cb;
             const Vec3 f = joint_step(cs, q, p, joined, nrm, e1, e2, moved_by(b, db, rb) - moved_by(a, da, ra), dissipation ? dissipation + c : nullptr);
@@ -395,7 +393,7 @@ void update_contacts(Model& m, double dt) {
         if ((s.flags[a] | s.flags[b]) & kExcavated) continue;
         if ((s.flags[a] | s.flags[b]) & kDeformable) {
             const LawParams& p = law_of(c);
-            const bool joined = cs.joined(c) != 0;
+            const bool joined = cs.joined(c);
             const Vec3 nrm = cs.normal(c);
             Vec3 e1, e2;
             shear_axes(nrm, e1, e2);
@@ -494,13 +492,12 @@ double stable_timestep_limit(const Model& m, int* block_out) {
     std::vector<double> kt(n, 0.0), kr(n, 0.0);
     std::vector<Vec3> kx(n, Vec3::Zero()); // sum of k times the lever: moves kr to a clump's centroid
     bool any = false;
-    const int n_jmat = static_cast<int>(m.joint_materials.size());
     for (int c = 0; c < cs.size(); ++c) {
-        const int jm = cs.jmat(c);
-        if (jm <= 0 || jm >= n_jmat || !m.joint_materials[jm].defined) continue;
+        const JointMaterial* jp = contact_joint_material(m, c);
+        if (!jp) continue;
         const int a = cs.block_a[c], b = cs.block_b[c];
         if ((s.flags[a] | s.flags[b]) & kExcavated) continue;
-        const double k = std::max(m.joint_materials[jm].kn, m.joint_materials[jm].ks);
+        const double k = std::max(jp->kn, jp->ks);
         for (int i = cs.sub_offset[c]; i < cs.sub_offset[c + 1]; ++i) {
             const Vec3 x = sub_point(m, c, i);
             const double ki = k * cs.sub_area[i];

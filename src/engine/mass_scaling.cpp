@@ -172,15 +172,14 @@ void scale_block_masses(Model& m, bool from_contact_update) {
     std::vector<double>& kr = walked_kr;
     kt.assign(n, 0.0);
     kr.assign(n, 0.0);
-    const int n_jmat = static_cast<int>(m.joint_materials.size());
     for (int c = 0; c < cs.size(); ++c) {
-        const int jm = cs.jmat(c);
-        if (jm <= 0 || jm >= n_jmat || !m.joint_materials[jm].defined) continue;
+        const JointMaterial* jp = contact_joint_material(m, c);
+        if (!jp) continue;
         const int a = cs.block_a[c], b = cs.block_b[c];
         if ((s.flags[a] | s.flags[b]) & kExcavated) continue;
         const bool ra = moves_as_rigid(s, a), rb = moves_as_rigid(s, b);
         if (!ra && !rb) continue;
-        const double k = std::max(m.joint_materials[jm].kn, m.joint_materials[jm].ks);
+        const double k = std::max(jp->kn, jp->ks);
         for (int i = cs.sub_offset[c]; i < cs.sub_offset[c + 1]; ++i) {
             const double ki = k * cs.sub_area[i];
             if (!(ki > 0)) continue;

@@ -187,11 +187,10 @@ struct EnergyWatch {
             mass += s.inertial_mass[b];
         }
         const ContactSet& cs = m.contacts;
-        const int n_jmat = static_cast<int>(m.joint_materials.size());
         for (int c = 0; c < cs.size(); ++c) {
-            const int jm = cs.jmat(c);
-            if (jm <= 0 || jm >= n_jmat || !m.joint_materials[jm].defined) continue;
-            const JointMaterial& j = m.joint_materials[jm];
+            const JointMaterial* jp = contact_joint_material(m, c);
+            if (!jp) continue;
+            const JointMaterial& j = *jp;
             for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
                 const double u = cs.sub_un[k] + cs.sub_dilation(k);
                 double un = u > 0 ? u : (cs.joined(c) ? -u : std::min(-u, j.kn > 0 ? j.tension / j.kn : 0.0));

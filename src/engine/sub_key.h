@@ -76,6 +76,15 @@ inline std::size_t key_code_index(std::uint32_t code) { return code & ((1u << su
 // The largest index a table code can hold, plus one.
 constexpr std::size_t kKeyTableLimit = std::size_t{1} << sub_key_detail::kKindShift;
 
+// The side (ContactSet::key_side) of the key of a code short_key_code made: a crossing, or a
+// vertex (0, 1) or gridpoint (3, 4) of block a or b.
+inline int short_code_side(std::uint32_t code) {
+    using namespace sub_key_detail;
+    if ((code >> kKindShift) == kCrossing) return 2;
+    const int of_b = static_cast<int>((code >> 29) & 1);
+    return (code >> 28) & 1 ? 3 + of_b : of_b;
+}
+
 // The key of a code short_key_code made.
 inline std::int64_t key_of_short_code(std::uint32_t code) {
     using namespace sub_key_detail;

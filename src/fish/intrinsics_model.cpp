@@ -224,7 +224,8 @@ Value f_c_jmat(Runtime& rt, A a, int, L loc) { CONTACT("c_jmat"); return Value::
 Value f_c_nforce(Runtime& rt, A a, int, L loc) {
     CONTACT("c_nforce");
     double f = 0;
-    for (int k = C.sub_offset[c]; k < C.sub_offset[c + 1]; ++k) f += sub_normal_stress(model(rt), c, k) * C.sub_area[k];
+    const double kn = contact_kn(model(rt), c);
+    for (int k = C.sub_offset[c]; k < C.sub_offset[c + 1]; ++k) f += C.sub_sn_for(c, k, kn) * C.sub_area[k];
     return num(f);
 }
 Value f_c_sforce(Runtime& rt, A a, int, L loc) {
