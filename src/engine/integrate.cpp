@@ -151,33 +151,37 @@ int integrate(Model& m, double dt, AutoDampingSums* sums) {
             const Vec3 dx = v * dt;
             s.centroid[b] += dx;
             s.disp[b] += dx;
-            // Rotation: angular acceleration from the world inertia tensor (gyroscopic term
-            // neglected, as usual for quasi-static block analysis).
-            // Static mode gives an isotropic inertia chosen from the joints (mass_scaling.h).
+            // Rotation: angular acceleration from the inertia tensor (gyroscopic term neglected,
+            // as usual for quasi-static block analysis), solved in the body frame, where the
+            // tensor is the block's own: alpha = R I^-1 R^T M, with I scaled by the inertial
+            // mass's ratio to the mass. Static mode gives an isotropic inertia chosen from the
+            // joints (mass_scaling.h).
             const double iso = s.inertial_moment[b];
-            Mat3 inertia;
+            Vec3 mom, alpha, diag;
             if (iso > 0) {
-                inertia = iso * Mat3::Identity();
-            } else {
-                const Mat3 r = s.orientation[b].toRotationMatrix();
-                inertia = (mass / s.mass[b]) * (r * s.inertia_body[b] * r.transpose());
-            }
-            Vec3 mom;
-            for (int i = 0; i < 3; ++i) {
-                mom[i] = damped_force(d, s.moment[b][i], s.ang_vel[b][i], inertia(i, i), dt);
-            }
-            // The 3 x 3 inverse in closed form, of the tensor scaled to a trace of 1 (its
-            // determinant, the cube of its size, would underflow for a block of 1e-100 m).
-            Vec3 alpha;
-            if (iso > 0) {
+                diag.setConstant(iso);
+                for (int i = 0; i < 3; ++i) mom[i] = damped_force(d, s.moment[b][i], s.ang_vel[b][i], iso, dt);
                 alpha = mom / iso;
             } else {
-                const double t = inertia.trace();
-                alpha = (inertia / t).inverse() * (mom / t);
+                const Mat3 r = s.orientation[b].toRotationMatrix();
+                const Mat3& ib = s.inertia_body[b];
+                const double ratio = mass / s.mass[b];
+                // The world tensor's diagonal, R I R^T at (i, i): what the damping and the
+                // adaptive damping's sums take as the inertia about each world axis.
+                if (d.mode != DampingMode::Local || auto_damp) {
+                    for (int i = 0; i < 3; ++i) diag[i] = ratio * r.row(i).dot(ib * r.row(i).transpose());
+                } else {
+                    diag.setZero();
+                }
+                for (int i = 0; i < 3; ++i) mom[i] = damped_force(d, s.moment[b][i], s.ang_vel[b][i], diag[i], dt);
+                // The 3 x 3 inverse in closed form, of the tensor scaled to a trace of 1 (its
+                // determinant, the cube of its size, would underflow for a block of 1e-100 m).
+                const double t = ib.trace();
+                alpha = r * ((ib * (1.0 / t)).inverse() * (r.transpose() * mom)) * (1.0 / (ratio * t));
             }
             const Vec3 w = s.ang_vel[b] + alpha * kick;
             if (auto_damp) {
-                for (int i = 0; i < 3; ++i) sums.add(inertia(i, i), s.moment[b][i], s.ang_vel[b][i], w[i]);
+                for (int i = 0; i < 3; ++i) sums.add(diag[i], s.moment[b][i], s.ang_vel[b][i], w[i]);
             }
             if (account) {
                 const Mat3 r = s.orientation[b].toRotationMatrix();
@@ -187,9 +191,13 @@ int integrate(Model& m, double dt, AutoDampingSums* sums) {
             s.ang_vel[b] = w;
             s.ang_accel[b] = alpha;
             const Vec3 dtheta = w * dt;
-            const double angle = dtheta.norm();
-            if (angle > 0) {
-                s.orientation[b] = (Quat(Eigen::AngleAxisd(angle, dtheta / angle)) * s.orientation[b]).normalized();
+            const double t2 = dtheta.squaredNorm();
+            if (t2 > 0) {
+                double sin_h_over, cos_h;
+                half_turn(t2, sin_h_over, cos_h);
+                const Vec3 v = dtheta * sin_h_over;
+                const Quat q = Quat(cos_h, v.x(), v.y(), v.z()) * s.orientation[b];
+                s.orientation[b] = Quat(q.coeffs() * (1.0 / q.norm()));
             }
             s.half_kick[b] = 0;
             // Not finite: the integration has become unstable.

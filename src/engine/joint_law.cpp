@@ -39,6 +39,7 @@
 #include "engine/contact.h"
 #include "engine/parallel.h"
 #include "engine/model.h"
+#include "engine/stages.h"
 
 namespace odec {
 
@@ -243,9 +244,13 @@ void update_contacts(Model& m, double dt) {
             const Vec3 w = still ? Vec3::Zero() : s.ang_vel[b];
             const double angle = w.norm() * dt;
             axis_w[b] = angle > 0 ? Vec3(w / w.norm()) : Vec3::Zero();
-            const double half = std::sin(0.5 * angle);
-            sin_w[b] = dynamic ? std::sin(angle) : angle;
-            cos1_w[b] = dynamic ? 2.0 * half * half : 0.0;
+            double sin_h = 0, cos_h = 1;
+            if (angle > 0) {
+                half_turn(angle * angle, sin_h, cos_h);
+                sin_h *= angle;
+            }
+            sin_w[b] = dynamic ? 2.0 * sin_h * cos_h : angle;
+            cos1_w[b] = dynamic ? 2.0 * sin_h * sin_h : 0.0;
         });
     }
     // A piece of a clump turned about the clump's centroid (clump.cpp): its velocity is that of
