@@ -76,8 +76,10 @@ LawParams law_params(const Model& m, int jmat, int jcons) {
 // slips, the mean shear stress of the step times the plastic slip, less the work of dilation
 // against the normal stress; when it opens, what the shear spring held beyond the shear work of
 // the step, and what the normal spring held in tension if that breaks it.
-[[gnu::always_inline]] inline Vec3 joint_step(ContactSet& cs, int k, const LawParams& p, bool joined, const Vec3& nrm,
-                                              const Vec3& e1, const Vec3& e2, const Vec3& du, double* dissipated = nullptr) {
+// The increment is given on the contact's axes (n, e1, e2): dun along the normal, dus on the shear
+// axes; so is the force returned (its normal part first).
+[[gnu::always_inline]] inline Vec3 joint_step_on_axes(ContactSet& cs, int k, const LawParams& p, bool joined, double dun,
+                                                      const Vec2& dus_step, double* dissipated = nullptr) {
     std::uint8_t flags = cs.sub_flags(k);
     // The normal stress before the step (for the energy account alone), as its last step left it.
     const double un_old = cs.sub_un[k] + cs.sub_dilation(k);
@@ -90,12 +92,11 @@ LawParams law_params(const Model& m, int jmat, int jcons) {
     } else if (flags & kSubFresh) {
         // The same for its closure; its shear, taken over from the sub-contact before, takes the step.
         flags &= ~kSubFresh;
-        dus = Vec2(du.dot(e1), du.dot(e2));
+        dus = dus_step;
         cs.sub_us[k] += dus;
     } else {
-        const double dun = du.dot(nrm);
         cs.sub_un[k] -= dun;
-        dus = Vec2(du.dot(e1), du.dot(e2));
+        dus = dus_step;
         cs.sub_us[k] += dus;
     }
     flags &= ~(kSubSlip | kSubOpen);
@@ -155,7 +156,15 @@ LawParams law_params(const Model& m, int jmat, int jcons) {
     }
     cs.sub_ss[k] = ss;
     cs.set_sub_flags(k, flags);
-    return cs.sub_area[k] * (sn * nrm + ss[0] * e1 + ss[1] * e2);
+    const double area = cs.sub_area[k];
+    return Vec3(area * sn, area * ss[0], area * ss[1]);
+}
+
+// The same for the increment du and force as vectors (world axes).
+[[gnu::always_inline]] inline Vec3 joint_step(ContactSet& cs, int k, const LawParams& p, bool joined, const Vec3& nrm,
+                                              const Vec3& e1, const Vec3& e2, const Vec3& du, double* dissipated = nullptr) {
+    const Vec3 f = joint_step_on_axes(cs, k, p, joined, du.dot(nrm), Vec2(du.dot(e1), du.dot(e2)), dissipated);
+    return f[0] * nrm + f[1] * e1 + f[2] * e2;
 }
 
 } // namespace
@@ -328,6 +337,18 @@ void update_contacts(Model& m, double dt) {
     const bool account = m.energy.on;
     if (account) contact_dissipation.assign(cs.size(), 0.0);
     double* dissipation = account ? contact_dissipation.data() : nullptr;
+    // The displacement over the last step of the point at r from the centroid of a block,
+    // d + cos1 (r - (k.r) k) + sin k x r (moved_by), is d + T r with T = cos1 (I - k k^T) + sin [k]x.
+    auto turn_matrix = [=](int b) -> Mat3 {
+        const Vec3& k = axis_of[b];
+        const double c1 = cos1_of[b], sn = sin_of[b];
+        Mat3 t = -c1 * (k * k.transpose());
+        t.diagonal().array() += c1;
+        t(0, 1) -= sn * k.z(); t(0, 2) += sn * k.y();
+        t(1, 0) += sn * k.z(); t(1, 2) -= sn * k.x();
+        t(2, 0) -= sn * k.y(); t(2, 1) += sn * k.x();
+        return t;
+    };
     auto rigid_contact = [&](int c) {
         // Most contacts between blocks apart carry no sub-contact: nothing to add.
         if (cs.sub_offset[c] == cs.sub_offset[c + 1]) return;
@@ -338,33 +359,47 @@ void update_contacts(Model& m, double dt) {
         const Vec3 nrm = cs.normal(c);
         Vec3 e1, e2;
         shear_axes(nrm, e1, e2);
-        const Vec3 ca = s.centroid[a], cb = s.centroid[b];
+        // Everything on the contact's axes (n, e1, e2), the rows of ax, a rotation: a point's lever
+        // ra from a's centroid, the relative displacement there, the forces and their moments.
+        Mat3 ax;
+        ax.row(0) = nrm;
+        ax.row(1) = e1;
+        ax.row(2) = e2;
+        const Vec3 ca = s.centroid[a], cab = s.centroid[b] - ca;
         const double k = std::max(p.kn, p.ks);
-        const Mat3& rot_a = rot_of[a];
-        const Mat3& rot_b = rot_of[b];
-        const Vec3 da = block_disp(a), db = block_disp(b);
-        Vec3 fb = Vec3::Zero(), ma = Vec3::Zero(), mb = Vec3::Zero();
+        // A point at ra from a's centroid, rb = ra - cab from b's, moved by
+        // db + T_b rb - da - T_a ra = (db - da - T_b cab) + (T_b - T_a) ra.
+        const Mat3 ta = turn_matrix(a), tb = turn_matrix(b);
+        const Vec3 du0 = ax * (block_disp(b) - block_disp(a) - tb * cab);
+        const Mat3 dt_ax = ax * (tb - ta) * ax.transpose();
+        // The points ride on their blocks: a's body frame to the axes, and b's (from a's centroid).
+        const Mat3 to_a = ax * rot_of[a], to_b = ax * rot_of[b];
+        const Vec3 cab_ax = ax * cab;
+        Vec3 f_sum = Vec3::Zero(), m_sum = Vec3::Zero();
         double scale = 0, kt = 0, kra = 0, krb = 0;
         for (int q = cs.sub_offset[c]; q < cs.sub_offset[c + 1]; ++q) {
             const bool of_b = cs.sub_side(q) == 1;
-            const Vec3 x = s.centroid[of_b ? b : a] + (of_b ? rot_b : rot_a) * cs.sub_point_local(q);
-            const Vec3 ra = x - ca, rb = x - cb;
-            const Vec3 f = joint_step(cs, q, p, joined, nrm, e1, e2, moved_by(b, db, rb) - moved_by(a, da, ra), dissipation ? dissipation + c : nullptr);
-            fb += f;
-            mb += rb.cross(f);
-            ma -= ra.cross(f);
+            const Vec3 local = cs.sub_point_local(q);
+            const Vec3 ra = of_b ? Vec3(cab_ax + to_b * local) : Vec3(to_a * local);
+            const Vec3 du = du0 + dt_ax * ra;
+            const Vec3 f = joint_step_on_axes(cs, q, p, joined, du[0], Vec2(du[1], du[2]), dissipation ? dissipation + c : nullptr);
+            f_sum += f;
+            m_sum += ra.cross(f);
             scale += f.norm();
             if (stiffness) {
                 const double kq = k * cs.sub_area[q];
                 kt += kq;
                 kra += kq * ra.squaredNorm();
-                krb += kq * rb.squaredNorm();
+                krb += kq * (ra - cab_ax).squaredNorm();
             }
         }
+        // Back on the world axes: the force on b and its moment about a's centroid; b's moment
+        // about its own is that less cab x fb.
+        const Vec3 fb = ax.transpose() * f_sum, ma = ax.transpose() * m_sum;
         s.force[a] -= fb;
-        s.moment[a] += ma;
+        s.moment[a] -= ma;
         s.force[b] += fb;
-        s.moment[b] += mb;
+        s.moment[b] += ma - cab.cross(fb);
         s.force_scale[a] += scale;
         s.force_scale[b] += scale;
         if (stiffness) {
