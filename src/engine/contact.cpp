@@ -80,7 +80,7 @@ ContactInfo contact_info(const Model& m, int c, bool touch_area) {
         x += w * sub_point(m, c, k);
         area += w;
         sn += w * cs.sub_sn_for(c, k, kn);
-        un += w * (cs.sub_un[k] + cs.sub_dilation(k));
+        un += w * (sub_closure(m, c, k) + cs.sub_dilation(k));
         ss += w * cs.sub_shear_stress(c, k);
         us += w * cs.sub_shear_disp(c, k);
         any_slip |= (cs.sub_flags(k) & kSubSlip) != 0;
@@ -157,6 +157,53 @@ Vec3 sub_point(const Model& m, int c, int k) {
     if (side >= 3) return m.gridpoints.pos[cs.sub_vertex(k)];
     const int owner = side == 1 ? cs.block_b[c] : cs.block_a[c];
     return m.blocks.centroid[owner] + m.blocks.orientation[owner] * cs.sub_point_local(k);
+}
+
+bool closure_by_reference(const Model& m, int c) {
+    const ContactSet& cs = m.contacts;
+    return !((m.blocks.flags[cs.block_a[c]] | m.blocks.flags[cs.block_b[c]]) & kDeformable);
+}
+
+double reference_shift(const Model& m, int a, int b, const Vec3& x, const Vec3& n) {
+    const ContactSet& cs = m.contacts;
+    const BlockSet& s = m.blocks;
+    // The material point of X at x was at g + Rg R^T (x - c) when X stood at its reference.
+    auto moved = [&](int blk) -> Vec3 {
+        if (static_cast<size_t>(blk) >= cs.geo_centroid.size() || static_cast<size_t>(blk) >= cs.geo_orientation.size()) {
+            return Vec3::Zero(); // no reference yet
+        }
+        const Vec3 r = x - s.centroid[blk];
+        return x - cs.geo_centroid[blk] - cs.geo_orientation[blk] * (s.orientation[blk].conjugate() * r);
+    };
+    return n.dot(moved(b) - moved(a));
+}
+
+double sub_closure(const Model& m, int c, int k) {
+    const ContactSet& cs = m.contacts;
+    const std::uint8_t f = cs.sub_flags(k);
+    if (!(f & kSubOpen) || (f & (kSubNew | kSubFresh)) || !closure_by_reference(m, c)) return cs.sub_un[k];
+    return cs.sub_un[k] - reference_shift(m, cs.block_a[c], cs.block_b[c], sub_point(m, c, k), cs.normal(c));
+}
+
+void set_sub_closure(Model& m, int c, int k, double un) {
+    ContactSet& cs = m.contacts;
+    const std::uint8_t f = cs.sub_flags(k);
+    if (!(f & kSubOpen) || (f & (kSubNew | kSubFresh)) || !closure_by_reference(m, c)) {
+        cs.sub_un[k] = un;
+        return;
+    }
+    cs.sub_un[k] = un + reference_shift(m, cs.block_a[c], cs.block_b[c], sub_point(m, c, k), cs.normal(c));
+}
+
+void shift_open_closures(Model& m, int c, bool to_reference) {
+    ContactSet& cs = m.contacts;
+    if (!closure_by_reference(m, c)) return;
+    for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
+        const std::uint8_t f = cs.sub_flags(k);
+        if (!(f & kSubOpen) || (f & (kSubNew | kSubFresh))) continue;
+        const double d = reference_shift(m, cs.block_a[c], cs.block_b[c], sub_point(m, c, k), cs.normal(c));
+        cs.sub_un[k] += to_reference ? d : -d;
+    }
 }
 
 int find_contact_at(const Model& m, const Vec3& x) {

@@ -133,7 +133,7 @@ struct ContactSet {
                                           //          no slip, no opening); read through jmat, jcons
                                           //          and joined
     PodArray<int> sub_offset;             // (n_contacts + 1) first sub-contact of each contact
-    PodArray<std::uint16_t> free_motion;  // (n_contacts) m, derived (not saved): how far its blocks may
+    PodArray<std::uint16_t> free_motion;  // (n_contacts, or none: unknown) m: how far its blocks may
                                           //          move (`movement` since their geometry references)
                                           //          before a corner that carries no sub-contact could
                                           //          press into the other block (for a contact that
@@ -207,6 +207,13 @@ struct ContactSet {
     std::vector<int> surface_face;                // the block face each lies on
     std::vector<int> surface_offset;              // (n_blocks + 1) first triangle of each block
     bool surface_ready = false;
+
+    // Derived each step by detect_contacts (not saved): how far each block has moved since its
+    // geometry reference (movement: translation plus turn times radius), m, for the contact
+    // update, which reads it once (motion_fresh) to leave alone the contacts that stay open.
+    std::vector<double> block_motion;             // (n_blocks) m
+    bool motion_fresh = false;
+    int left_open = 0;                            // (not saved) contacts the last update left alone
 
     // Derived each step by update_contacts in static mode (not saved): the joint stiffness each
     // block feels, for its mass (mass_scaling.h).
@@ -424,6 +431,30 @@ Eigen::Vector3d contact_point(const Model& m, int contact_index);
 double contact_touch_area(const Model& m, int contact_index);
 // World position of sub-contact k (of contact c) now.
 Eigen::Vector3d sub_point(const Model& m, int c, int k);
+// The closure of an open sub-contact. While a sub-contact between two rigid blocks is open
+// (kSubOpen), sub_un holds not its closure but the closure it would have with both blocks at
+// their geometry references (ContactSet::geo_centroid, geo_orientation, which a block keeps
+// until it has moved ctol/10 from them): its closure now is that less how far the blocks have
+// moved towards each other at its point since (reference_shift). So an open sub-contact's state
+// does not change while it stays open (its shear displacement is not summed either: there is
+// nothing to slide on), and a contact whose sub-contacts are all open by more than their blocks
+// can have moved is not looked at (update_contacts). Read and write closures through these.
+// Whether the open sub-contacts of contact c keep their closures so: both its blocks are rigid.
+bool closure_by_reference(const Model& m, int c);
+// n . (D_b(x) - D_a(x)), m: D_X(x) is how far the material point of block X now at x has moved
+// since X's geometry reference (none while the references are not made).
+double reference_shift(const Model& m, int a, int b, const Eigen::Vector3d& x, const Eigen::Vector3d& n);
+// The closure of sub-contact k of contact c now, m (> 0 compressed), without its dilation.
+double sub_closure(const Model& m, int c, int k);
+// Sets it (after its flags: an open sub-contact keeps it by reference).
+void set_sub_closure(Model& m, int c, int k, double un);
+// The open sub-contacts of contact c given their closures now in sub_un (to_reference false),
+// or back by reference (true): before and after the blocks' geometry references move.
+void shift_open_closures(Model& m, int c, bool to_reference);
+// For tests and benchmarks: whether the contact update leaves alone the contacts that stay open
+// whatever their blocks did (on unless told; the results are the same bits either way).
+void set_rest_open_contacts(bool on);
+bool rest_open_contacts();
 // Joint material number jm, or null when it names no defined one.
 const JointMaterial* joint_material(const Model& m, int jm);
 // The joint material of contact c (joint_material of its number).

@@ -916,6 +916,17 @@ struct Detector {
         next.sub_udil.push_back(udil);
     }
 
+    // reference_shift at the sub-contact just pushed to `next`, 0 where a block is deformable.
+    double open_shift_of_last() const {
+        const BlockSet& s = m.blocks;
+        const int a = next.block_a.back(), b = next.block_b.back();
+        if ((s.flags[a] | s.flags[b]) & kDeformable) return 0.0;
+        const int k = next.n_subs() - 1;
+        const int owner = next.sub_side(k) == 1 ? b : a;
+        const Vec3 x = s.centroid[owner] + s.orientation[owner] * next.sub_point_local(k);
+        return reference_shift(m, a, b, x, next.normal(next.size() - 1));
+    }
+
     // The history of the sub-contact just pushed to `next`: that of old sub-contact k (its
     // shear turned onto the new plane), or, for a new one (k < 0), the closure the geometry
     // shows. A point that slides with the overlap (`moving`) keeps no closure of its own.
@@ -929,7 +940,11 @@ struct Detector {
             push_dilation(moving ? 0.0 : cs.sub_dilation(k));
             next.sub_us.push_back(turned(cs.sub_us[k]));
             next.sub_ss.push_back(turned(cs.sub_ss[k]));
-            next.set_sub_flags(next.n_subs() - 1, cs.sub_flags(k) & ~(kSubNew | kSubFresh));
+            const std::uint8_t flags = cs.sub_flags(k) & ~(kSubNew | kSubFresh);
+            next.set_sub_flags(next.n_subs() - 1, flags);
+            // Open, between rigid blocks: its closure now (the old contact gave it so before the
+            // references moved: detect_contacts) is kept by the references as they are now.
+            if (flags & kSubOpen) next.sub_un.back() += open_shift_of_last();
         } else {
             next.sub_un.push_back(closure);
             push_dilation(0);
@@ -1186,19 +1201,23 @@ struct Detector {
         auto e = [&](double area, double un, const Eigen::Vector2d& ss) {
             return area * ((un > 0 ? kn * un * un : 0.0) + ss.squaredNorm() / ks);
         };
+        // (An open one holds nothing across the joint; its closure is kept by reference.)
+        auto closure = [](const ContactSet& x, int k) {
+            return (x.sub_flags(k) & kSubOpen) ? 0.0 : x.sub_un[k] + x.sub_dilation(k);
+        };
         double e_old = 0, e_keep = 0, e_changed = 0;
-        for (int j = old.k0; j < old.k1; ++j) e_old += e(cs.sub_area[j], cs.sub_un[j] + cs.sub_dilation(j), cs.sub_ss[j]);
+        for (int j = old.k0; j < old.k1; ++j) e_old += e(cs.sub_area[j], closure(cs, j), cs.sub_ss[j]);
         for (int i = 0; i < static_cast<int>(born.size()); ++i) {
             const int q = first + i;
             if (!born[i] && next.sub_area[q] > (1 + 1e-9) * old_area[i]) born[i] = 1;
-            (born[i] ? e_changed : e_keep) += e(next.sub_area[q], next.sub_un[q] + next.sub_dilation(q), next.sub_ss[q]);
+            (born[i] ? e_changed : e_keep) += e(next.sub_area[q], closure(next, q), next.sub_ss[q]);
         }
         if (!(e_changed > 0 && e_keep + e_changed > kRebuildGrowth * e_old)) return;
         const double f = std::sqrt(std::max(0.0, e_old - e_keep) / e_changed);
         for (int i = 0; i < static_cast<int>(born.size()); ++i) {
             if (!born[i]) continue;
             const int q = first + i;
-            const double c = next.sub_un[q] + next.sub_dilation(q);
+            const double c = closure(next, q);
             if (c > 0) next.sub_un[q] = f * c - next.sub_dilation(q);
             next.sub_ss[q] *= f;
         }
@@ -1546,6 +1565,7 @@ void detect_contacts(Model& m) {
     ContactSet& cs = m.contacts;
     BlockSet& s = m.blocks;
     const int n = s.size();
+    cs.motion_fresh = false;
     if (static_cast<int>(s.vertex_offset.size()) != n + 1) return; // world vertices not refreshed yet
     const bool full_needed = !cs.detected || m.geometry_changed || static_cast<int>(cs.ref_centroid.size()) != n;
     if (full_needed) cs.surface_ready = false; // the zones may have changed
@@ -1560,7 +1580,7 @@ void detect_contacts(Model& m) {
     // Per contact: its overlap grew past its area, and then (the same bytes, once those are
     // applied) it touches nowhere and is now overlapping.
     thread_local std::vector<char> closing;
-    thread_local std::vector<double> motion; // m, movement since the last refresh
+    std::vector<double>& motion = cs.block_motion; // m, movement since the last refresh
     // Per contact of the result: its old index, or ~job (full passes only: a refresh pass keeps
     // or rebuilds every old contact in order, so its plan is the old contacts with the jobs'
     // own in their places, read through plan_at without being written out).
@@ -1603,10 +1623,16 @@ void detect_contacts(Model& m) {
         const bool scratch = full_needed || cs.ctol != old_ctol || static_cast<int>(geo_c.size()) != n ||
                              static_cast<int>(geo_q.size()) != n;
         moved.assign(n, 1);
+        motion.assign(n, 0.0);
         if (!scratch) {
             const double limit = 0.1 * cs.ctol;
             for (int b = 0; b < n; ++b) {
-                moved[b] = !(s.flags[b] & kExcavated) && movement(cs, s, b, geo_c, geo_q) > limit;
+                if (s.flags[b] & kExcavated) {
+                    moved[b] = 0;
+                    continue;
+                }
+                motion[b] = movement(cs, s, b, geo_c, geo_q);
+                moved[b] = motion[b] > limit;
             }
         }
         broad_phase(m, cs.ctol, pairs);
@@ -1619,14 +1645,20 @@ void detect_contacts(Model& m) {
             if (have && !moved[a] && !moved[b]) plan.push_back(oc);
             else rebuild(a, b, have ? oc : -1);
         }
+        // The contacts rebuilt give their open sub-contacts' closures as they are now before the
+        // references move (the rebuild gives them by the new references again: push_history).
+        for (int j = 0; j < static_cast<int>(jobs.size()); ++j) {
+            if (jobs.old(j) >= 0) shift_open_closures(m, jobs.old(j), false);
+        }
         cs.ref_centroid = s.centroid;
         cs.ref_orientation = s.orientation;
         if (scratch) {
             geo_c = s.centroid;
             geo_q = s.orientation;
+            motion.assign(n, 0.0);
         } else {
             for (int b = 0; b < n; ++b) {
-                if (moved[b]) { geo_c[b] = s.centroid[b]; geo_q[b] = s.orientation[b]; }
+                if (moved[b]) { geo_c[b] = s.centroid[b]; geo_q[b] = s.orientation[b]; motion[b] = 0; }
             }
         }
         cs.detected = true;
@@ -1673,7 +1705,8 @@ void detect_contacts(Model& m) {
                 bool tracked = false;
                 for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
                     tracked |= on_touch_line(cs.sub_key(k));
-                    deepest = std::max(deepest, cs.sub_un[k] + cs.sub_dilation(k));
+                    // (An open one is not deeper than 0; its closure is kept by reference.)
+                    if (!(cs.sub_flags(k) & kSubOpen)) deepest = std::max(deepest, cs.sub_un[k] + cs.sub_dilation(k));
                 }
                 grown_of[c] = tracked && motion_of[a] + motion_of[b] > 0.25 * deepest + 1e-3 * cs.ctol;
             });
@@ -1778,13 +1811,19 @@ void detect_contacts(Model& m) {
             }
             close_mark[c] = found;
         });
-        if (!any && std::find(closing.begin(), closing.end(), 1) == closing.end()) return;
+        if (!any && std::find(closing.begin(), closing.end(), 1) == closing.end()) {
+            cs.motion_fresh = true;
+            return;
+        }
         for (int c = 0; c < nc; ++c) {
             const int a = cs.block_a[c], b = cs.block_b[c];
-            if (moved[a] || moved[b] || closing[c]) jobs.add(a, b, c);
+            if (moved[a] || moved[b] || closing[c]) {
+                jobs.add(a, b, c);
+                shift_open_closures(m, c, false); // (see the full pass)
+            }
         }
         for (int b = 0; b < n; ++b) {
-            if (moved[b]) { geo_c[b] = s.centroid[b]; geo_q[b] = s.orientation[b]; }
+            if (moved[b]) { geo_c[b] = s.centroid[b]; geo_q[b] = s.orientation[b]; motion[b] = 0; }
         }
     }
     // Build the jobs a window at a time, and after each window write the plan as far as it
@@ -1857,6 +1896,7 @@ void detect_contacts(Model& m) {
         }
         rw.finish();
     }
+    cs.motion_fresh = static_cast<int>(motion.size()) == n;
     cs.build_seconds += build_time;
     cs.write_seconds += std::chrono::duration<double>(Clock::now() - pass_start).count() - build_time;
     ++cs.revision;

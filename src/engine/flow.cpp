@@ -615,7 +615,7 @@ void flow_apertures(Model& m) {
             if (node < 0) continue;
             double a = 0;
             if (j) {
-                a = std::max(j->azero - cs.sub_un[k], j->ares);
+                a = std::max(j->azero - sub_closure(m, c, k), j->ares);
                 if (j->amax > 0) a = std::min(a, j->amax);
             }
             a = std::max(a, 0.0);

@@ -175,9 +175,11 @@ void perturb_for_response(Model& m, const FosReducible& r, double factor) {
         mt.dilation = 0;
     }
     ContactSet& cs = m.contacts;
-    for (int k = 0; k < cs.n_subs(); ++k) {
-        cs.sub_un[k] *= factor; // and with it the normal stress
-        cs.sub_ss[k] *= factor;
+    for (int c = 0; c < cs.size(); ++c) {
+        for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
+            set_sub_closure(m, c, k, sub_closure(m, c, k) * factor); // and with it the normal stress
+            cs.sub_ss[k] *= factor;
+        }
     }
     for (Sym6& s : m.zones.stress) {
         for (double& v : s) v *= factor;

@@ -438,6 +438,8 @@ void load_contacts(Model& m, const Range& r, const StressField& f, const std::ve
             }
             result[k] = static_cast<std::uint8_t>(load_sub(cs, k, n, traction, j.kn, joined, st));
         }
+        // Those left open keep their closures by reference (contact.h).
+        shift_open_closures(m, c, true);
     }
 }
 
@@ -479,6 +481,7 @@ int shift_joint_water(Model& m, const std::vector<double>& old_pp) {
             // The total stress stays: the springs carry what the water no longer does.
             const Vec3 traction = (sn - dp) * n + cs.sub_shear_stress(c, k);
             load_sub(cs, k, n, traction, j->kn, cs.joined(c), st);
+            if (cs.sub_flags(k) & kSubOpen) set_sub_closure(m, c, k, cs.sub_un[k]); // (contact.h)
             ++shifted;
         }
     }

@@ -32,6 +32,7 @@
 // defined joint material times the largest face of any block: the stiffest contact that
 // could form, so the step stays stable when the first contacts close.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include "engine/blocks.h"
@@ -78,39 +79,54 @@ LawParams law_params(const Model& m, int jmat, int jcons) {
 // the step, and what the normal spring held in tension if that breaks it.
 // The increment is given on the contact's axes (n, e1, e2): dun along the normal, dus on the shear
 // axes; so is the force returned (its normal part first).
+// An open sub-contact between rigid blocks keeps its closure by reference (contact.h,
+// sub_closure): for one, open_shift is how far its blocks have moved towards each other at its
+// point since their geometry references (null for a deformable block's). Returns, in
+// *to_reference, whether sub_un now holds the closure of a sub-contact that has just opened (or
+// was made open by a refresh), which the caller gives by reference.
 [[gnu::always_inline]] inline Vec3 joint_step_on_axes(ContactSet& cs, int k, const LawParams& p, bool joined, double dun,
-                                                      const Vec2& dus_step, double* dissipated = nullptr) {
+                                                      const Vec2& dus_step, double* dissipated, const double* open_shift,
+                                                      bool* to_reference) {
     std::uint8_t flags = cs.sub_flags(k);
     // The normal stress before the step (for the energy account alone), as its last step left it.
-    const double un_old = cs.sub_un[k] + cs.sub_dilation(k);
-    const double sn_old =
-        !dissipated || (flags & (kSubOpen | kSubNew | kSubFresh)) ? 0.0 : p.kn * (joined ? cs.sub_un[k] : un_old);
+    const double sn_old = !dissipated || (flags & (kSubOpen | kSubNew | kSubFresh))
+                              ? 0.0
+                              : p.kn * (joined ? cs.sub_un[k] : cs.sub_un[k] + cs.sub_dilation(k));
+    const double un_old = cs.sub_un[k] + cs.sub_dilation(k); // (where sn_old is not 0)
+    const bool by_reference = open_shift && (flags & kSubOpen) && !(flags & (kSubNew | kSubFresh));
+    double un;               // its closure now
     Vec2 dus = Vec2::Zero(); // on the shear axes e1, e2 (ContactSet::sub_us)
     if (flags & kSubNew) {
         // Its closure was measured from the geometry at t: the step is already in it.
         flags &= ~kSubNew;
+        un = cs.sub_un[k];
     } else if (flags & kSubFresh) {
         // The same for its closure; its shear, taken over from the sub-contact before, takes the step.
         flags &= ~kSubFresh;
+        un = cs.sub_un[k];
         dus = dus_step;
-        cs.sub_us[k] += dus;
+    } else if (by_reference) {
+        un = cs.sub_un[k] - *open_shift;
+        dus = dus_step;
     } else {
-        cs.sub_un[k] -= dun;
+        un = cs.sub_un[k] - dun;
         dus = dus_step;
-        cs.sub_us[k] += dus;
     }
+    const double dil = cs.sub_dilation(k);
     flags &= ~(kSubSlip | kSubOpen);
     double sn;
     Vec2 ss = cs.sub_ss[k] - p.ks * dus;
+    bool open = false;
     if (joined) {
-        sn = p.kn * cs.sub_un[k];
+        sn = p.kn * un;
     } else {
         const bool failed = flags & kSubFailed;
         double coh = failed ? 0.0 : p.coh;
         const double ten = failed ? 0.0 : p.ten;
         double tan_phi = failed ? p.tan_res : p.tan_phi;
-        sn = p.kn * (cs.sub_un[k] + cs.sub_dilation(k));
+        sn = p.kn * (un + dil);
         if (sn < -ten || (sn <= 0 && ten <= 0)) {
+            open = true;
             if (dissipated && p.ks > 0) {
                 // Never below zero: where the step's own shear work is more than the spring held
                 // (a trial that reverses within the step), the difference is the step's error.
@@ -119,8 +135,7 @@ LawParams law_params(const Model& m, int jmat, int jcons) {
             if (dissipated && sn < -ten && ten > 0 && p.kn > 0) {
                 // Broken in tension: the normal work of the step less the change of what the
                 // spring held (all of it).
-                const double un_new = cs.sub_un[k] + cs.sub_dilation(k);
-                *dissipated += cs.sub_area[k] * (0.5 * sn_old * (un_new - un_old) + 0.5 * sn_old * sn_old / p.kn);
+                *dissipated += cs.sub_area[k] * (0.5 * sn_old * (un + dil - un_old) + 0.5 * sn_old * sn_old / p.kn);
             }
             // Open: past its tensile strength, which (if any) is lost with cohesion.
             if (sn < -ten && (coh > 0 || ten > 0)) flags |= kSubFailed;
@@ -145,15 +160,23 @@ LawParams law_params(const Model& m, int jmat, int jcons) {
                 if (dissipated && p.ks > 0) {
                     *dissipated += std::max(0.0, cs.sub_area[k] * 0.5 * (cs.sub_ss[k] + ss).dot(trial - ss) / p.ks);
                 }
-                if (p.tan_dil != 0 && (p.zdil <= 0 || cs.sub_us[k].norm() < p.zdil)) {
+                const Vec2 us = cs.sub_us[k] + dus;
+                if (p.tan_dil != 0 && (p.zdil <= 0 || us.norm() < p.zdil)) {
                     const double rise = dus.norm() * p.tan_dil;
-                    const double dil = cs.sub_us[k].dot(dus) >= 0 ? rise : -std::min(rise, cs.sub_dilation(k));
-                    cs.sub_udil[k] += dil;
-                    if (dissipated) *dissipated -= cs.sub_area[k] * sn * dil;
+                    const double d = us.dot(dus) >= 0 ? rise : -std::min(rise, dil);
+                    cs.sub_udil[k] += d;
+                    if (dissipated) *dissipated -= cs.sub_area[k] * sn * d;
                 }
             }
         }
     }
+    // Open by reference and still open: its closure and shear displacement stay as they are (the
+    // shear's increment is summed only while the joint touches).
+    if (!(by_reference && open)) {
+        cs.sub_un[k] = un;
+        cs.sub_us[k] += dus;
+    }
+    *to_reference = open && !by_reference;
     cs.sub_ss[k] = ss;
     cs.set_sub_flags(k, flags);
     const double area = cs.sub_area[k];
@@ -163,7 +186,9 @@ LawParams law_params(const Model& m, int jmat, int jcons) {
 // The same for the increment du and force as vectors (world axes).
 [[gnu::always_inline]] inline Vec3 joint_step(ContactSet& cs, int k, const LawParams& p, bool joined, const Vec3& nrm,
                                               const Vec3& e1, const Vec3& e2, const Vec3& du, double* dissipated = nullptr) {
-    const Vec3 f = joint_step_on_axes(cs, k, p, joined, du.dot(nrm), Vec2(du.dot(e1), du.dot(e2)), dissipated);
+    bool to_reference;
+    const Vec3 f = joint_step_on_axes(cs, k, p, joined, du.dot(nrm), Vec2(du.dot(e1), du.dot(e2)), dissipated, nullptr,
+                                      &to_reference);
     return f[0] * nrm + f[1] * e1 + f[2] * e2;
 }
 
@@ -211,6 +236,13 @@ void color_contacts(ContactSet& cs, int n_blocks) {
     each_colored([&](int c, int k) { cs.color_order[fill[std::min(k, n_colors)]++] = c; });
     cs.colored = true;
 }
+
+namespace {
+std::atomic<bool> g_rest_open{true};
+} // namespace
+
+void set_rest_open_contacts(bool on) { g_rest_open = on; }
+bool rest_open_contacts() { return g_rest_open; }
 
 void update_contacts(Model& m, double dt) {
     ContactSet& cs = m.contacts;
@@ -349,11 +381,47 @@ void update_contacts(Model& m, double dt) {
         t(2, 0) -= sn * k.y(); t(2, 1) += sn * k.x();
         return t;
     };
-    auto rigid_contact = [&](int c) {
+    // Open sub-contacts keep their closures by reference (contact.h): how far each block has moved
+    // since its geometry reference (detect_contacts measured it this step), and the reference as
+    // a rotation matrix, made where a contact needs it.
+    const bool references = cs.geo_centroid.size() == static_cast<size_t>(n) &&
+                            cs.geo_orientation.size() == static_cast<size_t>(n);
+    const double* motion_of =
+        cs.motion_fresh && cs.block_motion.size() == static_cast<size_t>(n) && cs.radius.size() == static_cast<size_t>(n)
+            ? cs.block_motion.data()
+            : nullptr;
+    cs.motion_fresh = false;
+    // A contact whose sub-contacts are all open, by more than its blocks can have moved towards
+    // each other at any of them since their references, stays open this step whatever it is
+    // shown: it is left as it is (in dynamic mode: static mode's masses count the open joints'
+    // stiffness too). A point of a contact lies within ctol of the other block, so a turn by t
+    // about that block's centroid moves it by at most t (radius + ctol).
+    const bool rest_open = motion_of && references && m.settings.dynamic && rest_open_contacts();
+    const double ctol = cs.ctol;
+    auto stays_open = [&](int c, int a, int b) {
+        // (Glued, or holding tension since the joint got some, it could hold on.)
+        const LawParams& p = law_of(c);
+        if (cs.joined(c)) return false;
+        const bool tension = p.ten > 0;
+        const double reach = motion_of[a] * (1 + ctol / std::max(cs.radius[a], 1e-300)) +
+                             motion_of[b] * (1 + ctol / std::max(cs.radius[b], 1e-300)) + 1e-9 * ctol;
+        for (int q = cs.sub_offset[c]; q < cs.sub_offset[c + 1]; ++q) {
+            const std::uint8_t f = cs.sub_flags(q);
+            if ((f & (kSubOpen | kSubNew | kSubFresh)) != kSubOpen || (tension && !(f & kSubFailed))) return false;
+            if (!(cs.sub_un[q] + cs.sub_dilation(q) + reach < 0)) return false;
+        }
+        return true;
+    };
+    int left = 0; // contacts left alone (ContactSet::left_open)
+    auto rigid_contact = [&](int c, int& n_left) {
         // Most contacts between blocks apart carry no sub-contact: nothing to add.
         if (cs.sub_offset[c] == cs.sub_offset[c + 1]) return;
         const int a = cs.block_a[c], b = cs.block_b[c];
         if ((s.flags[a] | s.flags[b]) & (kExcavated | kDeformable)) return;
+        if (rest_open && stays_open(c, a, b)) {
+            ++n_left;
+            return;
+        }
         const LawParams& p = law_of(c);
         const bool joined = cs.joined(c);
         const Vec3 nrm = cs.normal(c);
@@ -375,6 +443,25 @@ void update_contacts(Model& m, double dt) {
         // The points ride on their blocks: a's body frame to the axes, and b's (from a's centroid).
         const Mat3 to_a = ax * rot_of[a], to_b = ax * rot_of[b];
         const Vec3 cab_ax = ax * cab;
+        // How far the blocks have moved towards each other since their references at the point at
+        // ra (on the axes), shift0 + shift_ra . ra (reference_shift), made once some sub-contact
+        // is open: D_X(x) = (c_X - g_X) + (I - Rg_X R_X^T)(x - c_X) for each block.
+        bool have_shift = false;
+        double shift0 = 0;
+        Vec3 shift_ra = Vec3::Zero();
+        auto shift_at = [&](const Vec3& ra) {
+            if (!have_shift) {
+                have_shift = true;
+                if (references) {
+                    const Mat3 ea = Mat3::Identity() - cs.geo_orientation[a].toRotationMatrix() * rot_of[a].transpose();
+                    const Mat3 eb = Mat3::Identity() - cs.geo_orientation[b].toRotationMatrix() * rot_of[b].transpose();
+                    const Vec3 dc = (s.centroid[b] - cs.geo_centroid[b]) - (ca - cs.geo_centroid[a]);
+                    shift0 = nrm.dot(dc - eb * cab);
+                    shift_ra = ax * ((eb - ea).transpose() * nrm);
+                }
+            }
+            return shift0 + shift_ra.dot(ra);
+        };
         Vec3 f_sum = Vec3::Zero(), m_sum = Vec3::Zero();
         double scale = 0, kt = 0, kra = 0, krb = 0;
         for (int q = cs.sub_offset[c]; q < cs.sub_offset[c + 1]; ++q) {
@@ -382,7 +469,13 @@ void update_contacts(Model& m, double dt) {
             const Vec3 local = cs.sub_point_local(q);
             const Vec3 ra = of_b ? Vec3(cab_ax + to_b * local) : Vec3(to_a * local);
             const Vec3 du = du0 + dt_ax * ra;
-            const Vec3 f = joint_step_on_axes(cs, q, p, joined, du[0], Vec2(du[1], du[2]), dissipation ? dissipation + c : nullptr);
+            const std::uint8_t fl = cs.sub_flags(q);
+            double shift = 0;
+            if ((fl & (kSubOpen | kSubNew | kSubFresh)) == kSubOpen) shift = shift_at(ra);
+            bool to_reference;
+            const Vec3 f = joint_step_on_axes(cs, q, p, joined, du[0], Vec2(du[1], du[2]), dissipation ? dissipation + c : nullptr,
+                                              &shift, &to_reference);
+            if (to_reference) cs.sub_un[q] += shift_at(ra);
             f_sum += f;
             m_sum += ra.cross(f);
             scale += f.norm();
@@ -413,20 +506,21 @@ void update_contacts(Model& m, double dt) {
     const int* order = cs.color_order.data();
     const int* offset = cs.color_offset.data();
     if (threads > 1 && cs.size() >= kParallelMinItems) {
-#pragma omp parallel num_threads(threads)
+#pragma omp parallel num_threads(threads) reduction(+ : left)
         for (int col = 0; col < n_colors; ++col) {
 #pragma omp for schedule(static)
-            for (int i = offset[col]; i < offset[col + 1]; ++i) rigid_contact(order[i]);
+            for (int i = offset[col]; i < offset[col + 1]; ++i) rigid_contact(order[i], left);
         }
     } else {
         // The same order, without entering an OpenMP region (parallel.h).
-        for (int i = 0; i < (n_colors >= 0 ? offset[n_colors] : 0); ++i) rigid_contact(order[i]);
+        for (int i = 0; i < (n_colors >= 0 ? offset[n_colors] : 0); ++i) rigid_contact(order[i], left);
     }
     // Then, in contact order: the contacts no colour could take (a block with more contacts
     // than there are colours), and those of deformable blocks.
     for (int i = n_colors >= 0 ? offset[n_colors] : 0; i < static_cast<int>(cs.color_order.size()); ++i) {
-        rigid_contact(order[i]);
+        rigid_contact(order[i], left);
     }
+    cs.left_open = left;
     // Without gridpoints there are no deformable blocks.
     for (int c = 0; c < (g.size() > 0 ? cs.size() : 0); ++c) {
         const int a = cs.block_a[c], b = cs.block_b[c];

@@ -208,7 +208,7 @@ struct EnergyWatch {
             if (!jp) continue;
             const JointMaterial& j = *jp;
             for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
-                const double u = cs.sub_un[k] + cs.sub_dilation(k);
+                const double u = sub_closure(m, c, k) + cs.sub_dilation(k);
                 double un = u > 0 ? u : (cs.joined(c) ? -u : std::min(-u, j.kn > 0 ? j.tension / j.kn : 0.0));
                 if (!(un >= 0)) un = 0;
                 double e = 0.5 * j.kn * un * un;
@@ -236,7 +236,8 @@ struct EnergyWatch {
         auto deep = [&](int c) {
             const double limit = 0.5 * std::min(size[cs.block_a[c]], size[cs.block_b[c]]);
             for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
-                if (cs.sub_un[k] > limit) return k;
+                // (An open one is not in at all; its closure is kept by reference.)
+                if (cs.sub_un[k] > limit && !(cs.sub_flags(k) & kSubOpen)) return k;
             }
             return -1;
         };

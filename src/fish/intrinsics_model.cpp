@@ -290,7 +290,7 @@ Value f_cx_zsforce(Runtime& rt, A a, int, L loc) { SUB("cx_zsforce"); return num
 Value f_cx_nstress(Runtime& rt, A a, int, L loc) { SUB("cx_nstress"); return num(sub_normal_stress(model(rt), s)); }
 Value f_cx_sstress(Runtime& rt, A a, int, L loc) { SUB("cx_sstress"); return vec(C.sub_shear_stress(C.sub_owner(s), s)); }
 // The closure the joint's spring carries (the dilation included), as print, hist and export give it.
-Value f_cx_ndis(Runtime& rt, A a, int, L loc) { SUB("cx_ndis"); return num(C.sub_un[s] + C.sub_dilation(s)); }
+Value f_cx_ndis(Runtime& rt, A a, int, L loc) { SUB("cx_ndis"); return num(sub_closure(model(rt), C.sub_owner(s), s) + C.sub_dilation(s)); }
 Value f_cx_sdis(Runtime& rt, A a, int, L loc) { SUB("cx_sdis"); return num(C.sub_shear_disp(C.sub_owner(s), s).norm()); }
 Value f_cx_state(Runtime& rt, A a, int, L loc) { SUB("cx_state"); return Value::integer(C.sub_flags(s) & (kSubSlip | kSubOpen | kSubFailed)); }
 

@@ -514,6 +514,21 @@ auto fields(IO& io, M& x) -> If<M, ContactSet> {
             x.joint[c] = ContactSet::joint_word(jmat[c], jcons[c], joined[c] != 0);
         }
     }
+    // Format 19: how far each contact's blocks may move before a corner could press in
+    // unseen (free_motion): the detection of the step after a restore looks where the model's
+    // own would. Older files have none (looked at every step until each contact is rebuilt);
+    // nor does a model whose contacts were made elsewhere.
+    // (Sixteen bits in memory, an int on file.)
+    if constexpr (std::is_const_v<M>) {
+        io(derived<int>(x.free_motion.size(), [&x](size_t c) { return static_cast<int>(x.free_motion[c]); }));
+    } else if (io.format >= 19) {
+        std::vector<int> bound;
+        io(bound);
+        io.check(bound.empty() || bound.size() == x.gap.size(), "the contact arrays differ in length");
+        io.check(std::all_of(bound.begin(), bound.end(), [](int v) { return v >= 0 && v <= 0xFFFF; }),
+                 "a contact's free motion is out of range");
+        x.free_motion.assign(bound.begin(), bound.end());
+    }
     io(x.sub_offset);
     if constexpr (std::is_const_v<M>) {
         io(sub_owners(x)); io(sub_sides(x));
@@ -2198,6 +2213,11 @@ bool restore_model(const std::string& path, Model& out, std::string& error) {
     }
     why = model_problem(fresh);
     if (!why.empty()) return refuse("the file is damaged or was written wrongly (by odec " + writer_version + "): " + why);
+    if (file_format < 19) {
+        // Written with the closures of open sub-contacts as they were then: kept by reference now
+        // (contact.h).
+        for (int c = 0; c < fresh.contacts.size(); ++c) shift_open_closures(fresh, c, true);
+    }
     out = std::move(fresh);
     return true;
 }

@@ -42,8 +42,11 @@ namespace odec {
 // normal as its octahedral code, its gap in single precision and its joint model in a byte, the
 // sub-contacts' points as codes of fourteen bytes, and no normal stresses (derived from the
 // closures) (older files' are coded and narrowed as they are read, their stresses checked and
-// left).
-constexpr std::uint32_t kSaveFormatVersion = 18;
+// left); 19: the closures of open sub-contacts between rigid blocks kept by their blocks'
+// geometry references (contact.h; older files' are given so as they are read), and how far
+// each contact's blocks may move before a corner could press in unseen (older files have
+// none: looked at every step until each contact is rebuilt).
+constexpr std::uint32_t kSaveFormatVersion = 19;
 
 // Write the model to `path`. A model that restore would refuse (a velocity that is not a finite
 // number after a run-away, an index out of range) is not written: save and restore run the

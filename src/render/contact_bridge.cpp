@@ -91,7 +91,7 @@ ContactView make_contact_view(const Model& m, const std::vector<int>* contact_in
                 subs.block2.push_back(id_b);
                 subs.normal_stress.push_back(sn);
                 subs.shear_stress.push_back(cs.sub_shear_stress(c, k));
-                subs.normal_disp.push_back(cs.sub_un[k] + cs.sub_dilation(k));
+                subs.normal_disp.push_back(sub_closure(m, c, k) + cs.sub_dilation(k));
                 subs.shear_disp.push_back(cs.sub_shear_disp(c, k));
                 subs.force.push_back(f);
                 subs.state.push_back(static_cast<int>(sub_state(cs.sub_flags(k))));

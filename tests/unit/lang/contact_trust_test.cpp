@@ -176,7 +176,7 @@ TEST(ContactTrust, JointedCubeContactsAreConsistent) {
         }
         bool all_closed = ci.n_subs > 0;
         for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
-            const double closure = cs.sub_un[k] + cs.sub_dilation(k);
+            const double closure = odec::sub_closure(m, c, k) + cs.sub_dilation(k);
             if (cs.sub_flags(k) & odec::kSubOpen) {
                 EXPECT_EQ(odec::sub_normal_stress(s.model, c, k), 0) << "open sub-contact " << k << " of contact " << ci.id;
                 EXPECT_EQ(cs.sub_ss[k].norm(), 0) << "open sub-contact " << k << " of contact " << ci.id;
