@@ -34,6 +34,7 @@ void ContactSet::clear() {
     colored = false;
     ref_centroid.clear(); ref_orientation.clear(); geo_centroid.clear(); geo_orientation.clear();
     radius.clear();
+    summary_revision = -1;
 }
 
 void ContactSet::compact_key_table() {

@@ -213,6 +213,12 @@ struct ContactSet {
     // update, which reads it once (motion_fresh) to leave alone the contacts that stay open.
     std::vector<double> block_motion;             // (n_blocks) m
     bool motion_fresh = false;
+    // Derived from the contacts as a refresh left them (not saved), for detect_contacts to pass
+    // over all of them at once: the least free_motion (NaN or -infinity: some unknown), and
+    // whether any sub-contact lies on a touch line; made for `summary_revision` (of revision).
+    float least_free_motion = 0;
+    bool any_touch_line = true;
+    long summary_revision = -1;
     int left_open = 0;                            // (not saved) contacts the last update left alone
 
     // Derived each step by update_contacts in static mode (not saved): the joint stiffness each

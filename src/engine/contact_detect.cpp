@@ -596,7 +596,10 @@ double movement(const ContactSet& cs, const BlockSet& s, int b, const std::vecto
     const double dx = (s.centroid[b] - ref_c[b]).norm();
     const Quat dq = s.orientation[b] * ref_q[b].conjugate();
     const double sin_half = std::min(1.0, dq.vec().norm());
-    return dx + 2.0 * std::asin(sin_half) * cs.radius[b];
+    // (Below 1e-3 from its series, exact to the last bit: the term left out is below 1e-22 of it.)
+    const double s2 = sin_half * sin_half;
+    const double half = sin_half < 1e-3 ? sin_half * (1 + s2 / 6 * (1 + 0.45 * s2)) : std::asin(sin_half);
+    return dx + 2.0 * half * cs.radius[b];
 }
 
 // Whether sub-contacts [k0, k1) of x carry corner `vertex` of block side `side` (0: block a,
@@ -1688,11 +1691,37 @@ void detect_contacts(Model& m) {
         }
         bool any = (bits & 1) != 0;
         const bool any_motion = (bits & 2) != 0;
+        // What the passes below look at, over all the contacts as the last refresh left them.
+        if (cs.summary_revision != cs.revision || cs.free_motion.size() != static_cast<size_t>(cs.size())) {
+            float least = std::numeric_limits<float>::infinity();
+            bool unknown = cs.free_motion.size() != static_cast<size_t>(cs.size());
+            for (size_t c = 0; c < cs.free_motion.size(); ++c) {
+                const float v = bound16_value(cs.free_motion[c]);
+                if (v != v) unknown = true;
+                else least = std::min(least, v);
+            }
+            cs.least_free_motion = unknown ? -std::numeric_limits<float>::infinity() : least;
+            bool touch = false;
+            for (int k = 0; k < cs.n_subs() && !touch; ++k) touch = on_touch_line(cs.sub_key(k));
+            cs.any_touch_line = touch;
+            cs.summary_revision = cs.revision;
+        }
+        // The two blocks that moved most, together.
+        double most = 0, next_most = 0;
+        for (int b = 0; b < n; ++b) {
+            const double v = motion[b];
+            if (v > most) {
+                next_most = most;
+                most = v;
+            } else if (v > next_most) {
+                next_most = v;
+            }
+        }
         // An edge or corner that presses into a face touches over an area that grows with
         // the overlap: its contact is rebuilt once its blocks have moved a quarter of that
         // overlap, so the area follows the penetration (a force that depended on the path
         // would make or lose energy), and both blocks take their pose as the new reference.
-        if (any_motion) {
+        if (any_motion && cs.any_touch_line) {
             // Marked on the threads, then applied in order (the same blocks whatever the threads).
             const int nc = cs.size();
             std::vector<char>& grown = closing;
@@ -1724,12 +1753,15 @@ void detect_contacts(Model& m) {
         const double depth_min = kClosingDepth * cs.ctol;
         const int nc = cs.size();
         closing.assign(nc, 0);
+        // No two blocks have moved as far as any contact's free motion: none is looked at (each
+        // would end at its free motion below).
+        const bool none_reached = most + next_most < cs.least_free_motion;
         const std::uint16_t* free_motion = cs.free_motion.data();
         // The threads reach these thread_local arrays through pointers (named in the loop, a
         // thread_local would be each worker's own).
         char* close_mark = closing.data();
         const double* mot = motion.data();
-        parallel_for(nc, threads, nc >= kParallelMinItems, [&](int c) {
+        parallel_for(none_reached ? 0 : nc, threads, nc >= kParallelMinItems, [&](int c) {
             const int k0 = cs.sub_offset[c], k1 = cs.sub_offset[c + 1];
             const int a = cs.block_a[c], b = cs.block_b[c];
             // A zoned block's faces on a face: the tracking rule above. Between rigid blocks, a
@@ -1811,7 +1843,7 @@ void detect_contacts(Model& m) {
             }
             close_mark[c] = found;
         });
-        if (!any && std::find(closing.begin(), closing.end(), 1) == closing.end()) {
+        if (!any && (none_reached || std::find(closing.begin(), closing.end(), 1) == closing.end())) {
             cs.motion_fresh = true;
             return;
         }

@@ -176,8 +176,14 @@ int integrate(Model& m, double dt, AutoDampingSums* sums) {
                 for (int i = 0; i < 3; ++i) mom[i] = damped_force(d, s.moment[b][i], s.ang_vel[b][i], diag[i], dt);
                 // The 3 x 3 inverse in closed form, of the tensor scaled to a trace of 1 (its
                 // determinant, the cube of its size, would underflow for a block of 1e-100 m).
-                const double t = ib.trace();
-                alpha = r * ((ib * (1.0 / t)).inverse() * (r.transpose() * mom)) * (1.0 / (ratio * t));
+                const Vec3 mb = r.transpose() * mom;
+                if (ib(0, 1) == 0 && ib(0, 2) == 0 && ib(1, 2) == 0) {
+                    // Its own axes are the body frame's (a brick): the inverse is the diagonal's.
+                    alpha = r * Vec3(mb.x() / ib(0, 0), mb.y() / ib(1, 1), mb.z() / ib(2, 2)) / ratio;
+                } else {
+                    const double t = ib.trace();
+                    alpha = r * ((ib * (1.0 / t)).inverse() * mb) * (1.0 / (ratio * t));
+                }
             }
             const Vec3 w = s.ang_vel[b] + alpha * kick;
             if (auto_damp) {
@@ -197,7 +203,11 @@ int integrate(Model& m, double dt, AutoDampingSums* sums) {
                 half_turn(t2, sin_h_over, cos_h);
                 const Vec3 v = dtheta * sin_h_over;
                 const Quat q = Quat(cos_h, v.x(), v.y(), v.z()) * s.orientation[b];
-                s.orientation[b] = Quat(q.coeffs() * (1.0 / q.norm()));
+                // Unit again: the product of two unit quaternions is one to a few bits, which a
+                // Newton step for 1 / |q| mends (no root, no division); anything else is divided.
+                const double n2 = q.squaredNorm();
+                const double scale = std::abs(n2 - 1) < 1e-8 ? 1.5 - 0.5 * n2 : 1.0 / std::sqrt(n2);
+                s.orientation[b] = Quat(q.coeffs() * scale);
             }
             s.half_kick[b] = 0;
             // Not finite: the integration has become unstable.

@@ -830,13 +830,14 @@ TEST(SaveLayout, EveryFieldIsSaved) {
     // and glue, which the file has apart; the file also has
     // each sub-contact's contact, side and vertex, derived from the offsets and keys; format 18
     // dropped the normal stresses, derived from the closures; format 19 added free_motion) and
-    // 16 derived ones (block_motion, motion_fresh: measured by each step's detection for that
-    // step's contact update alone; left_open: counts what it left; surface_*: rebuilt from the zones;
+    // 19 derived ones (block_motion, motion_fresh: measured by each step's detection for that
+    // step's contact update alone; left_open: counts what it left; least_free_motion,
+    // any_touch_line, summary_revision: made again after each refresh; surface_*: rebuilt from the zones;
     // joint_k*: rebuilt every step; color_*, colored: rebuilt when the pairs in contact change;
     // revision, build_seconds, write_seconds: count the refreshes and their time in this
     // session; change_seen: a restored model's contacts are found again before they are used
     // while its geometry_changed is set).
-    EXPECT_EQ(count_fields<ContactSet>(), 42u) << fix;
+    EXPECT_EQ(count_fields<ContactSet>(), 45u) << fix;
     EXPECT_EQ(count_fields<Polyhedron>(), 4u) << fix;
     EXPECT_EQ(count_fields<Material>(), 8u) << fix;
     EXPECT_EQ(count_fields<JointMaterial>(), 12u) << fix;
