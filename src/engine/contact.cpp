@@ -35,6 +35,7 @@ void ContactSet::clear() {
     ref_centroid.clear(); ref_orientation.clear(); geo_centroid.clear(); geo_orientation.clear();
     radius.clear();
     summary_revision = -1;
+    open_by_reference = false;
 }
 
 void ContactSet::compact_key_table() {
@@ -162,7 +163,7 @@ Vec3 sub_point(const Model& m, int c, int k) {
 
 bool closure_by_reference(const Model& m, int c) {
     const ContactSet& cs = m.contacts;
-    return !((m.blocks.flags[cs.block_a[c]] | m.blocks.flags[cs.block_b[c]]) & kDeformable);
+    return cs.open_by_reference && !((m.blocks.flags[cs.block_a[c]] | m.blocks.flags[cs.block_b[c]]) & kDeformable);
 }
 
 double reference_shift(const Model& m, int a, int b, const Vec3& x, const Vec3& n) {

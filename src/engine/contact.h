@@ -213,6 +213,10 @@ struct ContactSet {
     // update, which reads it once (motion_fresh) to leave alone the contacts that stay open.
     std::vector<double> block_motion;             // (n_blocks) m
     bool motion_fresh = false;
+    // Whether the open sub-contacts between rigid blocks hold their closures by their blocks'
+    // geometry references (sub_closure), as they do in dynamic mode; in static mode they hold
+    // them as they are. The contact update gives them so as the mode asks.
+    bool open_by_reference = false;
     // Derived from the contacts as a refresh left them (not saved), for detect_contacts to pass
     // over all of them at once: the least free_motion (NaN or -infinity: some unknown), and
     // whether any sub-contact lies on a touch line; made for `summary_revision` (of revision).

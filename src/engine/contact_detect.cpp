@@ -923,7 +923,7 @@ struct Detector {
     double open_shift_of_last() const {
         const BlockSet& s = m.blocks;
         const int a = next.block_a.back(), b = next.block_b.back();
-        if ((s.flags[a] | s.flags[b]) & kDeformable) return 0.0;
+        if (!cs.open_by_reference || ((s.flags[a] | s.flags[b]) & kDeformable)) return 0.0;
         const int k = next.n_subs() - 1;
         const int owner = next.sub_side(k) == 1 ? b : a;
         const Vec3 x = s.centroid[owner] + s.orientation[owner] * next.sub_point_local(k);

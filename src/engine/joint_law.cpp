@@ -34,6 +34,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
 
 #include "engine/blocks.h"
 #include "engine/clump.h"
@@ -93,7 +94,8 @@ LawParams law_params(const Model& m, int jmat, int jcons) {
                               ? 0.0
                               : p.kn * (joined ? cs.sub_un[k] : cs.sub_un[k] + cs.sub_dilation(k));
     const double un_old = cs.sub_un[k] + cs.sub_dilation(k); // (where sn_old is not 0)
-    const bool by_reference = open_shift && (flags & kSubOpen) && !(flags & (kSubNew | kSubFresh));
+    const bool was_open = (flags & kSubOpen) && !(flags & (kSubNew | kSubFresh));
+    const bool by_reference = open_shift && was_open;
     double un;               // its closure now
     Vec2 dus = Vec2::Zero(); // on the shear axes e1, e2 (ContactSet::sub_us)
     if (flags & kSubNew) {
@@ -170,12 +172,10 @@ LawParams law_params(const Model& m, int jmat, int jcons) {
             }
         }
     }
-    // Open by reference and still open: its closure and shear displacement stay as they are (the
-    // shear's increment is summed only while the joint touches).
-    if (!(by_reference && open)) {
-        cs.sub_un[k] = un;
-        cs.sub_us[k] += dus;
-    }
+    // Open by reference and still open, its closure stays as it is; open and still open, its
+    // shear displacement does too (the shear's increment is summed only while the joint touches).
+    if (!(by_reference && open)) cs.sub_un[k] = un;
+    if (!(was_open && open)) cs.sub_us[k] += dus;
     *to_reference = open && !by_reference;
     cs.sub_ss[k] = ss;
     cs.set_sub_flags(k, flags);
@@ -384,8 +384,17 @@ void update_contacts(Model& m, double dt) {
     // Open sub-contacts keep their closures by reference (contact.h): how far each block has moved
     // since its geometry reference (detect_contacts measured it this step), and the reference as
     // a rotation matrix, made where a contact needs it.
-    const bool references = cs.geo_centroid.size() == static_cast<size_t>(n) &&
-                            cs.geo_orientation.size() == static_cast<size_t>(n);
+    // Dynamic mode holds them so (the contacts it can leave alone are worth it there); static
+    // mode as they are (every contact is looked at for its stiffness anyway). A change of mode
+    // gives them as the new one holds them.
+    if (cs.open_by_reference != m.settings.dynamic) {
+        if (m.settings.dynamic) cs.open_by_reference = true;
+        for (int c = 0; c < cs.size(); ++c) shift_open_closures(m, c, m.settings.dynamic);
+        cs.open_by_reference = m.settings.dynamic;
+    }
+    const bool references = cs.open_by_reference;
+    // (A block without a reference yet has not moved from it: reference_shift.)
+    const size_t n_refs = std::min(cs.geo_centroid.size(), cs.geo_orientation.size());
     const double* motion_of =
         cs.motion_fresh && cs.block_motion.size() == static_cast<size_t>(n) && cs.radius.size() == static_cast<size_t>(n)
             ? cs.block_motion.data()
@@ -398,16 +407,28 @@ void update_contacts(Model& m, double dt) {
     // about that block's centroid moves it by at most t (radius + ctol).
     const bool rest_open = motion_of && references && m.settings.dynamic && rest_open_contacts();
     const double ctol = cs.ctol;
+    // How far contact c's blocks can have moved towards each other at any of its points since
+    // their references (infinity: not known).
+    auto reach_of = [&](int a, int b) {
+        if (!motion_of || !references) return std::numeric_limits<double>::infinity();
+        return motion_of[a] * (1 + ctol / std::max(cs.radius[a], 1e-300)) +
+               motion_of[b] * (1 + ctol / std::max(cs.radius[b], 1e-300)) + 1e-9 * ctol;
+    };
+    // Whether sub-contact q (of a contact not glued) is open by reference and stays open this
+    // step however its blocks moved (one holding tension since its joint got some could hold on).
+    auto open_by_reference = [&](int q, bool tension) {
+        const std::uint8_t f = cs.sub_flags(q);
+        return (f & (kSubOpen | kSubNew | kSubFresh)) == kSubOpen && (!tension || (f & kSubFailed));
+    };
     auto stays_open = [&](int c, int a, int b) {
-        // (Glued, or holding tension since the joint got some, it could hold on.)
-        const LawParams& p = law_of(c);
         if (cs.joined(c)) return false;
-        const bool tension = p.ten > 0;
-        const double reach = motion_of[a] * (1 + ctol / std::max(cs.radius[a], 1e-300)) +
-                             motion_of[b] * (1 + ctol / std::max(cs.radius[b], 1e-300)) + 1e-9 * ctol;
-        for (int q = cs.sub_offset[c]; q < cs.sub_offset[c + 1]; ++q) {
-            const std::uint8_t f = cs.sub_flags(q);
-            if ((f & (kSubOpen | kSubNew | kSubFresh)) != kSubOpen || (tension && !(f & kSubFailed))) return false;
+        const bool tension = law_of(c).ten > 0;
+        const int q0 = cs.sub_offset[c], q1 = cs.sub_offset[c + 1];
+        for (int q = q0; q < q1; ++q) {
+            if (!open_by_reference(q, tension)) return false;
+        }
+        const double reach = reach_of(a, b);
+        for (int q = q0; q < q1; ++q) {
             if (!(cs.sub_un[q] + cs.sub_dilation(q) + reach < 0)) return false;
         }
         return true;
@@ -446,45 +467,57 @@ void update_contacts(Model& m, double dt) {
         // How far the blocks have moved towards each other since their references at the point at
         // ra (on the axes), shift0 + shift_ra . ra (reference_shift), made once some sub-contact
         // is open: D_X(x) = (c_X - g_X) + (I - Rg_X R_X^T)(x - c_X) for each block.
+        // So n . D is n . (dc_b - dc_a) - (E_b^T n) . cab + ((E_b - E_a)^T n) . ra, with
+        // E_X^T n = n - R_X (Rg_X^T n).
         bool have_shift = false;
         double shift0 = 0;
         Vec3 shift_ra = Vec3::Zero();
         auto shift_at = [&](const Vec3& ra) {
             if (!have_shift) {
                 have_shift = true;
-                if (references) {
-                    const Mat3 ea = Mat3::Identity() - cs.geo_orientation[a].toRotationMatrix() * rot_of[a].transpose();
-                    const Mat3 eb = Mat3::Identity() - cs.geo_orientation[b].toRotationMatrix() * rot_of[b].transpose();
-                    const Vec3 dc = (s.centroid[b] - cs.geo_centroid[b]) - (ca - cs.geo_centroid[a]);
-                    shift0 = nrm.dot(dc - eb * cab);
-                    shift_ra = ax * ((eb - ea).transpose() * nrm);
-                }
+                // (A block without a reference has not moved from it: E = 0, c = g.)
+                auto back = [&](int x) -> Vec3 {
+                    return static_cast<size_t>(x) < n_refs ? Vec3(rot_of[x] * (cs.geo_orientation[x].conjugate() * nrm)) : nrm;
+                };
+                auto moved = [&](int x) -> Vec3 {
+                    return static_cast<size_t>(x) < n_refs ? Vec3(s.centroid[x] - cs.geo_centroid[x]) : Vec3(Vec3::Zero());
+                };
+                const Vec3 back_a = back(a), back_b = back(b);
+                shift0 = nrm.dot(moved(b) - moved(a)) - (nrm - back_b).dot(cab);
+                shift_ra = ax * Vec3(back_a - back_b);
             }
             return shift0 + shift_ra.dot(ra);
         };
+        const bool tension = p.ten > 0;
+        double reach = std::numeric_limits<double>::quiet_NaN(); // made at the first open one
         Vec3 f_sum = Vec3::Zero(), m_sum = Vec3::Zero();
         double scale = 0, kt = 0, kra = 0, krb = 0;
         for (int q = cs.sub_offset[c]; q < cs.sub_offset[c + 1]; ++q) {
             const bool of_b = cs.sub_side(q) == 1;
             const Vec3 local = cs.sub_point_local(q);
             const Vec3 ra = of_b ? Vec3(cab_ax + to_b * local) : Vec3(to_a * local);
-            const Vec3 du = du0 + dt_ax * ra;
-            const std::uint8_t fl = cs.sub_flags(q);
-            double shift = 0;
-            if ((fl & (kSubOpen | kSubNew | kSubFresh)) == kSubOpen) shift = shift_at(ra);
-            bool to_reference;
-            const Vec3 f = joint_step_on_axes(cs, q, p, joined, du[0], Vec2(du[1], du[2]), dissipation ? dissipation + c : nullptr,
-                                              &shift, &to_reference);
-            if (to_reference) cs.sub_un[q] += shift_at(ra);
-            f_sum += f;
-            m_sum += ra.cross(f);
-            scale += f.norm();
             if (stiffness) {
                 const double kq = k * cs.sub_area[q];
                 kt += kq;
                 kra += kq * ra.squaredNorm();
                 krb += kq * (ra - cab_ax).squaredNorm();
             }
+            // Open by more than its blocks can have closed it: as it is, carrying nothing.
+            if (!joined && open_by_reference(q, tension)) {
+                if (reach != reach) reach = reach_of(a, b);
+                if (cs.sub_un[q] + cs.sub_dilation(q) + reach < 0) continue;
+            }
+            const Vec3 du = du0 + dt_ax * ra;
+            const std::uint8_t fl = cs.sub_flags(q);
+            double shift = 0;
+            if (references && (fl & (kSubOpen | kSubNew | kSubFresh)) == kSubOpen) shift = shift_at(ra);
+            bool to_reference;
+            const Vec3 f = joint_step_on_axes(cs, q, p, joined, du[0], Vec2(du[1], du[2]), dissipation ? dissipation + c : nullptr,
+                                              references ? &shift : nullptr, &to_reference);
+            if (to_reference && references) cs.sub_un[q] += shift_at(ra);
+            f_sum += f;
+            m_sum += ra.cross(f);
+            scale += f.norm();
         }
         // Back on the world axes: the force on b and its moment about a's centroid; b's moment
         // about its own is that less cab x fb.

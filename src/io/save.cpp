@@ -518,6 +518,9 @@ auto fields(IO& io, M& x) -> If<M, ContactSet> {
     // unseen (free_motion): the detection of the step after a restore looks where the model's
     // own would. Older files have none (looked at every step until each contact is rebuilt);
     // nor does a model whose contacts were made elsewhere.
+    // Format 19 also says whether the open sub-contacts' closures are held by reference
+    // (contact.h); older files hold them as they are.
+    if (io.format >= 19) io(x.open_by_reference);
     // (Sixteen bits in memory, an int on file.)
     if constexpr (std::is_const_v<M>) {
         io(derived<int>(x.free_motion.size(), [&x](size_t c) { return static_cast<int>(x.free_motion[c]); }));
@@ -2213,11 +2216,6 @@ bool restore_model(const std::string& path, Model& out, std::string& error) {
     }
     why = model_problem(fresh);
     if (!why.empty()) return refuse("the file is damaged or was written wrongly (by odec " + writer_version + "): " + why);
-    if (file_format < 19) {
-        // Written with the closures of open sub-contacts as they were then: kept by reference now
-        // (contact.h).
-        for (int c = 0; c < fresh.contacts.size(); ++c) shift_open_closures(fresh, c, true);
-    }
     out = std::move(fresh);
     return true;
 }

@@ -42,8 +42,9 @@ namespace odec {
 // normal as its octahedral code, its gap in single precision and its joint model in a byte, the
 // sub-contacts' points as codes of fourteen bytes, and no normal stresses (derived from the
 // closures) (older files' are coded and narrowed as they are read, their stresses checked and
-// left); 19: the closures of open sub-contacts between rigid blocks kept by their blocks'
-// geometry references (contact.h; older files' are given so as they are read), and how far
+// left); 19: whether the closures of open sub-contacts between rigid blocks are kept by their
+// blocks' geometry references (contact.h; as dynamic mode keeps them: older files' are not),
+// and how far
 // each contact's blocks may move before a corner could press in unseen (older files have
 // none: looked at every step until each contact is rebuilt).
 constexpr std::uint32_t kSaveFormatVersion = 19;

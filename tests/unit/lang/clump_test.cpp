@@ -454,13 +454,13 @@ std::string without_clumps(std::string file, const std::vector<int>& clumps, con
         file.replace(at, old_part.size(), new_part);
         grow_contacts(new_part.size() - old_part.size());
         from = at + new_part.size();
-        // Format 19 added each contact's free motion, an array of ints after the glued flags (a
-        // byte each): gone.
+        // Format 19 added whether open closures are held by reference (a byte) and each
+        // contact's free motion, an array of ints, after the glued flags (a byte each): gone.
         const size_t motion_at = from + 8 + nc;
         std::uint64_t n_motion = 0;
-        std::memcpy(&n_motion, &file[motion_at], 8);
+        std::memcpy(&n_motion, &file[motion_at + 1], 8);
         if (n_motion != 0 && n_motion != nc) return "";
-        const size_t bytes = 8 + 4 * n_motion;
+        const size_t bytes = 1 + 8 + 4 * n_motion;
         file.erase(motion_at, bytes);
         for (size_t at_length : {cont + 4, payload_length_at}) {
             std::uint64_t len = 0;

@@ -518,11 +518,12 @@ TEST_F(Save, Format6AppliedForceRestoresAsALoadAtTheCentroid) {
         ASSERT_EQ(n, 0u);
     }
     file.insert(cont + 12 + 32, std::string(8, '\0'));
-    // Format 19 added the contacts' free motion, an array before the offsets (after the gap,
-    // joint material and model and glued): empty here, its length alone, gone.
-    std::memcpy(&n, &file[cont + 12 + 72], 8);
+    // Format 19 added whether open closures are held by reference (a byte) and the contacts'
+    // free motion, an array, before the offsets (after the gap, joint material and model and
+    // glued): the array empty here, its length alone; both gone.
+    std::memcpy(&n, &file[cont + 12 + 73], 8);
     ASSERT_EQ(n, 0u);
-    file.erase(cont + 12 + 72, 8);
+    file.erase(cont + 12 + 72, 9);
     // Format 18 dropped the sub-contacts' normal stresses: an empty array among the empty
     // sub-contact arrays that follow the offsets (gap, joint material and model, glued: empty;
     // the offsets: none, or one 0).
@@ -532,7 +533,7 @@ TEST_F(Save, Format6AppliedForceRestoresAsALoadAtTheCentroid) {
     for (size_t at_length : {cont + 4, payload_length_at}) {
         std::uint64_t len = 0;
         std::memcpy(&len, &file[at_length], 8);
-        len += 8;
+        len += 7;
         std::memcpy(&file[at_length], &len, 8);
     }
     const size_t prof = file.find("PROF", payload_length_at + 8);
@@ -825,11 +826,11 @@ TEST(SaveLayout, EveryFieldIsSaved) {
     EXPECT_EQ(count_fields<GridpointSet>(), 19u) << fix;
     EXPECT_EQ(count_fields<StressBoundary>(), 1u) << fix;
     EXPECT_EQ(count_fields<BoundaryFace>(), 3u) << fix;
-    // ContactSet: 26 saved fields (the keys' codes and their table are saved as the keys; the
+    // ContactSet: 27 saved fields (the keys' codes and their table are saved as the keys; the
     // points' codes hold the sub-contacts' flags, and a contact's joint word its material, model
     // and glue, which the file has apart; the file also has
     // each sub-contact's contact, side and vertex, derived from the offsets and keys; format 18
-    // dropped the normal stresses, derived from the closures; format 19 added free_motion) and
+    // dropped the normal stresses, derived from the closures; format 19 added free_motion and open_by_reference) and
     // 19 derived ones (block_motion, motion_fresh: measured by each step's detection for that
     // step's contact update alone; left_open: counts what it left; least_free_motion,
     // any_touch_line, summary_revision: made again after each refresh; surface_*: rebuilt from the zones;
@@ -837,7 +838,7 @@ TEST(SaveLayout, EveryFieldIsSaved) {
     // revision, build_seconds, write_seconds: count the refreshes and their time in this
     // session; change_seen: a restored model's contacts are found again before they are used
     // while its geometry_changed is set).
-    EXPECT_EQ(count_fields<ContactSet>(), 45u) << fix;
+    EXPECT_EQ(count_fields<ContactSet>(), 46u) << fix;
     EXPECT_EQ(count_fields<Polyhedron>(), 4u) << fix;
     EXPECT_EQ(count_fields<Material>(), 8u) << fix;
     EXPECT_EQ(count_fields<JointMaterial>(), 12u) << fix;
