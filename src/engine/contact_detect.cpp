@@ -1701,8 +1701,13 @@ void detect_contacts(Model& m) {
                 else least = std::min(least, v);
             }
             cs.least_free_motion = unknown ? -std::numeric_limits<float>::infinity() : least;
+            // (Only a crossing, side 2, lies on one: the others' keys are not decoded.)
             bool touch = false;
-            for (int k = 0; k < cs.n_subs() && !touch; ++k) touch = on_touch_line(cs.sub_key(k));
+            for (int k = 0; k < cs.n_subs() && !touch; ++k) {
+                const std::uint32_t code = cs.sub_code[k];
+                if (!key_code_in_table(code) && short_code_side(code) != 2) continue;
+                touch = on_touch_line(cs.key_of_code(code));
+            }
             cs.any_touch_line = touch;
             cs.summary_revision = cs.revision;
         }

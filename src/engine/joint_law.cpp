@@ -503,7 +503,7 @@ void update_contacts(Model& m, double dt) {
                 krb += kq * (ra - cab_ax).squaredNorm();
             }
             // Open by more than its blocks can have closed it: as it is, carrying nothing.
-            if (!joined && open_by_reference(q, tension)) {
+            if (references && !joined && open_by_reference(q, tension)) {
                 if (reach != reach) reach = reach_of(a, b);
                 if (cs.sub_un[q] + cs.sub_dilation(q) + reach < 0) continue;
             }
