@@ -919,15 +919,22 @@ struct Detector {
         next.sub_udil.push_back(udil);
     }
 
-    // reference_shift at the sub-contact just pushed to `next`, 0 where a block is deformable.
-    double open_shift_of_last() const {
+    // The contact just built into `next`, from its sub-contact `first` on: those it took over
+    // open (their closures as they are now: the old contact gave them so before the references
+    // moved, detect_contacts) are held by the references as they are now (contact.h), when
+    // its blocks are rigid and the contact set holds them so.
+    void give_by_reference(int first) {
         const BlockSet& s = m.blocks;
         const int a = next.block_a.back(), b = next.block_b.back();
-        if (!cs.open_by_reference || ((s.flags[a] | s.flags[b]) & kDeformable)) return 0.0;
-        const int k = next.n_subs() - 1;
-        const int owner = next.sub_side(k) == 1 ? b : a;
-        const Vec3 x = s.centroid[owner] + s.orientation[owner] * next.sub_point_local(k);
-        return reference_shift(m, a, b, x, next.normal(next.size() - 1));
+        if (!cs.open_by_reference || ((s.flags[a] | s.flags[b]) & kDeformable)) return;
+        const Vec3 nrm = next.normal(next.size() - 1);
+        for (int k = first; k < next.n_subs(); ++k) {
+            const std::uint8_t f = next.sub_flags(k);
+            if (!(f & kSubOpen) || (f & (kSubNew | kSubFresh))) continue;
+            const int owner = next.sub_side(k) == 1 ? b : a;
+            const Vec3 x = s.centroid[owner] + s.orientation[owner] * next.sub_point_local(k);
+            next.sub_un[k] += reference_shift(m, a, b, x, nrm);
+        }
     }
 
     // The history of the sub-contact just pushed to `next`: that of old sub-contact k (its
@@ -943,11 +950,7 @@ struct Detector {
             push_dilation(moving ? 0.0 : cs.sub_dilation(k));
             next.sub_us.push_back(turned(cs.sub_us[k]));
             next.sub_ss.push_back(turned(cs.sub_ss[k]));
-            const std::uint8_t flags = cs.sub_flags(k) & ~(kSubNew | kSubFresh);
-            next.set_sub_flags(next.n_subs() - 1, flags);
-            // Open, between rigid blocks: its closure now (the old contact gave it so before the
-            // references moved: detect_contacts) is kept by the references as they are now.
-            if (flags & kSubOpen) next.sub_un.back() += open_shift_of_last();
+            next.set_sub_flags(next.n_subs() - 1, cs.sub_flags(k) & ~(kSubNew | kSubFresh));
         } else {
             next.sub_un.push_back(closure);
             push_dilation(0);
@@ -1110,6 +1113,7 @@ struct Detector {
                 push_sub(next, cs.sub_key(k), cs.sub_area[k], cs.sub_point[k]);
                 push_history(k, cs.sub_un[k], false);
             }
+            give_by_reference(first);
             next.free_motion.back() = bound16_not_above(clearance(a, b, cp.normal, first));
             next.sub_offset.push_back(next.n_subs());
             return true;
@@ -1180,6 +1184,7 @@ struct Detector {
             }
         }
         if (m.settings.dynamic && oc >= 0) limit_rebuild_energy(old, first);
+        give_by_reference(first);
         next.free_motion.back() = bound16_not_above(clearance(a, b, cp.normal, first));
         next.sub_offset.push_back(next.n_subs());
         return true;
@@ -1204,10 +1209,9 @@ struct Detector {
         auto e = [&](double area, double un, const Eigen::Vector2d& ss) {
             return area * ((un > 0 ? kn * un * un : 0.0) + ss.squaredNorm() / ks);
         };
-        // (An open one holds nothing across the joint; its closure is kept by reference.)
-        auto closure = [](const ContactSet& x, int k) {
-            return (x.sub_flags(k) & kSubOpen) ? 0.0 : x.sub_un[k] + x.sub_dilation(k);
-        };
+        // (The closures as they are now: the contact's open ones are held by reference only once
+        // it is built, give_by_reference.)
+        auto closure = [](const ContactSet& x, int k) { return x.sub_un[k] + x.sub_dilation(k); };
         double e_old = 0, e_keep = 0, e_changed = 0;
         for (int j = old.k0; j < old.k1; ++j) e_old += e(cs.sub_area[j], closure(cs, j), cs.sub_ss[j]);
         for (int i = 0; i < static_cast<int>(born.size()); ++i) {
