@@ -64,9 +64,10 @@ static std::string unheld_contact(const Model& m) {
 }
 
 std::string runaway_after_step(EnergyWatch& watch, const Model& m) {
-    {
+    if (watch.unheld_revision != m.contacts.revision) {
         const std::string unheld = unheld_contact(m);
         if (!unheld.empty()) return unheld;
+        watch.unheld_revision = m.contacts.revision;
     }
     double energy = 0, available = 0;
     int jumper = -1;

@@ -98,6 +98,7 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
             const double ke_before = watch.kinetic(m);
             mark_energy(m);
             const std::string p = lim.each_step(m);
+            watch.forget_contacts(); // (the functions may have changed the joints)
             if (!p.empty()) {
                 res.reason = StopReason::Error;
                 res.message = p;
@@ -207,6 +208,7 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
                 const double ke_before = fish ? watch.kinetic(m) : 0.0;
                 if (fish) mark_energy(m);
                 const std::string failed = m.histories.sample(m);
+                if (fish) watch.forget_contacts();
                 if (!failed.empty() && bad == -1) {
                     // The step stands; the sample of it is not taken, so every history still
                     // has the same samples. What the failed function changed is given.

@@ -166,6 +166,11 @@ struct EnergyWatch {
     double applied_work = 0;   // J, the work of the applied loads since
     double peak_work = 0;      // J, the most work gravity and the applied loads have done
     double floor = 0;          // J, noise level below which nothing is judged
+    // The contacts' revision (ContactSet::revision) last found without a loaded contact that
+    // has no joint properties: looked for again only once the contacts or (by FISH during the
+    // cycle, forget_contacts) the joint materials may have changed.
+    long unheld_revision = -1;
+    void forget_contacts() { unheld_revision = -1; }
     static constexpr double kMargin = 4.0;
 
     // Kinetic energy of the free blocks, J.
@@ -187,6 +192,7 @@ struct EnergyWatch {
 
     void begin(const Model& m) {
         const BlockSet& s = m.blocks;
+        unheld_revision = -1;
         start = s.centroid;
         size.assign(s.size(), 0.0);
         int active = 0;
