@@ -1480,6 +1480,12 @@ double contact_tolerance(const Model& m) {
 void renumber_contacts(Model& m, const std::vector<int>* new_block, const std::vector<int>* new_gp) {
     ContactSet& cs = m.contacts;
     const int nc = cs.size(), ns = cs.n_subs();
+    // Geometry references that no longer fit the blocks are dropped below: the open closures
+    // held by them are given as they are now first, which is what they are held by with no
+    // references (reference_shift; the next refresh makes the references again).
+    if (new_block != nullptr && (cs.geo_centroid.size() != new_block->size() || cs.geo_orientation.size() != new_block->size())) {
+        for (int c = 0; c < nc; ++c) shift_open_closures(m, c, false);
+    }
     auto mapped = [](const std::vector<int>* map, int i) {
         return map == nullptr ? i : (i >= 0 && i < static_cast<int>(map->size()) ? (*map)[i] : -1);
     };
@@ -1739,14 +1745,16 @@ void detect_contacts(Model& m) {
             const double* motion_of = motion.data();
             parallel_for(nc, threads, nc >= kParallelMinItems, [&](int c) {
                 const int a = cs.block_a[c], b = cs.block_b[c];
-                double deepest = 0;
                 bool tracked = false;
+                for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1] && !tracked; ++k) tracked = on_touch_line(cs.sub_key(k));
+                if (!tracked) return;
+                double deepest = 0;
                 for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
-                    tracked |= on_touch_line(cs.sub_key(k));
-                    // (An open one is not deeper than 0; its closure is kept by reference.)
-                    if (!(cs.sub_flags(k) & kSubOpen)) deepest = std::max(deepest, cs.sub_un[k] + cs.sub_dilation(k));
+                    // (One held by reference, its closure now.)
+                    const bool by_ref = cs.open_by_reference && (cs.sub_flags(k) & (kSubOpen | kSubNew | kSubFresh)) == kSubOpen;
+                    deepest = std::max(deepest, (by_ref ? sub_closure(m, c, k) : cs.sub_un[k]) + cs.sub_dilation(k));
                 }
-                grown_of[c] = tracked && motion_of[a] + motion_of[b] > 0.25 * deepest + 1e-3 * cs.ctol;
+                grown_of[c] = motion_of[a] + motion_of[b] > 0.25 * deepest + 1e-3 * cs.ctol;
             });
             for (int c = 0; c < nc; ++c) {
                 if (grown[c]) moved[cs.block_a[c]] = moved[cs.block_b[c]] = any = 1;

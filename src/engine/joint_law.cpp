@@ -386,13 +386,10 @@ void update_contacts(Model& m, double dt) {
     // a rotation matrix, made where a contact needs it.
     // Dynamic mode holds them so (the contacts it can leave alone are worth it there); static
     // mode as they are (every contact is looked at for its stiffness anyway). A change of mode
-    // gives them as the new one holds them.
-    if (cs.open_by_reference != m.settings.dynamic) {
-        if (m.settings.dynamic) cs.open_by_reference = true;
-        for (int c = 0; c < cs.size(); ++c) shift_open_closures(m, c, m.settings.dynamic);
-        cs.open_by_reference = m.settings.dynamic;
-    }
-    const bool references = cs.open_by_reference;
+    // gives them as the new one holds them within the step, after the joint law, so that each
+    // takes the step's increment once: `held` is the form they are in, `want` the form they leave in.
+    const bool held = cs.open_by_reference, want = m.settings.dynamic;
+    const bool references = held;
     // (A block without a reference yet has not moved from it: reference_shift.)
     const size_t n_refs = std::min(cs.geo_centroid.size(), cs.geo_orientation.size());
     const double* motion_of =
@@ -405,7 +402,7 @@ void update_contacts(Model& m, double dt) {
     // shown: it is left as it is (in dynamic mode: static mode's masses count the open joints'
     // stiffness too). A point of a contact lies within ctol of the other block, so a turn by t
     // about that block's centroid moves it by at most t (radius + ctol).
-    const bool rest_open = motion_of && references && m.settings.dynamic && rest_open_contacts();
+    const bool rest_open = motion_of && held && want && rest_open_contacts();
     const double ctol = cs.ctol;
     // How far contact c's blocks can have moved towards each other at any of its points since
     // their references (infinity: not known).
@@ -414,15 +411,17 @@ void update_contacts(Model& m, double dt) {
         return motion_of[a] * (1 + ctol / std::max(cs.radius[a], 1e-300)) +
                motion_of[b] * (1 + ctol / std::max(cs.radius[b], 1e-300)) + 1e-9 * ctol;
     };
-    // Whether sub-contact q (of a contact not glued) is open by reference and stays open this
-    // step however its blocks moved (one holding tension since its joint got some could hold on).
-    auto open_by_reference = [&](int q, bool tension) {
+    // Whether sub-contact q (of a contact not glued) is open by reference, to stay open this step
+    // if its blocks cannot have closed it (one of a joint with strength that has not failed would
+    // fail on its step, and one with tension could hold on: looked at).
+    auto open_by_reference = [&](int q, bool strength) {
         const std::uint8_t f = cs.sub_flags(q);
-        return (f & (kSubOpen | kSubNew | kSubFresh)) == kSubOpen && (!tension || (f & kSubFailed));
+        return (f & (kSubOpen | kSubNew | kSubFresh)) == kSubOpen && (!strength || (f & kSubFailed));
     };
     auto stays_open = [&](int c, int a, int b) {
         if (cs.joined(c)) return false;
-        const bool tension = law_of(c).ten > 0;
+        const LawParams& lp = law_of(c);
+        const bool tension = lp.ten > 0 || lp.coh > 0;
         const int q0 = cs.sub_offset[c], q1 = cs.sub_offset[c + 1];
         for (int q = q0; q < q1; ++q) {
             if (!open_by_reference(q, tension)) return false;
@@ -438,7 +437,17 @@ void update_contacts(Model& m, double dt) {
         // Most contacts between blocks apart carry no sub-contact: nothing to add.
         if (cs.sub_offset[c] == cs.sub_offset[c + 1]) return;
         const int a = cs.block_a[c], b = cs.block_b[c];
-        if ((s.flags[a] | s.flags[b]) & (kExcavated | kDeformable)) return;
+        if ((s.flags[a] | s.flags[b]) & (kExcavated | kDeformable)) {
+            // (Not stepped: an excavated block's contacts change form as they are.)
+            if (held != want && !((s.flags[a] | s.flags[b]) & kDeformable)) {
+                for (int q = cs.sub_offset[c]; q < cs.sub_offset[c + 1]; ++q) {
+                    if ((cs.sub_flags(q) & (kSubOpen | kSubNew | kSubFresh)) != kSubOpen) continue;
+                    const double d = reference_shift(m, a, b, sub_point(m, c, q), cs.normal(c));
+                    cs.sub_un[q] += want ? d : -d;
+                }
+            }
+            return;
+        }
         if (rest_open && stays_open(c, a, b)) {
             ++n_left;
             return;
@@ -488,7 +497,7 @@ void update_contacts(Model& m, double dt) {
             }
             return shift0 + shift_ra.dot(ra);
         };
-        const bool tension = p.ten > 0;
+        const bool tension = p.ten > 0 || p.coh > 0;
         double reach = std::numeric_limits<double>::quiet_NaN(); // made at the first open one
         Vec3 f_sum = Vec3::Zero(), m_sum = Vec3::Zero();
         double scale = 0, kt = 0, kra = 0, krb = 0;
@@ -503,7 +512,7 @@ void update_contacts(Model& m, double dt) {
                 krb += kq * (ra - cab_ax).squaredNorm();
             }
             // Open by more than its blocks can have closed it: as it is, carrying nothing.
-            if (references && !joined && open_by_reference(q, tension)) {
+            if (rest_open && !joined && open_by_reference(q, tension)) {
                 if (reach != reach) reach = reach_of(a, b);
                 if (cs.sub_un[q] + cs.sub_dilation(q) + reach < 0) continue;
             }
@@ -514,7 +523,13 @@ void update_contacts(Model& m, double dt) {
             bool to_reference;
             const Vec3 f = joint_step_on_axes(cs, q, p, joined, du[0], Vec2(du[1], du[2]), dissipation ? dissipation + c : nullptr,
                                               references ? &shift : nullptr, &to_reference);
-            if (to_reference && references) cs.sub_un[q] += shift_at(ra);
+            // Opened this step (or, as the form changes, open after it): by reference, if that
+            // is the form it leaves in; held by reference and still open as the form changes: as
+            // it is now.
+            if (to_reference && want) cs.sub_un[q] += shift_at(ra);
+            else if (held && !want && (fl & (kSubOpen | kSubNew | kSubFresh)) == kSubOpen && (cs.sub_flags(q) & kSubOpen)) {
+                cs.sub_un[q] -= shift;
+            }
             f_sum += f;
             m_sum += ra.cross(f);
             scale += f.norm();
@@ -554,6 +569,7 @@ void update_contacts(Model& m, double dt) {
         rigid_contact(order[i], left);
     }
     cs.left_open = left;
+    cs.open_by_reference = want;
     // Without gridpoints there are no deformable blocks.
     for (int c = 0; c < (g.size() > 0 ? cs.size() : 0); ++c) {
         const int a = cs.block_a[c], b = cs.block_b[c];

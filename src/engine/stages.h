@@ -242,15 +242,15 @@ struct EnergyWatch {
         auto deep = [&](int c) {
             const double limit = 0.5 * std::min(size[cs.block_a[c]], size[cs.block_b[c]]);
             for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
-                // (An open one is not in at all; its closure is kept by reference.)
-                if (cs.sub_un[k] > limit && !(cs.sub_flags(k) & kSubOpen)) return k;
+                // (One held by reference, its closure now.)
+                if (cs.sub_un[k] > limit && sub_closure(m, c, k) > limit) return k;
             }
             return -1;
         };
         // The first such contact, looked for on the threads.
         const int c = parallel_first(nc, 4096, thread_count(), nc >= kParallelMinItems, [&](int i) { return deep(i) >= 0; });
         if (c < 0) return -1;
-        depth = cs.sub_un[deep(c)];
+        depth = sub_closure(m, c, deep(c));
         return c;
     }
 
