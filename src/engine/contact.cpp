@@ -182,15 +182,13 @@ double reference_shift(const Model& m, int a, int b, const Vec3& x, const Vec3& 
 
 double sub_closure(const Model& m, int c, int k) {
     const ContactSet& cs = m.contacts;
-    const std::uint8_t f = cs.sub_flags(k);
-    if (!(f & kSubOpen) || (f & (kSubNew | kSubFresh)) || !closure_by_reference(m, c)) return cs.sub_un[k];
+    if (!held_open(cs.sub_flags(k)) || !closure_by_reference(m, c)) return cs.sub_un[k];
     return cs.sub_un[k] - reference_shift(m, cs.block_a[c], cs.block_b[c], sub_point(m, c, k), cs.normal(c));
 }
 
 void set_sub_closure(Model& m, int c, int k, double un) {
     ContactSet& cs = m.contacts;
-    const std::uint8_t f = cs.sub_flags(k);
-    if (!(f & kSubOpen) || (f & (kSubNew | kSubFresh)) || !closure_by_reference(m, c)) {
+    if (!held_open(cs.sub_flags(k)) || !closure_by_reference(m, c)) {
         cs.sub_un[k] = un;
         return;
     }
@@ -201,8 +199,7 @@ void shift_open_closures(Model& m, int c, bool to_reference) {
     ContactSet& cs = m.contacts;
     if (!closure_by_reference(m, c)) return;
     for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
-        const std::uint8_t f = cs.sub_flags(k);
-        if (!(f & kSubOpen) || (f & (kSubNew | kSubFresh))) continue;
+        if (!held_open(cs.sub_flags(k))) continue;
         const double d = reference_shift(m, cs.block_a[c], cs.block_b[c], sub_point(m, c, k), cs.normal(c));
         cs.sub_un[k] += to_reference ? d : -d;
     }

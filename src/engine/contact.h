@@ -97,6 +97,10 @@ enum SubContactFlags : std::uint8_t {
                      // increment is not)
 };
 
+// Open since its last step (not made by the last refresh, whose closure is the geometry's): the
+// sub-contacts whose closures dynamic mode holds by reference (sub_closure).
+inline bool held_open(std::uint8_t flags) { return (flags & (kSubOpen | kSubNew | kSubFresh)) == kSubOpen; }
+
 // What `print contact` shows as the state of a whole contact.
 enum class ContactState : std::uint8_t { Elastic, Slipping, Open, Failed };
 const char* contact_state_name(ContactState s);

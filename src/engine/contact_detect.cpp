@@ -929,8 +929,7 @@ struct Detector {
         if (!cs.open_by_reference || ((s.flags[a] | s.flags[b]) & kDeformable)) return;
         const Vec3 nrm = next.normal(next.size() - 1);
         for (int k = first; k < next.n_subs(); ++k) {
-            const std::uint8_t f = next.sub_flags(k);
-            if (!(f & kSubOpen) || (f & (kSubNew | kSubFresh))) continue;
+            if (!held_open(next.sub_flags(k))) continue;
             const int owner = next.sub_side(k) == 1 ? b : a;
             const Vec3 x = s.centroid[owner] + s.orientation[owner] * next.sub_point_local(k);
             next.sub_un[k] += reference_shift(m, a, b, x, nrm);
@@ -1659,7 +1658,7 @@ void detect_contacts(Model& m) {
             else rebuild(a, b, have ? oc : -1);
         }
         // The contacts rebuilt give their open sub-contacts' closures as they are now before the
-        // references move (the rebuild gives them by the new references again: push_history).
+        // references move (the rebuild gives them by the new references again: give_by_reference).
         for (int j = 0; j < static_cast<int>(jobs.size()); ++j) {
             if (jobs.old(j) >= 0) shift_open_closures(m, jobs.old(j), false);
         }
@@ -1750,9 +1749,7 @@ void detect_contacts(Model& m) {
                 if (!tracked) return;
                 double deepest = 0;
                 for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
-                    // (One held by reference, its closure now.)
-                    const bool by_ref = cs.open_by_reference && (cs.sub_flags(k) & (kSubOpen | kSubNew | kSubFresh)) == kSubOpen;
-                    deepest = std::max(deepest, (by_ref ? sub_closure(m, c, k) : cs.sub_un[k]) + cs.sub_dilation(k));
+                    deepest = std::max(deepest, sub_closure(m, c, k) + cs.sub_dilation(k));
                 }
                 grown_of[c] = motion_of[a] + motion_of[b] > 0.25 * deepest + 1e-3 * cs.ctol;
             });

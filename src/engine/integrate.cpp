@@ -174,13 +174,13 @@ int integrate(Model& m, double dt, AutoDampingSums* sums) {
                     diag.setZero();
                 }
                 for (int i = 0; i < 3; ++i) mom[i] = damped_force(d, s.moment[b][i], s.ang_vel[b][i], diag[i], dt);
-                // The 3 x 3 inverse in closed form, of the tensor scaled to a trace of 1 (its
-                // determinant, the cube of its size, would underflow for a block of 1e-100 m).
                 const Vec3 mb = r.transpose() * mom;
                 if (ib(0, 1) == 0 && ib(0, 2) == 0 && ib(1, 2) == 0) {
                     // Its own axes are the body frame's (a brick): the inverse is the diagonal's.
                     alpha = r * Vec3(mb.x() / ib(0, 0), mb.y() / ib(1, 1), mb.z() / ib(2, 2)) / ratio;
                 } else {
+                    // The 3 x 3 inverse in closed form, of the tensor scaled to a trace of 1 (its
+                    // determinant, the cube of its size, would underflow for a block of 1e-100 m).
                     const double t = ib.trace();
                     alpha = r * ((ib * (1.0 / t)).inverse() * mb) * (1.0 / (ratio * t));
                 }

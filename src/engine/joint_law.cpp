@@ -381,15 +381,15 @@ void update_contacts(Model& m, double dt) {
         t(2, 0) -= sn * k.y(); t(2, 1) += sn * k.x();
         return t;
     };
-    // Open sub-contacts keep their closures by reference (contact.h): how far each block has moved
-    // since its geometry reference (detect_contacts measured it this step), and the reference as
-    // a rotation matrix, made where a contact needs it.
+    // Open sub-contacts keep their closures by reference (contact.h), with how far each block has
+    // moved since its geometry reference (detect_contacts measured it this step).
     // Dynamic mode holds them so (the contacts it can leave alone are worth it there); static
     // mode as they are (every contact is looked at for its stiffness anyway). A change of mode
     // gives them as the new one holds them within the step, after the joint law, so that each
     // takes the step's increment once: `held` is the form they are in, `want` the form they leave in.
     const bool held = cs.open_by_reference, want = m.settings.dynamic;
-    const bool references = held;
+    // (While they are given the new form, shift_open_closures works in both directions.)
+    if (want) cs.open_by_reference = true;
     // (A block without a reference yet has not moved from it: reference_shift.)
     const size_t n_refs = std::min(cs.geo_centroid.size(), cs.geo_orientation.size());
     const double* motion_of =
@@ -407,7 +407,7 @@ void update_contacts(Model& m, double dt) {
     // How far contact c's blocks can have moved towards each other at any of its points since
     // their references (infinity: not known).
     auto reach_of = [&](int a, int b) {
-        if (!motion_of || !references) return std::numeric_limits<double>::infinity();
+        if (!motion_of || !held) return std::numeric_limits<double>::infinity();
         return motion_of[a] * (1 + ctol / std::max(cs.radius[a], 1e-300)) +
                motion_of[b] * (1 + ctol / std::max(cs.radius[b], 1e-300)) + 1e-9 * ctol;
     };
@@ -416,7 +416,7 @@ void update_contacts(Model& m, double dt) {
     // fail on its step, and one with tension could hold on: looked at).
     auto open_by_reference = [&](int q, bool strength) {
         const std::uint8_t f = cs.sub_flags(q);
-        return (f & (kSubOpen | kSubNew | kSubFresh)) == kSubOpen && (!strength || (f & kSubFailed));
+        return held_open(f) && (!strength || (f & kSubFailed));
     };
     auto stays_open = [&](int c, int a, int b) {
         if (cs.joined(c)) return false;
@@ -439,13 +439,7 @@ void update_contacts(Model& m, double dt) {
         const int a = cs.block_a[c], b = cs.block_b[c];
         if ((s.flags[a] | s.flags[b]) & (kExcavated | kDeformable)) {
             // (Not stepped: an excavated block's contacts change form as they are.)
-            if (held != want && !((s.flags[a] | s.flags[b]) & kDeformable)) {
-                for (int q = cs.sub_offset[c]; q < cs.sub_offset[c + 1]; ++q) {
-                    if ((cs.sub_flags(q) & (kSubOpen | kSubNew | kSubFresh)) != kSubOpen) continue;
-                    const double d = reference_shift(m, a, b, sub_point(m, c, q), cs.normal(c));
-                    cs.sub_un[q] += want ? d : -d;
-                }
-            }
+            if (held != want) shift_open_closures(m, c, want);
             return;
         }
         if (rest_open && stays_open(c, a, b)) {
@@ -517,19 +511,16 @@ void update_contacts(Model& m, double dt) {
                 if (cs.sub_un[q] + cs.sub_dilation(q) + reach < 0) continue;
             }
             const Vec3 du = du0 + dt_ax * ra;
-            const std::uint8_t fl = cs.sub_flags(q);
-            double shift = 0;
-            if (references && (fl & (kSubOpen | kSubNew | kSubFresh)) == kSubOpen) shift = shift_at(ra);
+            const bool was_held = held && held_open(cs.sub_flags(q));
+            const double shift = was_held ? shift_at(ra) : 0.0;
             bool to_reference;
             const Vec3 f = joint_step_on_axes(cs, q, p, joined, du[0], Vec2(du[1], du[2]), dissipation ? dissipation + c : nullptr,
-                                              references ? &shift : nullptr, &to_reference);
+                                              held ? &shift : nullptr, &to_reference);
             // Opened this step (or, as the form changes, open after it): by reference, if that
             // is the form it leaves in; held by reference and still open as the form changes: as
             // it is now.
             if (to_reference && want) cs.sub_un[q] += shift_at(ra);
-            else if (held && !want && (fl & (kSubOpen | kSubNew | kSubFresh)) == kSubOpen && (cs.sub_flags(q) & kSubOpen)) {
-                cs.sub_un[q] -= shift;
-            }
+            else if (was_held && !want && (cs.sub_flags(q) & kSubOpen)) cs.sub_un[q] -= shift;
             f_sum += f;
             m_sum += ra.cross(f);
             scale += f.norm();

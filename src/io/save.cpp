@@ -514,14 +514,13 @@ auto fields(IO& io, M& x) -> If<M, ContactSet> {
             x.joint[c] = ContactSet::joint_word(jmat[c], jcons[c], joined[c] != 0);
         }
     }
-    // Format 19: how far each contact's blocks may move before a corner could press in
-    // unseen (free_motion): the detection of the step after a restore looks where the model's
-    // own would. Older files have none (looked at every step until each contact is rebuilt);
-    // nor does a model whose contacts were made elsewhere.
-    // Format 19 also says whether the open sub-contacts' closures are held by reference
-    // (contact.h); older files hold them as they are.
+    // Format 19: whether the open sub-contacts' closures are held by reference (contact.h;
+    // older files hold them as they are), and how far each contact's blocks may move before a
+    // corner could press in unseen (free_motion, sixteen bits in memory, an int on file): the
+    // detection of the step after a restore looks where the model's own would. Older files have
+    // none (looked at every step until each contact is rebuilt); nor does a model whose contacts
+    // were made elsewhere.
     if (io.format >= 19) io(x.open_by_reference);
-    // (Sixteen bits in memory, an int on file.)
     if constexpr (std::is_const_v<M>) {
         io(derived<int>(x.free_motion.size(), [&x](size_t c) { return static_cast<int>(x.free_motion[c]); }));
     } else if (io.format >= 19) {
