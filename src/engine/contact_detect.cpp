@@ -598,7 +598,7 @@ double movement(const ContactSet& cs, const BlockSet& s, int b, const std::vecto
     const double sin_half = std::min(1.0, dq.vec().norm());
     // (Below 1e-3 from its series, exact to the last bit: the term left out is below 1e-22 of it.)
     const double s2 = sin_half * sin_half;
-    const double half = sin_half < 1e-3 ? sin_half * (1 + s2 / 6 * (1 + 0.45 * s2)) : std::asin(sin_half);
+    const double half = sin_half < 1e-3 ? sin_half * (1 + s2 * (1.0 / 6) * (1 + 0.45 * s2)) : std::asin(sin_half);
     return dx + 2.0 * half * cs.radius[b];
 }
 

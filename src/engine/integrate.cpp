@@ -179,10 +179,19 @@ int integrate(Model& m, double dt, AutoDampingSums* sums) {
                     // Its own axes are the body frame's (a brick): the inverse is the diagonal's.
                     alpha = r * Vec3(mb.x() / ib(0, 0), mb.y() / ib(1, 1), mb.z() / ib(2, 2)) / ratio;
                 } else {
-                    // The 3 x 3 inverse in closed form, of the tensor scaled to a trace of 1 (its
-                    // determinant, the cube of its size, would underflow for a block of 1e-100 m).
-                    const double t = ib.trace();
-                    alpha = r * ((ib * (1.0 / t)).inverse() * mb) * (1.0 / (ratio * t));
+                    // The symmetric 3 x 3 system solved by its adjugate, for the tensor scaled to
+                    // a trace of 1 (its determinant, the cube of its size, would underflow for a
+                    // block of 1e-100 m).
+                    const double t = ib.trace(), u = 1.0 / t;
+                    const double i00 = ib(0, 0) * u, i11 = ib(1, 1) * u, i22 = ib(2, 2) * u;
+                    const double i01 = ib(0, 1) * u, i02 = ib(0, 2) * u, i12 = ib(1, 2) * u;
+                    const double c00 = i11 * i22 - i12 * i12, c01 = i02 * i12 - i01 * i22, c02 = i01 * i12 - i02 * i11;
+                    const double c11 = i00 * i22 - i02 * i02, c12 = i01 * i02 - i00 * i12, c22 = i00 * i11 - i01 * i01;
+                    const double det = i00 * c00 + i01 * c01 + i02 * c02;
+                    const double k = 1.0 / (det * ratio * t);
+                    const Vec3 x(c00 * mb.x() + c01 * mb.y() + c02 * mb.z(), c01 * mb.x() + c11 * mb.y() + c12 * mb.z(),
+                                 c02 * mb.x() + c12 * mb.y() + c22 * mb.z());
+                    alpha = r * (x * k);
                 }
             }
             const Vec3 w = s.ang_vel[b] + alpha * kick;

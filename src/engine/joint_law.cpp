@@ -85,39 +85,51 @@ LawParams law_params(const Model& m, int jmat, int jcons) {
 // point since their geometry references (null for a deformable block's). Returns, in
 // *to_reference, whether sub_un now holds the closure of a sub-contact that has just opened (or
 // was made open by a refresh), which the caller gives by reference.
-[[gnu::always_inline]] inline Vec3 joint_step_on_axes(ContactSet& cs, int k, const LawParams& p, bool joined, double dun,
-                                                      const Vec2& dus_step, double* dissipated, const double* open_shift,
-                                                      bool* to_reference) {
+// The force a sub-contact's step puts on block b, on the contact's axes: its normal part and
+// its parts along the shear axes e1, e2. (Plain numbers, which stay in registers in the contact
+// update's loop.)
+struct AxesForce {
+    double n, s1, s2;
+};
+
+[[gnu::always_inline]] inline AxesForce joint_step_on_axes(ContactSet& cs, int k, const LawParams& p, bool joined, double dun,
+                                                           double dus1_step, double dus2_step, double* dissipated,
+                                                           const double* open_shift, bool* to_reference) {
     std::uint8_t flags = cs.sub_flags(k);
     // The normal stress before the step (for the energy account alone), as its last step left it.
+    const double dil = cs.sub_dilation(k);
+    const double un_prev = cs.sub_un[k];
     const double sn_old = !dissipated || (flags & (kSubOpen | kSubNew | kSubFresh))
                               ? 0.0
-                              : p.kn * (joined ? cs.sub_un[k] : cs.sub_un[k] + cs.sub_dilation(k));
-    const double un_old = cs.sub_un[k] + cs.sub_dilation(k); // (where sn_old is not 0)
+                              : p.kn * (joined ? un_prev : un_prev + dil);
+    const double un_old = un_prev + dil; // (where sn_old is not 0)
     const bool was_open = (flags & kSubOpen) && !(flags & (kSubNew | kSubFresh));
     const bool by_reference = open_shift && was_open;
-    double un;               // its closure now
-    Vec2 dus = Vec2::Zero(); // on the shear axes e1, e2 (ContactSet::sub_us)
+    double un;                  // its closure now
+    double dus1 = 0, dus2 = 0;  // on the shear axes e1, e2 (ContactSet::sub_us)
     if (flags & kSubNew) {
         // Its closure was measured from the geometry at t: the step is already in it.
         flags &= ~kSubNew;
-        un = cs.sub_un[k];
+        un = un_prev;
     } else if (flags & kSubFresh) {
         // The same for its closure; its shear, taken over from the sub-contact before, takes the step.
         flags &= ~kSubFresh;
-        un = cs.sub_un[k];
-        dus = dus_step;
+        un = un_prev;
+        dus1 = dus1_step;
+        dus2 = dus2_step;
     } else if (by_reference) {
-        un = cs.sub_un[k] - *open_shift;
-        dus = dus_step;
+        un = un_prev - *open_shift;
+        dus1 = dus1_step;
+        dus2 = dus2_step;
     } else {
-        un = cs.sub_un[k] - dun;
-        dus = dus_step;
+        un = un_prev - dun;
+        dus1 = dus1_step;
+        dus2 = dus2_step;
     }
-    const double dil = cs.sub_dilation(k);
     flags &= ~(kSubSlip | kSubOpen);
     double sn;
-    Vec2 ss = cs.sub_ss[k] - p.ks * dus;
+    const Vec2 ss_old = cs.sub_ss[k];
+    double ss1 = ss_old[0] - p.ks * dus1, ss2 = ss_old[1] - p.ks * dus2;
     bool open = false;
     if (joined) {
         sn = p.kn * un;
@@ -132,7 +144,7 @@ LawParams law_params(const Model& m, int jmat, int jcons) {
             if (dissipated && p.ks > 0) {
                 // Never below zero: where the step's own shear work is more than the spring held
                 // (a trial that reverses within the step), the difference is the step's error.
-                *dissipated += std::max(0.0, cs.sub_area[k] * 0.5 * cs.sub_ss[k].dot(ss) / p.ks);
+                *dissipated += std::max(0.0, cs.sub_area[k] * 0.5 * (ss_old[0] * ss1 + ss_old[1] * ss2) / p.ks);
             }
             if (dissipated && sn < -ten && ten > 0 && p.kn > 0) {
                 // Broken in tension: the normal work of the step less the change of what the
@@ -142,12 +154,13 @@ LawParams law_params(const Model& m, int jmat, int jcons) {
             // Open: past its tensile strength, which (if any) is lost with cohesion.
             if (sn < -ten && (coh > 0 || ten > 0)) flags |= kSubFailed;
             sn = 0;
-            ss.setZero();
+            ss1 = 0;
+            ss2 = 0;
             flags |= kSubOpen;
         } else {
             double tmax = std::max(0.0, coh + sn * tan_phi);
             // The root only where it slips (most sub-contacts stick).
-            const double t2 = ss.squaredNorm();
+            const double t2 = ss1 * ss1 + ss2 * ss2;
             if (t2 > tmax * tmax) {
                 const double t = std::sqrt(t2);
                 if (!failed && (coh > 0 || ten > 0 || p.model2)) {
@@ -156,16 +169,20 @@ LawParams law_params(const Model& m, int jmat, int jcons) {
                     tan_phi = p.tan_res;
                     tmax = std::max(0.0, sn * tan_phi);
                 }
-                const Vec2 trial = ss;
-                ss *= tmax / t;
+                const double trial1 = ss1, trial2 = ss2;
+                const double back = tmax / t;
+                ss1 *= back;
+                ss2 *= back;
                 flags |= kSubSlip;
                 if (dissipated && p.ks > 0) {
-                    *dissipated += std::max(0.0, cs.sub_area[k] * 0.5 * (cs.sub_ss[k] + ss).dot(trial - ss) / p.ks);
+                    *dissipated += std::max(0.0, cs.sub_area[k] * 0.5 *
+                                                     ((ss_old[0] + ss1) * (trial1 - ss1) + (ss_old[1] + ss2) * (trial2 - ss2)) /
+                                                     p.ks);
                 }
-                const Vec2 us = cs.sub_us[k] + dus;
+                const Vec2 us = cs.sub_us[k] + Vec2(dus1, dus2);
                 if (p.tan_dil != 0 && (p.zdil <= 0 || us.norm() < p.zdil)) {
-                    const double rise = dus.norm() * p.tan_dil;
-                    const double d = us.dot(dus) >= 0 ? rise : -std::min(rise, dil);
+                    const double rise = std::sqrt(dus1 * dus1 + dus2 * dus2) * p.tan_dil;
+                    const double d = us[0] * dus1 + us[1] * dus2 >= 0 ? rise : -std::min(rise, dil);
                     cs.sub_udil[k] += d;
                     if (dissipated) *dissipated -= cs.sub_area[k] * sn * d;
                 }
@@ -175,21 +192,27 @@ LawParams law_params(const Model& m, int jmat, int jcons) {
     // Open by reference and still open, its closure stays as it is; open and still open, its
     // shear displacement does too (the shear's increment is summed only while the joint touches).
     if (!(by_reference && open)) cs.sub_un[k] = un;
-    if (!(was_open && open)) cs.sub_us[k] += dus;
+    if (!(was_open && open)) {
+        Vec2& us = cs.sub_us[k];
+        us[0] += dus1;
+        us[1] += dus2;
+    }
     *to_reference = open && !by_reference;
-    cs.sub_ss[k] = ss;
+    Vec2& ss = cs.sub_ss[k];
+    ss[0] = ss1;
+    ss[1] = ss2;
     cs.set_sub_flags(k, flags);
     const double area = cs.sub_area[k];
-    return Vec3(area * sn, area * ss[0], area * ss[1]);
+    return AxesForce{area * sn, area * ss1, area * ss2};
 }
 
 // The same for the increment du and force as vectors (world axes).
 [[gnu::always_inline]] inline Vec3 joint_step(ContactSet& cs, int k, const LawParams& p, bool joined, const Vec3& nrm,
                                               const Vec3& e1, const Vec3& e2, const Vec3& du, double* dissipated = nullptr) {
     bool to_reference;
-    const Vec3 f = joint_step_on_axes(cs, k, p, joined, du.dot(nrm), Vec2(du.dot(e1), du.dot(e2)), dissipated, nullptr,
-                                      &to_reference);
-    return f[0] * nrm + f[1] * e1 + f[2] * e2;
+    const AxesForce f = joint_step_on_axes(cs, k, p, joined, du.dot(nrm), du.dot(e1), du.dot(e2), dissipated, nullptr,
+                                           &to_reference);
+    return f.n * nrm + f.s1 * e1 + f.s2 * e2;
 }
 
 } // namespace
@@ -493,12 +516,20 @@ void update_contacts(Model& m, double dt) {
         };
         const bool tension = p.ten > 0 || p.coh > 0;
         double reach = std::numeric_limits<double>::quiet_NaN(); // made at the first open one
-        Vec3 f_sum = Vec3::Zero(), m_sum = Vec3::Zero();
+        // The sums over the sub-contacts as plain numbers (on the axes): the force on b and its
+        // moment about a's centroid.
+        double f0 = 0, f1 = 0, f2 = 0, m0 = 0, m1 = 0, m2 = 0;
         double scale = 0, kt = 0, kra = 0, krb = 0;
         for (int q = cs.sub_offset[c]; q < cs.sub_offset[c + 1]; ++q) {
             const bool of_b = cs.sub_side(q) == 1;
             const Vec3 local = cs.sub_point_local(q);
-            const Vec3 ra = of_b ? Vec3(cab_ax + to_b * local) : Vec3(to_a * local);
+            const Mat3& to = of_b ? to_b : to_a;
+            const double o0 = of_b ? cab_ax[0] : 0.0, o1 = of_b ? cab_ax[1] : 0.0, o2 = of_b ? cab_ax[2] : 0.0;
+            const double l0 = local[0], l1 = local[1], l2 = local[2];
+            const double r0 = o0 + (to(0, 0) * l0 + to(0, 1) * l1 + to(0, 2) * l2);
+            const double r1 = o1 + (to(1, 0) * l0 + to(1, 1) * l1 + to(1, 2) * l2);
+            const double r2 = o2 + (to(2, 0) * l0 + to(2, 1) * l1 + to(2, 2) * l2);
+            const Vec3 ra(r0, r1, r2);
             if (stiffness) {
                 const double kq = k * cs.sub_area[q];
                 kt += kq;
@@ -510,24 +541,30 @@ void update_contacts(Model& m, double dt) {
                 if (reach != reach) reach = reach_of(a, b);
                 if (cs.sub_un[q] + cs.sub_dilation(q) + reach < 0) continue;
             }
-            const Vec3 du = du0 + dt_ax * ra;
+            const double du0n = du0[0] + (dt_ax(0, 0) * r0 + dt_ax(0, 1) * r1 + dt_ax(0, 2) * r2);
+            const double du1 = du0[1] + (dt_ax(1, 0) * r0 + dt_ax(1, 1) * r1 + dt_ax(1, 2) * r2);
+            const double du2 = du0[2] + (dt_ax(2, 0) * r0 + dt_ax(2, 1) * r1 + dt_ax(2, 2) * r2);
             const bool was_held = held && held_open(cs.sub_flags(q));
             const double shift = was_held ? shift_at(ra) : 0.0;
             bool to_reference;
-            const Vec3 f = joint_step_on_axes(cs, q, p, joined, du[0], Vec2(du[1], du[2]), dissipation ? dissipation + c : nullptr,
-                                              held ? &shift : nullptr, &to_reference);
+            const AxesForce f = joint_step_on_axes(cs, q, p, joined, du0n, du1, du2, dissipation ? dissipation + c : nullptr,
+                                                   held ? &shift : nullptr, &to_reference);
             // Opened this step (or, as the form changes, open after it): by reference, if that
             // is the form it leaves in; held by reference and still open as the form changes: as
             // it is now.
             if (to_reference && want) cs.sub_un[q] += shift_at(ra);
             else if (was_held && !want && (cs.sub_flags(q) & kSubOpen)) cs.sub_un[q] -= shift;
-            f_sum += f;
-            m_sum += ra.cross(f);
-            scale += f.norm();
+            f0 += f.n;
+            f1 += f.s1;
+            f2 += f.s2;
+            m0 += r1 * f.s2 - r2 * f.s1;
+            m1 += r2 * f.n - r0 * f.s2;
+            m2 += r0 * f.s1 - r1 * f.n;
+            scale += std::sqrt(f.n * f.n + f.s1 * f.s1 + f.s2 * f.s2);
         }
         // Back on the world axes: the force on b and its moment about a's centroid; b's moment
         // about its own is that less cab x fb.
-        const Vec3 fb = ax.transpose() * f_sum, ma = ax.transpose() * m_sum;
+        const Vec3 fb = ax.transpose() * Vec3(f0, f1, f2), ma = ax.transpose() * Vec3(m0, m1, m2);
         s.force[a] -= fb;
         s.moment[a] -= ma;
         s.force[b] += fb;

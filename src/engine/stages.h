@@ -13,6 +13,7 @@
 // Structural elements other than cables and the 2D engine are to join as stages of their own.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -55,8 +56,11 @@ inline double damped_force(const Damping& d, double f, double v, double mass, do
 inline void half_turn(double t2, double& sin_h_over_angle, double& cos_h) {
     const double h2 = 0.25 * t2;
     if (h2 < 1e-6) {
-        sin_h_over_angle = 0.5 * (1 - h2 / 6 * (1 - h2 / 20));
-        cos_h = 1 - h2 / 2 * (1 - h2 / 12);
+        // (Multiplied by the constants' reciprocals: the terms they scale are below 1e-6 of the
+        // sum, so a last bit of theirs cannot reach the sum's.)
+        constexpr double kSixth = 1.0 / 6, kTwelfth = 1.0 / 12, kTwentieth = 1.0 / 20;
+        sin_h_over_angle = 0.5 * (1 - h2 * kSixth * (1 - h2 * kTwentieth));
+        cos_h = 1 - h2 * 0.5 * (1 - h2 * kTwelfth);
     } else {
         const double angle = std::sqrt(t2);
         sin_h_over_angle = std::sin(0.5 * angle) / angle;
@@ -160,6 +164,7 @@ std::string runaway_cause(const Model& m, int b);
 struct EnergyWatch {
     std::vector<Vec3> start;   // (n_blocks) centroid when the cycling began
     std::vector<double> size;  // (n_blocks) m, largest vertex distance from the centroid
+    double least_half_size = 0; // m, half the least of size
     bool neighbours = false;   // more than one block: there is something to pass through
     double initial = 0;        // J, kinetic + joint strain energy then
     double boundary_work = 0;  // J, bound on the work of prescribed velocities since
@@ -200,6 +205,7 @@ struct EnergyWatch {
             for (const Vec3& v : s.shape[b].vertices) size[b] = std::max(size[b], v.norm());
             if (!(s.flags[b] & kExcavated)) ++active;
         }
+        least_half_size = size.empty() ? 0.0 : 0.5 * *std::min_element(size.begin(), size.end());
         neighbours = active > 1;
         initial = 0;
         double mass = 0;
@@ -239,6 +245,12 @@ struct EnergyWatch {
     int sunk(const Model& m, double& depth) const {
         const ContactSet& cs = m.contacts;
         const int nc = cs.size();
+        // First one flat pass over the closures: none beyond half the smallest block's size (as
+        // at almost every step), none is sunk.
+        bool beyond = false;
+        const double* un = cs.sub_un.data();
+        for (int k = 0, ns = cs.n_subs(); k < ns; ++k) beyond |= un[k] > least_half_size;
+        if (!beyond) return -1;
         auto deep = [&](int c) {
             const double limit = 0.5 * std::min(size[cs.block_a[c]], size[cs.block_b[c]]);
             for (int k = cs.sub_offset[c]; k < cs.sub_offset[c + 1]; ++k) {
