@@ -429,10 +429,16 @@ void update_contacts(Model& m, double dt) {
     const double ctol = cs.ctol;
     // How far contact c's blocks can have moved towards each other at any of its points since
     // their references (infinity: not known).
-    auto reach_of = [&](int a, int b) {
-        if (!motion_of || !held) return std::numeric_limits<double>::infinity();
-        return motion_of[a] * (1 + ctol / std::max(cs.radius[a], 1e-300)) +
-               motion_of[b] * (1 + ctol / std::max(cs.radius[b], 1e-300)) + 1e-9 * ctol;
+    // (Each block's share made once for all its contacts.)
+    thread_local std::vector<double> reach_share;
+    if (rest_open) {
+        reach_share.resize(n);
+        for (int b = 0; b < n; ++b) reach_share[b] = motion_of[b] * (1 + ctol / std::max(cs.radius[b], 1e-300));
+    }
+    const double* share_of = reach_share.data();
+    auto reach_of = [=](int a, int b) {
+        if (!rest_open) return std::numeric_limits<double>::infinity();
+        return share_of[a] + share_of[b] + 1e-9 * ctol;
     };
     // Whether sub-contact q (of a contact not glued) is open by reference, to stay open this step
     // if its blocks cannot have closed it (one of a joint with strength that has not failed would
@@ -445,13 +451,9 @@ void update_contacts(Model& m, double dt) {
         if (cs.joined(c)) return false;
         const LawParams& lp = law_of(c);
         const bool tension = lp.ten > 0 || lp.coh > 0;
-        const int q0 = cs.sub_offset[c], q1 = cs.sub_offset[c + 1];
-        for (int q = q0; q < q1; ++q) {
-            if (!open_by_reference(q, tension)) return false;
-        }
         const double reach = reach_of(a, b);
-        for (int q = q0; q < q1; ++q) {
-            if (!(cs.sub_un[q] + cs.sub_dilation(q) + reach < 0)) return false;
+        for (int q = cs.sub_offset[c], q1 = cs.sub_offset[c + 1]; q < q1; ++q) {
+            if (!open_by_reference(q, tension) || !(cs.sub_un[q] + cs.sub_dilation(q) + reach < 0)) return false;
         }
         return true;
     };
@@ -520,6 +522,9 @@ void update_contacts(Model& m, double dt) {
         // moment about a's centroid.
         double f0 = 0, f1 = 0, f2 = 0, m0 = 0, m1 = 0, m2 = 0;
         double scale = 0, kt = 0, kra = 0, krb = 0;
+        constexpr int kMags = 8;
+        double mag2[kMags];
+        int n_mag = 0;
         for (int q = cs.sub_offset[c]; q < cs.sub_offset[c + 1]; ++q) {
             const bool of_b = cs.sub_side(q) == 1;
             const Vec3 local = cs.sub_point_local(q);
@@ -560,8 +565,15 @@ void update_contacts(Model& m, double dt) {
             m0 += r1 * f.s2 - r2 * f.s1;
             m1 += r2 * f.n - r0 * f.s2;
             m2 += r0 * f.s1 - r1 * f.n;
-            scale += std::sqrt(f.n * f.n + f.s1 * f.s1 + f.s2 * f.s2);
+            // (The roots after the loop, in the same order: none of them waits on the next.)
+            const double f2n = f.n * f.n + f.s1 * f.s1 + f.s2 * f.s2;
+            if (n_mag == kMags) {
+                for (int i = 0; i < kMags; ++i) scale += std::sqrt(mag2[i]);
+                n_mag = 0;
+            }
+            mag2[n_mag++] = f2n;
         }
+        for (int i = 0; i < n_mag; ++i) scale += std::sqrt(mag2[i]);
         // Back on the world axes: the force on b and its moment about a's centroid; b's moment
         // about its own is that less cab x fb.
         const Vec3 fb = ax.transpose() * Vec3(f0, f1, f2), ma = ax.transpose() * Vec3(m0, m1, m2);
