@@ -169,7 +169,7 @@ TEST(Threads, ClumpsSameBitsWithOneTwoAndFourThreads) {
         for (int i = 0; i < 8; ++i) {
             for (int j = 0; j < 8; ++j) {
                 const double x = 2 * i + 0.05, y = j + 0.05, z = 3.5 * k;
-                char line[400];
+                char line[1024];
                 std::snprintf(line, sizeof line,
                               "poly prism a (%g,%g,%g) (%g,%g,%g) (%g,%g,%g) (%g,%g,%g) (%g,%g,%g) (%g,%g,%g) "
                               "b (%g,%g,%g) (%g,%g,%g) (%g,%g,%g) (%g,%g,%g) (%g,%g,%g) (%g,%g,%g)\n",
