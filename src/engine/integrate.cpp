@@ -188,10 +188,11 @@ int integrate(Model& m, double dt, AutoDampingSums* sums) {
                     const double c00 = i11 * i22 - i12 * i12, c01 = i02 * i12 - i01 * i22, c02 = i01 * i12 - i02 * i11;
                     const double c11 = i00 * i22 - i02 * i02, c12 = i01 * i02 - i00 * i12, c22 = i00 * i11 - i01 * i01;
                     const double det = i00 * c00 + i01 * c01 + i02 * c02;
-                    const double k = 1.0 / (det * ratio * t);
                     const Vec3 x(c00 * mb.x() + c01 * mb.y() + c02 * mb.z(), c01 * mb.x() + c11 * mb.y() + c12 * mb.z(),
                                  c02 * mb.x() + c12 * mb.y() + c22 * mb.z());
-                    alpha = r * (x * k);
+                    // (The determinant, at most 1/27, and the size apart: their product could be
+                    // below the least double for a block of 1e-300 kg m^2.)
+                    alpha = r * ((x * (1.0 / det)) * (1.0 / (ratio * t)));
                 }
             }
             const Vec3 w = s.ang_vel[b] + alpha * kick;

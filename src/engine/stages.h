@@ -51,13 +51,13 @@ inline double damped_force(const Damping& d, double f, double v, double mass, do
 
 // A turn by the angle |theta| about theta as a unit quaternion (cos h, sin h theta / |theta|),
 // h = |theta| / 2, from theta's squared length t2 (> 0): gives cos h and sin h / |theta|. Below
-// 2e-3 rad from their series, exact to the last bit of a double (the first term left out is
+// 2e-3 rad from their series, within the last bit of a double (the first term left out is
 // below 1e-21 of the sum), with no root, division or library function.
 inline void half_turn(double t2, double& sin_h_over_angle, double& cos_h) {
     const double h2 = 0.25 * t2;
     if (h2 < 1e-6) {
         // (Multiplied by the constants' reciprocals: the terms they scale are below 1e-6 of the
-        // sum, so a last bit of theirs cannot reach the sum's.)
+        // sum, so a last bit of theirs changes the sum by its last bit at most.)
         constexpr double kSixth = 1.0 / 6, kTwelfth = 1.0 / 12, kTwentieth = 1.0 / 20;
         sin_h_over_angle = 0.5 * (1 - h2 * kSixth * (1 - h2 * kTwentieth));
         cos_h = 1 - h2 * 0.5 * (1 - h2 * kTwelfth);
