@@ -72,19 +72,6 @@ LawParams law_params(const Model& m, int jmat, int jcons) {
     return p;
 }
 
-// One step of the joint law at sub-contact k, for the displacement increment du of block b
-// relative to block a there. Returns the force on b (a takes its opposite). With the energy
-// account on (dissipated not null), adds what the step dissipates there (energy.h): while it
-// slips, the mean shear stress of the step times the plastic slip, less the work of dilation
-// against the normal stress; when it opens, what the shear spring held beyond the shear work of
-// the step, and what the normal spring held in tension if that breaks it.
-// The increment is given on the contact's axes (n, e1, e2): dun along the normal, dus on the shear
-// axes; so is the force returned (its normal part first).
-// An open sub-contact between rigid blocks keeps its closure by reference (contact.h,
-// sub_closure): for one, open_shift is how far its blocks have moved towards each other at its
-// point since their geometry references (null for a deformable block's). Returns, in
-// *to_reference, whether sub_un now holds the closure of a sub-contact that has just opened (or
-// was made open by a refresh), which the caller gives by reference.
 // The force a sub-contact's step puts on block b, on the contact's axes: its normal part and
 // its parts along the shear axes e1, e2. (Plain numbers, which stay in registers in the contact
 // update's loop.)
@@ -92,6 +79,19 @@ struct AxesForce {
     double n, s1, s2;
 };
 
+// One step of the joint law at sub-contact k, for the displacement increment du of block b
+// relative to block a there. Returns the force on b (a takes its opposite). With the energy
+// account on (dissipated not null), adds what the step dissipates there (energy.h): while it
+// slips, the mean shear stress of the step times the plastic slip, less the work of dilation
+// against the normal stress; when it opens, what the shear spring held beyond the shear work of
+// the step, and what the normal spring held in tension if that breaks it.
+// The increment is given on the contact's axes (n, e1, e2): dun along the normal, dus1 and dus2
+// along the shear axes; so is the force returned.
+// An open sub-contact between rigid blocks keeps its closure by reference (contact.h,
+// sub_closure): for one, open_shift is how far its blocks have moved towards each other at its
+// point since their geometry references (null for a deformable block's). Returns, in
+// *to_reference, whether sub_un now holds the closure of a sub-contact that has just opened (or
+// was made open by a refresh), which the caller gives by reference.
 [[gnu::always_inline]] inline AxesForce joint_step_on_axes(ContactSet& cs, int k, const LawParams& p, bool joined, double dun,
                                                            double dus1_step, double dus2_step, double* dissipated,
                                                            const double* open_shift, bool* to_reference) {
@@ -565,7 +565,8 @@ void update_contacts(Model& m, double dt) {
             m0 += r1 * f.s2 - r2 * f.s1;
             m1 += r2 * f.n - r0 * f.s2;
             m2 += r0 * f.s1 - r1 * f.n;
-            // (The roots after the loop, in the same order: none of them waits on the next.)
+            // Its force's magnitude, for the blocks' force scale: the roots are taken eight at a
+            // time and after the loop, in order, so that no sub-contact's step waits on one.
             const double f2n = f.n * f.n + f.s1 * f.s1 + f.s2 * f.s2;
             if (n_mag == kMags) {
                 for (int i = 0; i < kMags; ++i) scale += std::sqrt(mag2[i]);
