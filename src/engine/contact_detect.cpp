@@ -1602,12 +1602,18 @@ void detect_contacts(Model& m) {
 
     bool full = full_needed;
     const int threads = thread_count();
+    // Each block's movement since the last broad phase (kept for the refresh pass below: where a
+    // block's geometry reference is that pose too, as it mostly is, it is the same movement).
+    thread_local std::vector<double> since_broad;
     if (!full) {
-        // Each block's movement since the last broad phase, on the threads in a large model.
+        // On the threads in a large model.
         const double limit = 0.5 * cs.ctol;
+        since_broad.resize(n);
+        double* since_of = since_broad.data();
         const int far = parallel_or(n, threads, n >= kParallelMinBlocks, [&](int b) {
             if (s.flags[b] & kExcavated) return 0;
-            return movement(cs, s, b, cs.ref_centroid, cs.ref_orientation) > limit ? 1 : 0;
+            since_of[b] = movement(cs, s, b, cs.ref_centroid, cs.ref_orientation);
+            return since_of[b] > limit ? 1 : 0;
         });
         full = far != 0;
     }
@@ -1687,10 +1693,12 @@ void detect_contacts(Model& m) {
         {
             char* mv_of = moved.data();
             double* motion_of = motion.data();
+            const double* since_of = since_broad.data();
             // Bit 1: some block moved more than the limit; bit 2: more than 1e-3 ctol.
             bits = parallel_or(n, threads, n >= kParallelMinBlocks, [&](int b) {
                 if (s.flags[b] & kExcavated) return 0;
-                const double mv = movement(cs, s, b, geo_c, geo_q);
+                const bool same = geo_c[b] == cs.ref_centroid[b] && geo_q[b].coeffs() == cs.ref_orientation[b].coeffs();
+                const double mv = same ? since_of[b] : movement(cs, s, b, geo_c, geo_q);
                 motion_of[b] = mv;
                 int out = 0;
                 if (mv > limit) mv_of[b] = 1, out |= 1;

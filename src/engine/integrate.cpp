@@ -77,6 +77,7 @@ int integrate(Model& m, double dt, AutoDampingSums* sums) {
     if (account) chunk_energy.assign(n_chunks, EnergyStep{});
     EnergyStep* ce = chunk_energy.data();
     const Vec3 grav = m.gravity;
+    const Mat3* rotation_of = static_cast<int>(s.rotation.size()) == nb ? s.rotation.data() : nullptr;
     const int threads = thread_count();
     parallel_for(n_chunks, threads, nb >= kParallelMinBlocks, [&](int chunk) {
         AutoDampingSums& sums = cp[chunk];
@@ -163,7 +164,9 @@ int integrate(Model& m, double dt, AutoDampingSums* sums) {
                 for (int i = 0; i < 3; ++i) mom[i] = damped_force(d, s.moment[b][i], s.ang_vel[b][i], iso, dt);
                 alpha = mom / iso;
             } else {
-                const Mat3 r = s.orientation[b].toRotationMatrix();
+                // (The rotation matrix the last refresh of the world vertices made of this
+                // orientation, which nothing has changed since: the contacts stepped with it.)
+                const Mat3 r = rotation_of ? rotation_of[b] : Mat3(s.orientation[b].toRotationMatrix());
                 const Mat3& ib = s.inertia_body[b];
                 const double ratio = mass / s.mass[b];
                 // The world tensor's diagonal, R I R^T at (i, i): what the damping and the
