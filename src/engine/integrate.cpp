@@ -2,6 +2,9 @@
 // damping law (see cycle.h for the law, mass_scaling.h for the masses).
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <vector>
 
 #include "engine/clump.h"
@@ -78,6 +81,17 @@ int integrate(Model& m, double dt, AutoDampingSums* sums) {
     EnergyStep* ce = chunk_energy.data();
     const Vec3 grav = m.gravity;
     const Mat3* rotation_of = static_cast<int>(s.rotation.size()) == nb ? s.rotation.data() : nullptr;
+#ifdef ODEC_CHECK_INVARIANTS
+    // Each rigid block's rotation matrix is its orientation's (refresh_world_vertices made it,
+    // and nothing has turned a block since).
+    for (int b = 0; rotation_of && b < nb; ++b) {
+        const Mat3 r = s.orientation[b].toRotationMatrix();
+        if (is_rigid_active(s, b) && std::memcmp(r.data(), rotation_of[b].data(), sizeof(double) * 9) != 0) {
+            std::fprintf(stderr, "odec: block %d's rotation matrix is not its orientation's at step %ld\n", s.id[b], m.step);
+            std::abort();
+        }
+    }
+#endif
     const int threads = thread_count();
     parallel_for(n_chunks, threads, nb >= kParallelMinBlocks, [&](int chunk) {
         AutoDampingSums& sums = cp[chunk];
