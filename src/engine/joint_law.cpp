@@ -103,29 +103,15 @@ struct AxesForce {
                               ? 0.0
                               : p.kn * (joined ? un_prev : un_prev + dil);
     const double un_old = un_prev + dil; // (where sn_old is not 0)
-    const bool was_open = (flags & kSubOpen) && !(flags & (kSubNew | kSubFresh));
+    const bool was_open = held_open(flags);
     const bool by_reference = open_shift && was_open;
-    double un;                  // its closure now
-    double dus1 = 0, dus2 = 0;  // on the shear axes e1, e2 (ContactSet::sub_us)
-    if (flags & kSubNew) {
-        // Its closure was measured from the geometry at t: the step is already in it.
-        flags &= ~kSubNew;
-        un = un_prev;
-    } else if (flags & kSubFresh) {
-        // The same for its closure; its shear, taken over from the sub-contact before, takes the step.
-        flags &= ~kSubFresh;
-        un = un_prev;
-        dus1 = dus1_step;
-        dus2 = dus2_step;
-    } else if (by_reference) {
-        un = un_prev - *open_shift;
-        dus1 = dus1_step;
-        dus2 = dus2_step;
-    } else {
-        un = un_prev - dun;
-        dus1 = dus1_step;
-        dus2 = dus2_step;
-    }
+    // Its closure now. A new or fresh one's was measured from the geometry at t: the step is
+    // already in it. A fresh one's shear, taken over from the sub-contact before, takes the
+    // step; a new one takes none this step.
+    const double un = (flags & (kSubNew | kSubFresh)) ? un_prev : by_reference ? un_prev - *open_shift : un_prev - dun;
+    const bool shears = !(flags & kSubNew);
+    const double dus1 = shears ? dus1_step : 0.0, dus2 = shears ? dus2_step : 0.0; // on e1, e2 (ContactSet::sub_us)
+    flags &= shears ? ~kSubFresh : ~kSubNew;
     flags &= ~(kSubSlip | kSubOpen);
     double sn;
     const Vec2 ss_old = cs.sub_ss[k];
@@ -428,18 +414,15 @@ void update_contacts(Model& m, double dt) {
     const bool rest_open = motion_of && held && want && rest_open_contacts();
     const double ctol = cs.ctol;
     // How far contact c's blocks can have moved towards each other at any of its points since
-    // their references (infinity: not known).
-    // (Each block's share made once for all its contacts.)
+    // their references (asked only where rest_open: each block's share made once for all its
+    // contacts).
     thread_local std::vector<double> reach_share;
     if (rest_open) {
         reach_share.resize(n);
         for (int b = 0; b < n; ++b) reach_share[b] = motion_of[b] * (1 + ctol / std::max(cs.radius[b], 1e-300));
     }
     const double* share_of = reach_share.data();
-    auto reach_of = [=](int a, int b) {
-        if (!rest_open) return std::numeric_limits<double>::infinity();
-        return share_of[a] + share_of[b] + 1e-9 * ctol;
-    };
+    auto reach_of = [=](int a, int b) { return share_of[a] + share_of[b] + 1e-9 * ctol; };
     // Whether sub-contact q (of a contact not glued) is open by reference, to stay open this step
     // if its blocks cannot have closed it (one of a joint with strength that has not failed would
     // fail on its step, and one with tension could hold on: looked at).
