@@ -39,6 +39,7 @@
 #include "engine/blocks.h"
 #include "engine/clump.h"
 #include "engine/contact.h"
+#include "engine/contact_axes.h"
 #include "engine/parallel.h"
 #include "engine/model.h"
 #include "engine/stages.h"
@@ -379,17 +380,8 @@ void update_contacts(Model& m, double dt) {
     if (account) contact_dissipation.assign(cs.size(), 0.0);
     double* dissipation = account ? contact_dissipation.data() : nullptr;
     // The displacement over the last step of the point at r from the centroid of a block,
-    // d + cos1 (r - (k.r) k) + sin k x r (moved_by), is d + T r with T = cos1 (I - k k^T) + sin [k]x.
-    auto turn_matrix = [=](int b) -> Mat3 {
-        const Vec3& k = axis_of[b];
-        const double c1 = cos1_of[b], sn = sin_of[b];
-        Mat3 t = -c1 * (k * k.transpose());
-        t.diagonal().array() += c1;
-        t(0, 1) -= sn * k.z(); t(0, 2) += sn * k.y();
-        t(1, 0) += sn * k.z(); t(1, 2) -= sn * k.x();
-        t(2, 0) -= sn * k.y(); t(2, 1) += sn * k.x();
-        return t;
-    };
+    // d + cos1 (r - (k.r) k) + sin k x r (moved_by), is d + T r with T = cos1 (I - k k^T) + sin [k]x
+    // (the turn matrix, made in make_contact_axes).
     // Open sub-contacts keep their closures by reference (contact.h), with how far each block has
     // moved since its geometry reference (detect_contacts measured it this step).
     // Dynamic mode holds them so (the contacts it can leave alone are worth it there); static
@@ -441,40 +433,71 @@ void update_contacts(Model& m, double dt) {
         return true;
     };
     int left = 0; // contacts left alone (ContactSet::left_open)
-    auto rigid_contact = [&](int c, int& n_left) {
+    // Whether contact c steps this step: not one without sub-contacts, of an excavated or a
+    // deformable block, or open by more than its blocks can have closed it (counted in n_left).
+    auto steps = [&](int c, int& n_left) {
         // Most contacts between blocks apart carry no sub-contact: nothing to add.
-        if (cs.sub_offset[c] == cs.sub_offset[c + 1]) return;
+        if (cs.sub_offset[c] == cs.sub_offset[c + 1]) return false;
         const int a = cs.block_a[c], b = cs.block_b[c];
         if ((s.flags[a] | s.flags[b]) & (kExcavated | kDeformable)) {
             // (Not stepped: an excavated block's contacts change form as they are.)
             if (held != want) shift_open_closures(m, c, want);
-            return;
+            return false;
         }
         if (rest_open && stays_open(c, a, b)) {
             ++n_left;
-            return;
+            return false;
         }
+        return true;
+    };
+    // A contact that steps takes its axes and the blocks' motion on them from a batch
+    // (contact_axes.h), made for up to ContactAxesBatch::kSize contacts at a time; its inputs:
+    auto put_in_batch = [&](ContactAxesBatch& B, int l, int c) {
+        const NormalCode code = cs.normal_code[c];
+        B.nu[l] = code.u;
+        B.nv[l] = code.v;
+        const int blocks[2] = {cs.block_a[c], cs.block_b[c]};
+        for (int side = 0; side < 2; ++side) {
+            const int x = blocks[side];
+            const Vec3 d = block_disp(x), &k = axis_of[x], &c0 = s.centroid[x];
+            const double* r = rot_of[x].data();
+            for (int i = 0; i < 3; ++i) {
+                B.k[side][i][l] = k[i];
+                B.disp[side][i][l] = d[i];
+                B.centroid[side][i][l] = c0[i];
+            }
+            for (int i = 0; i < 9; ++i) B.rot[side][i][l] = r[i];
+            B.sin[side][l] = sin_of[x];
+            B.cos1[side][l] = cos1_of[x];
+        }
+    };
+    // Contact c's step, from lane l of its batch.
+    auto rigid_contact = [&](int c, const ContactAxesBatch& B, int l) {
+        const int a = cs.block_a[c], b = cs.block_b[c];
         const LawParams& p = law_of(c);
         const bool joined = cs.joined(c);
-        const Vec3 nrm = cs.normal(c);
-        Vec3 e1, e2;
-        shear_axes(nrm, e1, e2);
+        const Vec3 nrm(B.n[0][l], B.n[1][l], B.n[2][l]);
         // Everything on the contact's axes (n, e1, e2), the rows of ax, a rotation: a point's lever
         // ra from a's centroid, the relative displacement there, the forces and their moments.
         Mat3 ax;
         ax.row(0) = nrm;
-        ax.row(1) = e1;
-        ax.row(2) = e2;
-        const Vec3 ca = s.centroid[a], cab = s.centroid[b] - ca;
+        ax.row(1) = Vec3(B.e1[0][l], B.e1[1][l], B.e1[2][l]);
+        ax.row(2) = Vec3(B.e2[0][l], B.e2[1][l], B.e2[2][l]);
+        const Vec3 cab(B.cab[0][l], B.cab[1][l], B.cab[2][l]);
         const double k = std::max(p.kn, p.ks);
         // A point at ra from a's centroid, rb = ra - cab from b's, moved by
-        // db + T_b rb - da - T_a ra = (db - da - T_b cab) + (T_b - T_a) ra.
-        const Mat3 ta = turn_matrix(a), tb = turn_matrix(b);
-        const Vec3 du0 = ax * (block_disp(b) - block_disp(a) - tb * cab);
-        const Mat3 dt_ax = ax * (tb - ta) * ax.transpose();
-        // The points ride on their blocks: a's body frame to the axes, and b's (from a's centroid).
-        const Mat3 to_a = ax * rot_of[a], to_b = ax * rot_of[b];
-        const Vec3 cab_ax = ax * cab;
+        // db + T_b rb - da - T_a ra = (db - da - T_b cab) + (T_b - T_a) ra: du0 and dt_ax.
+        const double du0[3] = {B.du0[0][l], B.du0[1][l], B.du0[2][l]};
+        Mat3 dt_ax, to_a, to_b;
+        for (int i = 0; i < 3; ++i) {
+            for (int j = 0; j < 3; ++j) {
+                dt_ax(i, j) = B.dt_ax[3 * i + j][l];
+                // The points ride on their blocks: a's body frame to the axes, and b's (from a's centroid).
+                to_a(i, j) = B.to[0][3 * i + j][l];
+                to_b(i, j) = B.to[1][3 * i + j][l];
+            }
+        }
+        const Vec3 cab_ax(B.cab_ax[0][l], B.cab_ax[1][l], B.cab_ax[2][l]);
         // How far the blocks have moved towards each other since their references at the point at
         // ra (on the axes), shift0 + shift_ra . ra (reference_shift), made once some sub-contact
         // is open: D_X(x) = (c_X - g_X) + (I - Rg_X R_X^T)(x - c_X) for each block.
@@ -577,21 +600,46 @@ void update_contacts(Model& m, double dt) {
     const int n_colors = static_cast<int>(cs.color_offset.size()) - 1;
     const int* order = cs.color_order.data();
     const int* offset = cs.color_offset.data();
+    // The contacts order[i0, i1) that step, a batch at a time, each in its place in that order.
+    constexpr int kBatch = ContactAxesBatch::kSize;
+    auto run = [&](int i0, int i1, int& n_left) {
+        // (Each thread its own batch.)
+        thread_local ContactAxesBatch batch;
+        ContactAxesBatch& B = batch;
+        int listed[kBatch];
+        int n = 0;
+        auto flush = [&] {
+            make_contact_axes(B, n);
+            for (int l = 0; l < n; ++l) rigid_contact(listed[l], B, l);
+            n = 0;
+        };
+        for (int i = i0; i < i1; ++i) {
+            const int c = order[i];
+            if (!steps(c, n_left)) continue;
+            put_in_batch(B, n, c);
+            listed[n++] = c;
+            if (n == kBatch) flush();
+        }
+        if (n > 0) flush();
+    };
+    const int n_colored = n_colors >= 0 ? offset[n_colors] : 0;
     if (threads > 1 && cs.size() >= kParallelMinItems) {
 #pragma omp parallel num_threads(threads) reduction(+ : left)
         for (int col = 0; col < n_colors; ++col) {
+            const int n_pieces = (offset[col + 1] - offset[col] + kBatch - 1) / kBatch;
 #pragma omp for schedule(static)
-            for (int i = offset[col]; i < offset[col + 1]; ++i) rigid_contact(order[i], left);
+            for (int piece = 0; piece < n_pieces; ++piece) {
+                const int i0 = offset[col] + piece * kBatch;
+                run(i0, std::min(offset[col + 1], i0 + kBatch), left);
+            }
         }
     } else {
         // The same order, without entering an OpenMP region (parallel.h).
-        for (int i = 0; i < (n_colors >= 0 ? offset[n_colors] : 0); ++i) rigid_contact(order[i], left);
+        run(0, n_colored, left);
     }
     // Then, in contact order: the contacts no colour could take (a block with more contacts
     // than there are colours), and those of deformable blocks.
-    for (int i = n_colors >= 0 ? offset[n_colors] : 0; i < static_cast<int>(cs.color_order.size()); ++i) {
-        rigid_contact(order[i], left);
-    }
+    run(n_colored, static_cast<int>(cs.color_order.size()), left);
     cs.left_open = left;
     cs.open_by_reference = want;
     // Without gridpoints there are no deformable blocks.

@@ -1,0 +1,36 @@
+// What the contact update makes once per contact between rigid blocks before its sub-contacts
+// step: the contact's axes (its normal n and the shear axes e1, e2 of shear_axes), and on them
+// the relative motion of the blocks over the last step and the maps from each block's body frame.
+// Made for many contacts at once, lane by lane in fixed-size batches, so that the compiler runs
+// several contacts in one vector instruction (the same operations in the same order in every
+// lane: a contact's numbers do not depend on its neighbours in the batch, nor on the machine's
+// vector width). Every number is the bits Eigen's expressions of contact.h and joint_law.cpp
+// give for the same quantity (three-term sums as Eigen adds them, a0 + (a1 + a2)); a test
+// compares them.
+#pragma once
+
+#include <cstdint>
+
+namespace odec {
+
+struct ContactAxesBatch {
+    static constexpr int kSize = 32; // contacts per batch
+    // ---- in, per contact ----
+    std::int32_t nu[kSize], nv[kSize];   // its normal's code (NormalCode)
+    // Block a's, then block b's: the axis of its turn over the last step, the sine and 1 - cosine
+    // of the angle (joint_law.cpp, update_contacts), its centroid's displacement over the step,
+    // its rotation matrix (column-major, as Eigen keeps it) and its centroid.
+    double k[2][3][kSize], sin[2][kSize], cos1[2][kSize], disp[2][3][kSize], rot[2][9][kSize], centroid[2][3][kSize];
+    // ---- out, per contact ----
+    double n[3][kSize], e1[3][kSize], e2[3][kSize]; // the axes, rows of ax
+    double cab[3][kSize];        // b's centroid from a's (world)
+    double cab_ax[3][kSize];     // the same on the axes
+    double du0[3][kSize];        // ax (d_b - d_a - T_b cab)
+    double dt_ax[9][kSize];      // ax (T_b - T_a) ax^T, row-major
+    double to[2][9][kSize];      // ax R_a and ax R_b, row-major
+};
+
+// Fills the outputs of the first `count` contacts of the batch from their inputs.
+void make_contact_axes(ContactAxesBatch& batch, int count);
+
+} // namespace odec
