@@ -228,6 +228,8 @@ struct ContactSet {
     bool any_touch_line = true;
     long summary_revision = -1;
     int left_open = 0;                            // (not saved) contacts the last update left alone
+    int batched = 0;                              // (not saved) contacts the last update stepped in
+                                                  //          batches (step_plain_subs)
 
     // Derived each step by update_contacts in static mode (not saved): the joint stiffness each
     // block feels, for its mass (mass_scaling.h).
@@ -469,6 +471,10 @@ void shift_open_closures(Model& m, int c, bool to_reference);
 // whatever their blocks did (on unless told; the results are the same bits either way).
 void set_rest_open_contacts(bool on);
 bool rest_open_contacts();
+// For tests and benchmarks: whether the contact update steps the plain sub-contacts many contacts
+// at a time (contact_axes.h, step_plain_subs; on unless told; the same bits either way).
+void set_batched_sub_contacts(bool on);
+bool batched_sub_contacts();
 // Joint material number jm, or null when it names no defined one.
 const JointMaterial* joint_material(const Model& m, int jm);
 // The joint material of contact c (joint_material of its number).

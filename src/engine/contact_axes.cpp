@@ -2,6 +2,7 @@
 #include "engine/contact_axes.h"
 
 #include <cmath>
+#include <cstring>
 
 #include "engine/normal_code.h"
 
@@ -99,6 +100,100 @@ template <int kSize>
     }
 }
 
+// Four doubles in one vector (two instructions each without AVX), and the masks comparisons make.
+// (Passed only between inline functions of this file: no call of another's sees their ABI.)
+#pragma GCC diagnostic ignored "-Wpsabi"
+typedef double V4 __attribute__((vector_size(32)));
+typedef long long M4 __attribute__((vector_size(32)));
+inline V4 load4(const double* p) {
+    V4 v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+inline void store4(double* p, V4 v) { std::memcpy(p, &v, sizeof v); }
+inline V4 splat(double x) { return V4{x, x, x, x}; }
+
+// The plain sub-contacts of lanes [0, count) (step_plain_subs), four lanes at a time (lanes past
+// count are made of whatever the batch holds there, and not read). Written with vectors, not for
+// the compiler to find: every operation is the scalar law's, lane by lane.
+[[gnu::always_inline]] inline void plain_lanes(const ContactAxesBatch& A, ContactSubBatch& S, int count) {
+    static_assert(ContactSubBatch::kSize % 4 == 0, "whole vectors");
+    const V4 zero = splat(0.0), one = splat(1.0);
+    for (int l = 0; l < count; l += 4) {
+        const V4 kn = load4(&S.kn[l]), ks = load4(&S.ks[l]);
+        const V4 coh_intact = load4(&S.coh[l]), ten_intact = load4(&S.ten[l]);
+        const V4 tan_intact = load4(&S.tan_phi[l]), tan_res = load4(&S.tan_res[l]);
+        const M4 joined = load4(&S.joined[l]) != zero;
+        const V4 n = load4(&S.n_subs[l]);
+        V4 to_a[9], to_b[9], dt_ax[9], cab_ax[3], du0[3];
+        for (int i = 0; i < 9; ++i) {
+            to_a[i] = load4(&A.to[0][i][l]);
+            to_b[i] = load4(&A.to[1][i][l]);
+            dt_ax[i] = load4(&A.dt_ax[i][l]);
+        }
+        for (int i = 0; i < 3; ++i) {
+            cab_ax[i] = load4(&A.cab_ax[i][l]);
+            du0[i] = load4(&A.du0[i][l]);
+        }
+        V4 f0 = zero, f1 = zero, f2 = zero, m0 = zero, m1 = zero, m2 = zero, scale = zero;
+        M4 slow = {0, 0, 0, 0};
+        for (int j = 0; j < ContactSubBatch::kMaxSubs; ++j) {
+            const M4 active = splat(j) < n;
+            if (!(active[0] | active[1] | active[2] | active[3])) break; // (no lane has more)
+            // Its lever from a's centroid, on the axes (rigid_contact): both sides' made, one kept.
+            const M4 of_b = load4(&S.of_b[j][l]) != zero;
+            const V4 l0 = load4(&S.local[j][0][l]), l1 = load4(&S.local[j][1][l]), l2 = load4(&S.local[j][2][l]);
+            V4 r[3];
+            for (int i = 0; i < 3; ++i) {
+                const V4 ra = zero + (to_a[3 * i] * l0 + to_a[3 * i + 1] * l1 + to_a[3 * i + 2] * l2);
+                const V4 rb = cab_ax[i] + (to_b[3 * i] * l0 + to_b[3 * i + 1] * l1 + to_b[3 * i + 2] * l2);
+                r[i] = of_b ? rb : ra;
+            }
+            V4 du[3];
+            for (int i = 0; i < 3; ++i) du[i] = du0[i] + (dt_ax[3 * i] * r[0] + dt_ax[3 * i + 1] * r[1] + dt_ax[3 * i + 2] * r[2]);
+            // The joint law's plain case (joint_step_on_axes).
+            const V4 un = load4(&S.un[j][l]) - du[0];
+            const V4 ss1 = load4(&S.ss[j][0][l]) - ks * du[1], ss2 = load4(&S.ss[j][1][l]) - ks * du[2];
+            const M4 failed = load4(&S.failed[j][l]) != zero;
+            const V4 coh = failed ? zero : coh_intact;
+            const V4 ten = failed ? zero : ten_intact;
+            const V4 tan_phi = failed ? tan_res : tan_intact;
+            const V4 sn = joined ? kn * un : kn * (un + load4(&S.dil[j][l]));
+            const M4 open = (sn < -ten) | ((sn <= zero) & (ten <= zero));
+            const V4 limit = coh + sn * tan_phi;
+            const V4 tmax = zero < limit ? limit : zero; // std::max(0.0, limit)
+            const M4 slip = ss1 * ss1 + ss2 * ss2 > tmax * tmax;
+            slow |= active & ~joined & (open | slip);
+            store4(&S.un_new[j][l], un);
+            store4(&S.dus[j][0][l], du[1]);
+            store4(&S.dus[j][1][l], du[2]);
+            store4(&S.ss_new[j][0][l], ss1);
+            store4(&S.ss_new[j][1][l], ss2);
+            const V4 area = load4(&S.area[j][l]);
+            const V4 fn = area * sn, fs1 = area * ss1, fs2 = area * ss2;
+            // The sums, in the sub-contacts' order (rigid_contact).
+            f0 = active ? f0 + fn : f0;
+            f1 = active ? f1 + fs1 : f1;
+            f2 = active ? f2 + fs2 : f2;
+            m0 = active ? m0 + (r[1] * fs2 - r[2] * fs1) : m0;
+            m1 = active ? m1 + (r[2] * fn - r[0] * fs2) : m1;
+            m2 = active ? m2 + (r[0] * fs1 - r[1] * fn) : m2;
+            const V4 mag2 = fn * fn + fs1 * fs1 + fs2 * fs2;
+            V4 mag;
+            for (int i = 0; i < 4; ++i) mag[i] = std::sqrt(mag2[i]);
+            scale = active ? scale + mag : scale;
+        }
+        store4(&S.f[0][l], f0);
+        store4(&S.f[1][l], f1);
+        store4(&S.f[2][l], f2);
+        store4(&S.m[0][l], m0);
+        store4(&S.m[1][l], m1);
+        store4(&S.m[2][l], m2);
+        store4(&S.scale[l], scale);
+        store4(&S.slow[l], slow ? one : zero);
+    }
+}
+
 } // namespace
 
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
@@ -107,5 +202,11 @@ template <int kSize>
 __attribute__((target_clones("avx2", "default")))
 #endif
 void make_contact_axes(ContactAxesBatch& batch, int count) { axes_lanes<ContactAxesBatch::kSize>(batch, count); }
+
+
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void step_plain_subs(const ContactAxesBatch& axes, ContactSubBatch& subs, int count) { plain_lanes(axes, subs, count); }
 
 } // namespace odec

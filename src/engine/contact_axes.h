@@ -33,4 +33,34 @@ struct ContactAxesBatch {
 // Fills the outputs of the first `count` contacts of the batch from their inputs.
 void make_contact_axes(ContactAxesBatch& batch, int count);
 
+// The step of the joint law (joint_law.cpp, joint_step_on_axes) at the sub-contacts of a batch's
+// contacts in its plain case, the one of almost every sub-contact at almost every step: touching
+// before the step (not open, new or fresh), in dynamic mode without the energy account. Lane by
+// lane over the contacts, sub-contact by sub-contact within each (kMaxSubs at most), with the
+// scalar law's operations in its order, so that a contact gets the very bits the scalar law
+// would give it. A contact where any sub-contact opens or slips is marked `slow`: its results
+// are dropped and the scalar law steps it (nothing here writes the contact set).
+struct ContactSubBatch {
+    static constexpr int kSize = ContactAxesBatch::kSize;
+    static constexpr int kMaxSubs = 8;
+    // ---- in, per contact ----
+    double n_subs[kSize];                       // how many (1 .. kMaxSubs), 0: not in the batch
+    double kn[kSize], ks[kSize], coh[kSize], ten[kSize], tan_phi[kSize], tan_res[kSize];
+    double joined[kSize];                       // 1: glued, 0: not
+    // ---- in, per sub-contact (slot j of contact l at [j][l]) ----
+    double local[kMaxSubs][3][kSize];           // its point in its block's body frame
+    double of_b[kMaxSubs][kSize];               // 1: a point of block b, 0: of block a
+    double un[kMaxSubs][kSize], dil[kMaxSubs][kSize], ss[kMaxSubs][2][kSize], area[kMaxSubs][kSize];
+    double failed[kMaxSubs][kSize];             // 1: kSubFailed
+    // ---- out, per sub-contact ----
+    double un_new[kMaxSubs][kSize], dus[kMaxSubs][2][kSize], ss_new[kMaxSubs][2][kSize];
+    // ---- out, per contact ----
+    double f[3][kSize], m[3][kSize];            // the force on b and its moment about a's centroid, on the axes
+    double scale[kSize];                        // the sum of the sub-contacts' force magnitudes
+    double slow[kSize];                         // 1: some sub-contact opens or slips
+};
+
+// Steps the plain sub-contacts of the first `count` contacts of `subs`, on the axes of `axes`.
+void step_plain_subs(const ContactAxesBatch& axes, ContactSubBatch& subs, int count);
+
 } // namespace odec

@@ -254,6 +254,13 @@ std::atomic<bool> g_rest_open{true};
 void set_rest_open_contacts(bool on) { g_rest_open = on; }
 bool rest_open_contacts() { return g_rest_open; }
 
+namespace {
+std::atomic<bool> g_batched_subs{true};
+} // namespace
+
+void set_batched_sub_contacts(bool on) { g_batched_subs = on; }
+bool batched_sub_contacts() { return g_batched_subs; }
+
 void update_contacts(Model& m, double dt) {
     ContactSet& cs = m.contacts;
     BlockSet& s = m.blocks;
@@ -471,6 +478,28 @@ void update_contacts(Model& m, double dt) {
             B.cos1[side][l] = cos1_of[x];
         }
     };
+    // The sums over a contact's sub-contacts on its axes (ax, the rows), back on the world axes
+    // and into its blocks: f the force on b and mo its moment about a's centroid; b's moment about
+    // its own is that less cab x fb. scale: the sum of the sub-contacts' force magnitudes.
+    auto put_on_blocks = [&s](int a, int b, const Mat3& ax, const Vec3& cab, const Vec3& f, const Vec3& mo, double scale) {
+        const Vec3 fb = ax.transpose() * f, ma = ax.transpose() * mo;
+        s.force[a] -= fb;
+        s.moment[a] -= ma;
+        s.force[b] += fb;
+        s.moment[b] += ma - cab.cross(fb);
+        s.force_scale[a] += scale;
+        s.force_scale[b] += scale;
+    };
+    // A contact's axes from lane l of its batch.
+    auto axes_of = [](const ContactAxesBatch& B, int l) {
+        Mat3 ax;
+        for (int i = 0; i < 3; ++i) {
+            ax(0, i) = B.n[i][l];
+            ax(1, i) = B.e1[i][l];
+            ax(2, i) = B.e2[i][l];
+        }
+        return ax;
+    };
     // Contact c's step, from lane l of its batch.
     auto rigid_contact = [&](int c, const ContactAxesBatch& B, int l) {
         const int a = cs.block_a[c], b = cs.block_b[c];
@@ -479,10 +508,7 @@ void update_contacts(Model& m, double dt) {
         const Vec3 nrm(B.n[0][l], B.n[1][l], B.n[2][l]);
         // Everything on the contact's axes (n, e1, e2), the rows of ax, a rotation: a point's lever
         // ra from a's centroid, the relative displacement there, the forces and their moments.
-        Mat3 ax;
-        ax.row(0) = nrm;
-        ax.row(1) = Vec3(B.e1[0][l], B.e1[1][l], B.e1[2][l]);
-        ax.row(2) = Vec3(B.e2[0][l], B.e2[1][l], B.e2[2][l]);
+        const Mat3 ax = axes_of(B, l);
         const Vec3 cab(B.cab[0][l], B.cab[1][l], B.cab[2][l]);
         const double k = std::max(p.kn, p.ks);
         // A point at ra from a's centroid, rb = ra - cab from b's, moved by
@@ -581,15 +607,7 @@ void update_contacts(Model& m, double dt) {
             mag2[n_mag++] = f2n;
         }
         for (int i = 0; i < n_mag; ++i) scale += std::sqrt(mag2[i]);
-        // Back on the world axes: the force on b and its moment about a's centroid; b's moment
-        // about its own is that less cab x fb.
-        const Vec3 fb = ax.transpose() * Vec3(f0, f1, f2), ma = ax.transpose() * Vec3(m0, m1, m2);
-        s.force[a] -= fb;
-        s.moment[a] -= ma;
-        s.force[b] += fb;
-        s.moment[b] += ma - cab.cross(fb);
-        s.force_scale[a] += scale;
-        s.force_scale[b] += scale;
+        put_on_blocks(a, b, ax, cab, Vec3(f0, f1, f2), Vec3(m0, m1, m2), scale);
         if (stiffness) {
             cs.joint_kt[a] += kt;
             cs.joint_kr[a] += kra;
@@ -602,15 +620,74 @@ void update_contacts(Model& m, double dt) {
     const int* offset = cs.color_offset.data();
     // The contacts order[i0, i1) that step, a batch at a time, each in its place in that order.
     constexpr int kBatch = ContactAxesBatch::kSize;
-    auto run = [&](int i0, int i1, int& n_left) {
+    // The joint law's plain case runs on the batch (step_plain_subs) in dynamic mode without the
+    // energy account; a contact with a sub-contact that is not plain before its step (open, new
+    // or fresh), or with more than kMaxSubs, steps by the scalar law, as does one where some
+    // sub-contact opens or slips in the batch.
+    const bool plain = !stiffness && !dissipation && batched_sub_contacts();
+    auto put_plain = [&](ContactSubBatch& S, int l, int c) {
+        const int q0 = cs.sub_offset[c], ns = cs.sub_offset[c + 1] - q0;
+        S.n_subs[l] = 0;
+        if (ns > ContactSubBatch::kMaxSubs) return;
+        for (int j = 0; j < ns; ++j) {
+            const int q = q0 + j;
+            const std::uint8_t f = cs.sub_flags(q);
+            if (f & (kSubOpen | kSubNew | kSubFresh)) return;
+            const Vec3 local = cs.sub_point_local(q);
+            for (int i = 0; i < 3; ++i) S.local[j][i][l] = local[i];
+            S.of_b[j][l] = cs.sub_side(q) == 1 ? 1.0 : 0.0;
+            S.un[j][l] = cs.sub_un[q];
+            S.dil[j][l] = cs.sub_dilation(q);
+            S.ss[j][0][l] = cs.sub_ss[q][0];
+            S.ss[j][1][l] = cs.sub_ss[q][1];
+            S.area[j][l] = cs.sub_area[q];
+            S.failed[j][l] = (f & kSubFailed) ? 1.0 : 0.0;
+        }
+        // (The slots past its last hold whatever they held: left out of its sums.)
+        const LawParams& p = law_of(c);
+        S.kn[l] = p.kn;
+        S.ks[l] = p.ks;
+        S.coh[l] = p.coh;
+        S.ten[l] = p.ten;
+        S.tan_phi[l] = p.tan_phi;
+        S.tan_res[l] = p.tan_res;
+        S.joined[l] = cs.joined(c) ? 1.0 : 0.0;
+        S.n_subs[l] = ns;
+    };
+    int batched = 0; // (ContactSet::batched)
+    auto run = [&](int i0, int i1, int& n_left, int& n_batched) {
         // (Each thread its own batch.)
         thread_local ContactAxesBatch batch;
+        thread_local ContactSubBatch sub_batch;
         ContactAxesBatch& B = batch;
+        ContactSubBatch& S = sub_batch;
         int listed[kBatch];
         int n = 0;
         auto flush = [&] {
             make_contact_axes(B, n);
-            for (int l = 0; l < n; ++l) rigid_contact(listed[l], B, l);
+            if (plain) {
+                for (int l = 0; l < n; ++l) put_plain(S, l, listed[l]);
+                step_plain_subs(B, S, n);
+            }
+            for (int l = 0; l < n; ++l) {
+                const int c = listed[l];
+                if (!plain || S.n_subs[l] == 0 || S.slow[l] != 0) {
+                    rigid_contact(c, B, l);
+                    continue;
+                }
+                // Stepped in the batch: its sub-contacts take their new state.
+                ++n_batched;
+                for (int j = 0, q = cs.sub_offset[c]; q < cs.sub_offset[c + 1]; ++j, ++q) {
+                    cs.sub_un[q] = S.un_new[j][l];
+                    Eigen::Vector2d& us = cs.sub_us[q];
+                    us[0] += S.dus[j][0][l];
+                    us[1] += S.dus[j][1][l];
+                    cs.sub_ss[q] = Eigen::Vector2d(S.ss_new[j][0][l], S.ss_new[j][1][l]);
+                    cs.set_sub_flags(q, static_cast<std::uint8_t>(cs.sub_flags(q) & ~(kSubSlip | kSubOpen)));
+                }
+                put_on_blocks(cs.block_a[c], cs.block_b[c], axes_of(B, l), Vec3(B.cab[0][l], B.cab[1][l], B.cab[2][l]),
+                              Vec3(S.f[0][l], S.f[1][l], S.f[2][l]), Vec3(S.m[0][l], S.m[1][l], S.m[2][l]), S.scale[l]);
+            }
             n = 0;
         };
         for (int i = i0; i < i1; ++i) {
@@ -624,23 +701,24 @@ void update_contacts(Model& m, double dt) {
     };
     const int n_colored = n_colors >= 0 ? offset[n_colors] : 0;
     if (threads > 1 && cs.size() >= kParallelMinItems) {
-#pragma omp parallel num_threads(threads) reduction(+ : left)
+#pragma omp parallel num_threads(threads) reduction(+ : left, batched)
         for (int col = 0; col < n_colors; ++col) {
             const int n_pieces = (offset[col + 1] - offset[col] + kBatch - 1) / kBatch;
 #pragma omp for schedule(static)
             for (int piece = 0; piece < n_pieces; ++piece) {
                 const int i0 = offset[col] + piece * kBatch;
-                run(i0, std::min(offset[col + 1], i0 + kBatch), left);
+                run(i0, std::min(offset[col + 1], i0 + kBatch), left, batched);
             }
         }
     } else {
         // The same order, without entering an OpenMP region (parallel.h).
-        run(0, n_colored, left);
+        run(0, n_colored, left, batched);
     }
     // Then, in contact order: the contacts no colour could take (a block with more contacts
     // than there are colours), and those of deformable blocks.
-    run(n_colored, static_cast<int>(cs.color_order.size()), left);
+    run(n_colored, static_cast<int>(cs.color_order.size()), left, batched);
     cs.left_open = left;
+    cs.batched = batched;
     cs.open_by_reference = want;
     // Without gridpoints there are no deformable blocks.
     for (int c = 0; c < (g.size() > 0 ? cs.size() : 0); ++c) {

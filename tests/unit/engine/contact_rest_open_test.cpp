@@ -80,6 +80,12 @@ long run(Stack& st, long steps, double* pressed) {
     return left;
 }
 
+struct Batched {
+    explicit Batched(bool on) : was(odec::batched_sub_contacts()) { odec::set_batched_sub_contacts(on); }
+    ~Batched() { odec::set_batched_sub_contacts(was); }
+    bool was;
+};
+
 struct RestOpen {
     explicit RestOpen(bool on) : was(odec::rest_open_contacts()) { odec::set_rest_open_contacts(on); }
     ~RestOpen() { odec::set_rest_open_contacts(was); }
@@ -184,4 +190,58 @@ TEST(ContactRestOpen, AnOpenClosureFollowsTheGapAcross) {
         }
     }
     EXPECT_GT(checked, 40);
+}
+
+// The plain sub-contacts stepped many contacts at a time (contact_axes.h, step_plain_subs) give
+// the bits of the scalar joint law, through landing, a cube thrown across a gap (sub-contacts
+// that open, close, are made new and slip) and joints given cohesion that then fail.
+TEST(ContactBatched, SteppingPlainSubContactsInBatchesGivesTheSameBits) {
+    Stack on, off;
+    build(on, 3, 2, 3);
+    build(off, 3, 2, 3);
+    double pressed_on = 0, pressed_off = 0;
+    long batched = 0;
+    {
+        Batched b(true);
+        run(on, 4000, &pressed_on);
+        batched = on.m.contacts.batched;
+    }
+    {
+        Batched b(false);
+        run(off, 4000, &pressed_off);
+        EXPECT_EQ(off.m.contacts.batched, 0);
+    }
+    // Most of the pressing contacts of the columns (3 x 2 x 3 cubes on the base, landed) stepped
+    // in the batch at the last step.
+    EXPECT_GE(batched, 15);
+    EXPECT_GT(pressed_on, 1e3);
+    EXPECT_EQ(pressed_on, pressed_off);
+    const Model& x = on.m;
+    const Model& y = off.m;
+    auto same = [&] {
+        EXPECT_TRUE(same_bits(x.blocks.centroid, y.blocks.centroid));
+        EXPECT_TRUE(same_bits(x.blocks.orientation, y.blocks.orientation));
+        EXPECT_TRUE(same_bits(x.blocks.vel, y.blocks.vel));
+        EXPECT_TRUE(same_bits(x.blocks.ang_vel, y.blocks.ang_vel));
+        EXPECT_TRUE(same_bits(x.blocks.force_scale, y.blocks.force_scale));
+        EXPECT_TRUE(same_bits(x.contacts.sub_un, y.contacts.sub_un));
+        EXPECT_TRUE(same_bits(x.contacts.sub_us, y.contacts.sub_us));
+        EXPECT_TRUE(same_bits(x.contacts.sub_ss, y.contacts.sub_ss));
+        EXPECT_TRUE(same_bits(x.contacts.sub_point, y.contacts.sub_point)); // (and the flags)
+    };
+    same();
+    // Cohesion and tension that the slipping and opening sub-contacts break, and a steeper slope
+    // of friction: some fail, in the batch's contacts too.
+    for (Stack* st : {&on, &off}) {
+        st->m.joint_materials[1].cohesion = 2e3;
+        st->m.joint_materials[1].tension = 1e3;
+        st->m.blocks.vel[st->thrown] = Vec3(-0.5, 0.3, 0);
+        st->m.blocks.half_kick[st->thrown] = 1;
+        Batched b(st == &on);
+        odec::test::run_steps(st->m, 1500);
+    }
+    same();
+    int failed = 0;
+    for (int k = 0; k < x.contacts.n_subs(); ++k) failed += (x.contacts.sub_flags(k) & odec::kSubFailed) != 0;
+    EXPECT_GT(failed, 4);
 }

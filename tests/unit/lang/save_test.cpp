@@ -831,14 +831,15 @@ TEST(SaveLayout, EveryFieldIsSaved) {
     // and glue, which the file has apart; the file also has
     // each sub-contact's contact, side and vertex, derived from the offsets and keys; format 18
     // dropped the normal stresses, derived from the closures; format 19 added free_motion and open_by_reference) and
-    // 19 derived ones (block_motion, motion_fresh: measured by each step's detection for that
-    // step's contact update alone; left_open: counts what it left; least_free_motion,
+    // 20 derived ones (block_motion, motion_fresh: measured by each step's detection for that
+    // step's contact update alone; left_open, batched: count what it left and what it stepped in
+    // batches; least_free_motion,
     // any_touch_line, summary_revision: made again after each refresh; surface_*: rebuilt from the zones;
     // joint_k*: rebuilt every step; color_*, colored: rebuilt when the pairs in contact change;
     // revision, build_seconds, write_seconds: count the refreshes and their time in this
     // session; change_seen: a restored model's contacts are found again before they are used
     // while its geometry_changed is set).
-    EXPECT_EQ(count_fields<ContactSet>(), 46u) << fix;
+    EXPECT_EQ(count_fields<ContactSet>(), 47u) << fix;
     EXPECT_EQ(count_fields<Polyhedron>(), 4u) << fix;
     EXPECT_EQ(count_fields<Material>(), 8u) << fix;
     EXPECT_EQ(count_fields<JointMaterial>(), 12u) << fix;
