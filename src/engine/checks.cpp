@@ -1,6 +1,7 @@
 // The checks stage: run-aways told by speed, by sinking and by energy; the unbalanced force.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "engine/clump.h"
 #include "engine/contact.h"
@@ -25,7 +26,9 @@ double kinetic_energy(const BlockSet& s, int b) {
     } else {
         // In the body frame: w . (R I R^T w) = (R^T w) . I (R^T w).
         const Vec3 wb = s.orientation[b].conjugate() * w;
-        spin = (mass / s.mass[b]) * wb.dot(s.inertia_body[b] * wb);
+        // (Real masses: a ratio of 1 exactly, as mass / mass is for every finite mass but 0.)
+        const bool real = mass == s.mass[b] && mass > 0 && mass < std::numeric_limits<double>::infinity();
+        spin = (real ? 1.0 : mass / s.mass[b]) * wb.dot(s.inertia_body[b] * wb);
     }
     return 0.5 * mass * v.squaredNorm() + 0.5 * spin;
 }

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <vector>
 
 #include "engine/clump.h"
@@ -182,7 +183,10 @@ int integrate(Model& m, double dt, AutoDampingSums* sums) {
                 // orientation, which nothing has changed since: the contacts stepped with it.)
                 const Mat3 r = rotation_of ? rotation_of[b] : Mat3(s.orientation[b].toRotationMatrix());
                 const Mat3& ib = s.inertia_body[b];
-                const double ratio = mass / s.mass[b];
+                // (Real masses, as in dynamic mode: a ratio of 1 exactly, which nothing need divide
+                // by; x / x is 1 for every finite x other than 0.)
+                const bool real = mass == s.mass[b] && mass > 0 && mass < std::numeric_limits<double>::infinity();
+                const double ratio = real ? 1.0 : mass / s.mass[b];
                 // The world tensor's diagonal, R I R^T at (i, i): what the damping and the
                 // adaptive damping's sums take as the inertia about each world axis.
                 if (d.mode != DampingMode::Local || auto_damp) {
@@ -194,7 +198,8 @@ int integrate(Model& m, double dt, AutoDampingSums* sums) {
                 const Vec3 mb = r.transpose() * mom;
                 if (ib(0, 1) == 0 && ib(0, 2) == 0 && ib(1, 2) == 0) {
                     // Its own axes are the body frame's (a brick): the inverse is the diagonal's.
-                    alpha = r * Vec3(mb.x() / ib(0, 0), mb.y() / ib(1, 1), mb.z() / ib(2, 2)) / ratio;
+                    const Vec3 turned = r * Vec3(mb.x() / ib(0, 0), mb.y() / ib(1, 1), mb.z() / ib(2, 2));
+                    alpha = real ? turned : Vec3(turned / ratio);
                 } else {
                     // The symmetric 3 x 3 system solved by its adjugate, for the tensor scaled to
                     // a trace of 1 (its determinant, the cube of its size, would underflow for a
