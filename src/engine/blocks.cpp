@@ -1,4 +1,5 @@
 #include "engine/blocks.h"
+#include "engine/simd.h"
 
 #include <algorithm>
 #include <cmath>
@@ -279,6 +280,44 @@ void update_masses(Model& m) {
     m.geometry_changed = true;
 }
 
+namespace {
+
+// out[i] = c + r body[i] for i < n, with Eigen's bits for that expression (c_k plus the row's
+// products summed as a0 + (a1 + a2)), four vertices at a time: their twelve coordinates in three
+// vectors, each output lane given its vertex's coordinates and its row of r by shuffles.
+ODEC_SIMD_CLONES
+void place_vertices(const Mat3& r, const Vec3& c, const Vec3* body, int n, Vec3* out) {
+    using simd::I4;
+    using simd::V4;
+    static_assert(sizeof(Vec3) == 3 * sizeof(double), "vertices packed as x y z");
+    const double* in = body->data();
+    double* to = out->data();
+    int i = 0;
+    if (n >= 4) {
+        // Lane p of output vector q is coordinate (4q + p) % 3 of vertex (4q + p) / 3.
+        auto row = [&](int k0, int k1, int k2, int k3, int col) { return V4{r(k0, col), r(k1, col), r(k2, col), r(k3, col)}; };
+        const V4 ra0 = row(0, 1, 2, 0, 0), rb0 = row(0, 1, 2, 0, 1), rc0 = row(0, 1, 2, 0, 2), c0 = V4{c[0], c[1], c[2], c[0]};
+        const V4 ra1 = row(1, 2, 0, 1, 0), rb1 = row(1, 2, 0, 1, 1), rc1 = row(1, 2, 0, 1, 2), c1 = V4{c[1], c[2], c[0], c[1]};
+        const V4 ra2 = row(2, 0, 1, 2, 0), rb2 = row(2, 0, 1, 2, 1), rc2 = row(2, 0, 1, 2, 2), c2 = V4{c[2], c[0], c[1], c[2]};
+        for (; i + 4 <= n; i += 4) {
+            const V4 p0 = simd::load4(in + 3 * i), p1 = simd::load4(in + 3 * i + 4), p2 = simd::load4(in + 3 * i + 8);
+            // p0 = x0 y0 z0 x1, p1 = y1 z1 x2 y2, p2 = z2 x3 y3 z3.
+            const V4 x0 = __builtin_shuffle(p0, I4{0, 0, 0, 3}), y0 = __builtin_shuffle(p0, p1, I4{1, 1, 1, 4}),
+                     z0 = __builtin_shuffle(p0, p1, I4{2, 2, 2, 5});
+            const V4 x1 = __builtin_shuffle(p0, p1, I4{3, 3, 6, 6}), y1 = __builtin_shuffle(p1, I4{0, 0, 3, 3}),
+                     z1 = __builtin_shuffle(p1, p2, I4{1, 1, 4, 4});
+            const V4 x2 = __builtin_shuffle(p1, p2, I4{2, 5, 5, 5}), y2 = __builtin_shuffle(p1, p2, I4{3, 6, 6, 6}),
+                     z2 = __builtin_shuffle(p2, I4{0, 3, 3, 3});
+            simd::store4(to + 3 * i, c0 + (ra0 * x0 + (rb0 * y0 + rc0 * z0)));
+            simd::store4(to + 3 * i + 4, c1 + (ra1 * x1 + (rb1 * y1 + rc1 * z1)));
+            simd::store4(to + 3 * i + 8, c2 + (ra2 * x2 + (rb2 * y2 + rc2 * z2)));
+        }
+    }
+    for (; i < n; ++i) out[i] = c + r * body[i];
+}
+
+} // namespace
+
 void refresh_world_vertices(Model& m) {
     BlockSet& s = m.blocks;
     const int n = s.size();
@@ -295,9 +334,9 @@ void refresh_world_vertices(Model& m) {
     parallel_for(n, threads, n >= kParallelMinBlocks, [&](int b) {
         const Mat3 r = s.orientation[b].toRotationMatrix();
         s.rotation[b] = r;
-        const Vec3& c = s.centroid[b];
-        Vec3* out = s.world_vertices.data() + s.vertex_offset[b];
-        for (const Vec3& v : s.shape[b].vertices) *out++ = c + r * v;
+        const std::vector<Vec3>& body = s.shape[b].vertices;
+        place_vertices(r, s.centroid[b], body.data(), static_cast<int>(body.size()),
+                       s.world_vertices.data() + s.vertex_offset[b]);
     });
     refresh_deformable_vertices(m);
 }

@@ -2,9 +2,9 @@
 #include "engine/contact_axes.h"
 
 #include <cmath>
-#include <cstring>
 
 #include "engine/normal_code.h"
+#include "engine/simd.h"
 
 namespace odec {
 
@@ -100,18 +100,11 @@ template <int kSize>
     }
 }
 
-// Four doubles in one vector (two instructions each without AVX), and the masks comparisons make.
-// (Passed only between inline functions of this file: no call of another's sees their ABI.)
-#pragma GCC diagnostic ignored "-Wpsabi"
-typedef double V4 __attribute__((vector_size(32)));
-typedef long long M4 __attribute__((vector_size(32)));
-inline V4 load4(const double* p) {
-    V4 v;
-    std::memcpy(&v, p, sizeof v);
-    return v;
-}
-inline void store4(double* p, V4 v) { std::memcpy(p, &v, sizeof v); }
-inline V4 splat(double x) { return V4{x, x, x, x}; }
+using simd::load4;
+using simd::M4;
+using simd::splat;
+using simd::store4;
+using simd::V4;
 
 // The plain sub-contacts of lanes [0, count) (step_plain_subs), four lanes at a time (lanes past
 // count are made of whatever the batch holds there, and not read). Written with vectors, not for
@@ -196,17 +189,12 @@ inline V4 splat(double x) { return V4{x, x, x, x}; }
 
 } // namespace
 
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
-// Four lanes per instruction where the machine has AVX2, two elsewhere: the same operations
-// either way (no fused multiply-add: AVX2 alone does not bring it, and -ffp-contract=off).
-__attribute__((target_clones("avx2", "default")))
-#endif
+// Four lanes per instruction where the machine has AVX2, two elsewhere (simd.h).
+ODEC_SIMD_CLONES
 void make_contact_axes(ContactAxesBatch& batch, int count) { axes_lanes<ContactAxesBatch::kSize>(batch, count); }
 
 
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
-__attribute__((target_clones("avx2", "default")))
-#endif
+ODEC_SIMD_CLONES
 void step_plain_subs(const ContactAxesBatch& axes, ContactSubBatch& subs, int count) { plain_lanes(axes, subs, count); }
 
 } // namespace odec

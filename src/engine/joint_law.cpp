@@ -356,6 +356,11 @@ void update_contacts(Model& m, double dt) {
         const Vec3 d = s.vel[b] * dt;
         return shift_of && s.clump[b] != 0 ? Vec3(d + shift_of[b]) : d;
     };
+    // Each block's, once per step for all its contacts (put_in_batch).
+    thread_local std::vector<Vec3> disp;
+    disp.resize(n);
+    for (int b = 0; b < n; ++b) disp[b] = block_disp(b);
+    const Vec3* disp_of = disp.data();
     const Vec3* axis_of = axis.data();
     const double* sin_of = turn_sin.data();
     const double* cos1_of = turn_cos1.data();
@@ -429,15 +434,27 @@ void update_contacts(Model& m, double dt) {
         const std::uint8_t f = cs.sub_flags(q);
         return held_open(f) && (!strength || (f & kSubFailed));
     };
+    // Whether each joint material has strength (tension or cohesion), for stays_open.
+    thread_local std::vector<char> strong;
+    strong.assign(std::max(1, n_jmat), 0);
+    for (int j = 0; j < n_jmat; ++j) strong[j] = law[2 * j].ten > 0 || law[2 * j].coh > 0;
+    const char* strong_of = strong.data();
+    const double* udil = cs.sub_udil.empty() ? nullptr : cs.sub_udil.data();
+    // All of contact c's sub-contacts open by reference, each by more than reach: the same test as
+    // open_by_reference with the contact's strength, asked of the joint only where some
+    // sub-contact has not failed.
     auto stays_open = [&](int c, int a, int b) {
         if (cs.joined(c)) return false;
-        const LawParams& lp = law_of(c);
-        const bool tension = lp.ten > 0 || lp.coh > 0;
         const double reach = reach_of(a, b);
+        bool intact = false;
         for (int q = cs.sub_offset[c], q1 = cs.sub_offset[c + 1]; q < q1; ++q) {
-            if (!open_by_reference(q, tension) || !(cs.sub_un[q] + cs.sub_dilation(q) + reach < 0)) return false;
+            const std::uint8_t f = cs.sub_flags(q);
+            if (!held_open(f) || !(cs.sub_un[q] + (udil ? udil[q] : 0.0) + reach < 0)) return false;
+            intact = intact || !(f & kSubFailed);
         }
-        return true;
+        if (!intact) return true;
+        const int jm = cs.jmat(c);
+        return !(jm > 0 && jm < n_jmat && strong_of[jm]);
     };
     int left = 0; // contacts left alone (ContactSet::left_open)
     // Whether contact c steps this step: not one without sub-contacts, of an excavated or a
@@ -466,7 +483,7 @@ void update_contacts(Model& m, double dt) {
         const int blocks[2] = {cs.block_a[c], cs.block_b[c]};
         for (int side = 0; side < 2; ++side) {
             const int x = blocks[side];
-            const Vec3 d = block_disp(x), &k = axis_of[x], &c0 = s.centroid[x];
+            const Vec3 &d = disp_of[x], &k = axis_of[x], &c0 = s.centroid[x];
             const double* r = rot_of[x].data();
             for (int i = 0; i < 3; ++i) {
                 B.k[side][i][l] = k[i];
