@@ -1,6 +1,7 @@
 // The integration stage: central differences for rigid blocks and gridpoints, under one
 // damping law (see cycle.h for the law, mass_scaling.h for the masses).
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -12,6 +13,7 @@
 #include "engine/energy.h"
 #include "engine/mass_scaling.h"
 #include "engine/parallel.h"
+#include "engine/simd.h"
 #include "engine/stages.h"
 #include "engine/table.h"
 
@@ -51,6 +53,134 @@ void adjust_auto_damping(Damping& d, const AutoDampingSums& s, double dt) {
     d.auto_inertia = kept ? s.inertia : 0.0;
     d.auto_dt = dt;
 }
+
+
+namespace {
+
+std::atomic<bool> g_batched_blocks{true};
+
+using simd::I4;
+using simd::M4;
+using simd::V4;
+
+// |x| lane by lane (std::abs: the sign bit cleared).
+[[gnu::always_inline]] inline V4 abs4(V4 x) {
+    const long long m = 0x7fffffffffffffffLL;
+    return (V4)((M4)x & M4{m, m, m, m}); // (vector casts: the same bits)
+}
+// sign(x) (stages.h) lane by lane: 1, -1, or 0 (for 0 and NaN).
+[[gnu::always_inline]] inline V4 sign4(V4 x) {
+    const V4 zero = simd::splat(0.0), one = simd::splat(1.0);
+    return (x > zero ? one : zero) - (x < zero ? one : zero);
+}
+// damped_force (stages.h) under local damping, or none (local = 0 stands for DampingMode::Off).
+[[gnu::always_inline]] inline V4 damped4(bool off, double local, V4 f, V4 v) {
+    return off ? f : f - simd::splat(local) * abs4(f) * sign4(v);
+}
+// Three-term sums as Eigen adds them.
+[[gnu::always_inline]] inline V4 sum3(V4 a0, V4 a1, V4 a2) { return a0 + (a1 + a2); }
+
+// Steps the plain blocks list[0, count) (integrate_plain_blocks), four at a time: each lane does
+// what the scalar loop of integrate() does for such a block, operation for operation. Returns
+// the least of them whose motion is no longer finite, or -1.
+ODEC_SIMD_CLONES
+int integrate_plain_blocks(BlockSet& s, const Mat3* rotation_of, const int* list, int count, bool off, double local,
+                           double dt) {
+    const V4 zero = simd::splat(0.0), one = simd::splat(1.0), half = simd::splat(0.5), vdt = simd::splat(dt);
+    const V4 inf = simd::splat(std::numeric_limits<double>::infinity());
+    int bad = -1;
+    for (int g = 0; g < count; g += 4) {
+        int b[4];
+        for (int l = 0; l < 4; ++l) b[l] = list[std::min(g + l, count - 1)]; // (the last repeated: written twice, the same)
+        auto gather = [&](auto&& get) { return V4{get(b[0]), get(b[1]), get(b[2]), get(b[3])}; };
+        const V4 mass = gather([&](int x) { return s.inertial_mass[x]; });
+        const V4 real_mass = gather([&](int x) { return s.mass[x]; });
+        const V4 kick = gather([&](int x) { return s.half_kick[x] ? 0.5 * dt : dt; });
+        // Translation.
+        V4 v[3], a[3];
+        for (int i = 0; i < 3; ++i) {
+            const V4 f = gather([&](int x) { return s.force[x][i]; });
+            const V4 v0 = gather([&](int x) { return s.vel[x][i]; });
+            a[i] = damped4(off, local, f, v0) / mass;
+            v[i] = v0 + a[i] * kick;
+        }
+        // Rotation: alpha = R I^-1 R^T M (the real inertia tensor, scaled by the mass ratio).
+        V4 r[3][3], mom[3], w0[3];
+        for (int i = 0; i < 3; ++i) {
+            for (int j = 0; j < 3; ++j) r[i][j] = gather([&](int x) { return rotation_of[x](i, j); });
+            const V4 mo = gather([&](int x) { return s.moment[x][i]; });
+            w0[i] = gather([&](int x) { return s.ang_vel[x][i]; });
+            mom[i] = damped4(off, local, mo, w0[i]);
+        }
+        V4 ib[3][3];
+        for (int i = 0; i < 3; ++i) {
+            for (int j = 0; j < 3; ++j) ib[i][j] = gather([&](int x) { return s.inertia_body[x](i, j); });
+        }
+        const M4 real = (mass == real_mass) & (mass > zero) & (mass < inf);
+        const V4 ratio = real ? one : mass / real_mass;
+        V4 mb[3];
+        for (int j = 0; j < 3; ++j) mb[j] = sum3(r[0][j] * mom[0], r[1][j] * mom[1], r[2][j] * mom[2]);
+        // A brick in its own axes: the diagonal's inverse.
+        const M4 brick = (ib[0][1] == zero) & (ib[0][2] == zero) & (ib[1][2] == zero);
+        const V4 q0 = mb[0] / ib[0][0], q1 = mb[1] / ib[1][1], q2 = mb[2] / ib[2][2];
+        // Else the adjugate of the tensor scaled to a trace of 1.
+        const V4 t = ib[0][0] + (ib[1][1] + ib[2][2]), u = one / t;
+        const V4 i00 = ib[0][0] * u, i11 = ib[1][1] * u, i22 = ib[2][2] * u;
+        const V4 i01 = ib[0][1] * u, i02 = ib[0][2] * u, i12 = ib[1][2] * u;
+        const V4 c00 = i11 * i22 - i12 * i12, c01 = i02 * i12 - i01 * i22, c02 = i01 * i12 - i02 * i11;
+        const V4 c11 = i00 * i22 - i02 * i02, c12 = i01 * i02 - i00 * i12, c22 = i00 * i11 - i01 * i01;
+        const V4 det = i00 * c00 + i01 * c01 + i02 * c02;
+        const V4 inv_det = one / det, inv_size = one / (ratio * t);
+        const V4 x0 = ((c00 * mb[0] + c01 * mb[1] + c02 * mb[2]) * inv_det) * inv_size;
+        const V4 x1 = ((c01 * mb[0] + c11 * mb[1] + c12 * mb[2]) * inv_det) * inv_size;
+        const V4 x2 = ((c02 * mb[0] + c12 * mb[1] + c22 * mb[2]) * inv_det) * inv_size;
+        V4 alpha[3], w[3], dth[3];
+        for (int i = 0; i < 3; ++i) {
+            const V4 turned = sum3(r[i][0] * q0, r[i][1] * q1, r[i][2] * q2);
+            const V4 general = sum3(r[i][0] * x0, r[i][1] * x1, r[i][2] * x2);
+            alpha[i] = brick ? (real ? turned : turned / ratio) : general;
+            w[i] = w0[i] + alpha[i] * kick;
+            dth[i] = w[i] * vdt;
+        }
+        const V4 t2 = sum3(dth[0] * dth[0], dth[1] * dth[1], dth[2] * dth[2]);
+        V4 sin_h = zero, cos_h = one;
+        for (int l = 0; l < 4; ++l) {
+            if (t2[l] > 0) half_turn(t2[l], sin_h[l], cos_h[l]);
+        }
+        // The turn's quaternion times the orientation (Eigen's product, w first).
+        const V4 hx = dth[0] * sin_h, hy = dth[1] * sin_h, hz = dth[2] * sin_h, hw = cos_h;
+        const V4 ox = gather([&](int x) { return s.orientation[x].x(); }), oy = gather([&](int x) { return s.orientation[x].y(); });
+        const V4 oz = gather([&](int x) { return s.orientation[x].z(); }), ow = gather([&](int x) { return s.orientation[x].w(); });
+        const V4 nw = hw * ow - hx * ox - hy * oy - hz * oz;
+        const V4 nx = hw * ox + hx * ow + hy * oz - hz * oy;
+        const V4 ny = hw * oy + hy * ow + hz * ox - hx * oz;
+        const V4 nz = hw * oz + hz * ow + hx * oy - hy * ox;
+        const V4 n2 = (nx * nx + ny * ny) + (nz * nz + nw * nw);
+        V4 root;
+        for (int l = 0; l < 4; ++l) root[l] = std::sqrt(n2[l]);
+        const V4 scale = abs4(n2 - one) < simd::splat(1e-8) ? simd::splat(1.5) - half * n2 : one / root;
+        for (int l = 0; l < 4 && g + l < count; ++l) {
+            const int x = b[l];
+            const Vec3 vl(v[0][l], v[1][l], v[2][l]), wl(w[0][l], w[1][l], w[2][l]);
+            s.vel[x] = vl;
+            s.accel[x] = Vec3(a[0][l], a[1][l], a[2][l]);
+            const Vec3 dx = vl * dt;
+            s.centroid[x] += dx;
+            s.disp[x] += dx;
+            s.ang_vel[x] = wl;
+            s.ang_accel[x] = Vec3(alpha[0][l], alpha[1][l], alpha[2][l]);
+            if (t2[l] > 0) s.orientation[x] = Quat(nw[l] * scale[l], nx[l] * scale[l], ny[l] * scale[l], nz[l] * scale[l]);
+            s.half_kick[x] = 0;
+            if (!(vl.allFinite() && wl.allFinite() && s.centroid[x].allFinite()) && (bad < 0 || x < bad)) bad = x;
+        }
+    }
+    return bad;
+}
+
+} // namespace
+
+void set_batched_blocks(bool on) { g_batched_blocks = on; }
+bool batched_blocks() { return g_batched_blocks; }
 
 int integrate(Model& m, double dt, AutoDampingSums* sums) {
     BlockSet& s = m.blocks;
@@ -94,12 +224,24 @@ int integrate(Model& m, double dt, AutoDampingSums* sums) {
     }
 #endif
     const int threads = thread_count();
+    // The plain blocks (free, alone, with their real inertia tensor, no velocity held) step four
+    // at a time (integrate_plain_blocks) under local damping or none, without the energy account
+    // or the adaptive damping's sums; the others one by one below.
+    const bool batch = batched_blocks() && !account && !auto_damp && rotation_of &&
+                       (d.mode == DampingMode::Local || d.mode == DampingMode::Off);
+    const bool off = d.mode == DampingMode::Off;
     parallel_for(n_chunks, threads, nb >= kParallelMinBlocks, [&](int chunk) {
         AutoDampingSums& sums = cp[chunk];
         int& bad = cb[chunk];
+        int plain[kChunk];
+        int n_plain = 0;
         for (int b = chunk * kChunk; b < std::min(nb, (chunk + 1) * kChunk); ++b) {
             // The pieces of a clump move together, after the blocks alone (clump.h).
             if (!is_rigid_active(s, b) || s.clump[b] != 0) continue;
+            if (batch && !(s.flags[b] & kFixed) && !s.vel_bc[b] && !(s.inertial_moment[b] > 0)) {
+                plain[n_plain++] = b;
+                continue;
+            }
             // The applied loads of this step, for the work they do (the loads stage's values).
             Vec3 load_f = Vec3::Zero(), load_m = Vec3::Zero();
             if (account && !s.loads[b].empty()) block_applied_load(m, b, m.time, load_f, load_m);
@@ -246,6 +388,11 @@ int integrate(Model& m, double dt, AutoDampingSums* sums) {
             if (bad < 0 && !(v.allFinite() && w.allFinite() && s.centroid[b].allFinite())) {
                 bad = b;
             }
+        }
+        if (n_plain > 0) {
+            // (The first in the chunk's order, as the loop above would have found it.)
+            const int bad_plain = integrate_plain_blocks(s, rotation_of, plain, n_plain, off, d.local, dt);
+            if (bad_plain >= 0 && (bad < 0 || bad_plain < bad)) bad = bad_plain;
         }
     });
     int bad = -1;

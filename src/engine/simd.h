@@ -10,8 +10,7 @@ namespace odec {
 namespace simd {
 
 // (Passed only between inline functions and lambdas of a file that includes this: no call
-// between files sees their ABI, so GCC's note on it is not wanted there.)
-#pragma GCC diagnostic ignored "-Wpsabi"
+// between files sees their ABI, so GCC's note on it is off: CMakeLists.txt, -Wno-psabi.)
 typedef double V4 __attribute__((vector_size(32)));
 typedef long long M4 __attribute__((vector_size(32))); // what comparisons give: all ones or zero
 typedef long long I4 __attribute__((vector_size(32))); // shuffle indices

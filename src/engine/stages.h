@@ -85,6 +85,10 @@ double block_applied_force_bound(const Model& m, int b);
 // forces damped by the model's damping law; adds to adaptive damping's sums when given.
 // Returns the index of a block whose motion became non-finite, or -1.
 int integrate(Model& m, double dt, AutoDampingSums* sums);
+// For tests and benchmarks: whether integration steps the plain rigid blocks four at a time
+// (on unless told; the same bits either way).
+void set_batched_blocks(bool on);
+bool batched_blocks();
 
 // Adaptive damping's coefficient for the next step, from the sums of every free degree of
 // freedom of this one (blocks, gridpoints, cable and liner nodes), kept for the next (integrate.cpp).
