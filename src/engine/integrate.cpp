@@ -92,48 +92,74 @@ int integrate_plain_blocks(BlockSet& s, const Mat3* rotation_of, const int* list
     for (int g = 0; g < count; g += 4) {
         int b[4];
         for (int l = 0; l < 4; ++l) b[l] = list[std::min(g + l, count - 1)]; // (the last repeated: written twice, the same)
+        // Four blocks in a row (as most are): their vectors' coordinates by whole-vector loads.
+        const bool row = g + 4 <= count && b[3] == b[0] + 3;
         auto gather = [&](auto&& get) { return V4{get(b[0]), get(b[1]), get(b[2]), get(b[3])}; };
+        auto vectors = [&](const std::vector<Vec3>& arr, V4 out[3]) {
+            if (row) {
+                simd::load_xyz4(arr[b[0]].data(), out[0], out[1], out[2]);
+            } else {
+                for (int i = 0; i < 3; ++i) out[i] = gather([&](int x) { return arr[x][i]; });
+            }
+        };
+        auto put_vectors = [&](std::vector<Vec3>& arr, const V4 in[3]) {
+            if (row) {
+                simd::store_xyz4(arr[b[0]].data(), in[0], in[1], in[2]);
+            } else {
+                for (int l = 0; l < 4 && g + l < count; ++l) arr[b[l]] = Vec3(in[0][l], in[1][l], in[2][l]);
+            }
+        };
         const V4 mass = gather([&](int x) { return s.inertial_mass[x]; });
         const V4 real_mass = gather([&](int x) { return s.mass[x]; });
         const V4 kick = gather([&](int x) { return s.half_kick[x] ? 0.5 * dt : dt; });
         // Translation.
-        V4 v[3], a[3];
+        V4 f[3], v0[3], v[3], a[3];
+        vectors(s.force, f);
+        vectors(s.vel, v0);
         for (int i = 0; i < 3; ++i) {
-            const V4 f = gather([&](int x) { return s.force[x][i]; });
-            const V4 v0 = gather([&](int x) { return s.vel[x][i]; });
-            a[i] = damped4(off, local, f, v0) / mass;
-            v[i] = v0 + a[i] * kick;
+            a[i] = damped4(off, local, f[i], v0[i]) / mass;
+            v[i] = v0[i] + a[i] * kick;
         }
         // Rotation: alpha = R I^-1 R^T M (the real inertia tensor, scaled by the mass ratio).
-        V4 r[3][3], mom[3], w0[3];
+        V4 r[3][3], mo[3], mom[3], w0[3];
+        vectors(s.moment, mo);
+        vectors(s.ang_vel, w0);
         for (int i = 0; i < 3; ++i) {
             for (int j = 0; j < 3; ++j) r[i][j] = gather([&](int x) { return rotation_of[x](i, j); });
-            const V4 mo = gather([&](int x) { return s.moment[x][i]; });
-            w0[i] = gather([&](int x) { return s.ang_vel[x][i]; });
-            mom[i] = damped4(off, local, mo, w0[i]);
+            mom[i] = damped4(off, local, mo[i], w0[i]);
         }
-        V4 ib[3][3];
-        for (int i = 0; i < 3; ++i) {
-            for (int j = 0; j < 3; ++j) ib[i][j] = gather([&](int x) { return s.inertia_body[x](i, j); });
-        }
+        auto inertia = [&](int i, int j) { return gather([&](int x) { return s.inertia_body[x](i, j); }); };
+        const V4 ib00 = inertia(0, 0), ib11 = inertia(1, 1), ib22 = inertia(2, 2);
+        const V4 ib01 = inertia(0, 1), ib02 = inertia(0, 2), ib12 = inertia(1, 2);
         const M4 real = (mass == real_mass) & (mass > zero) & (mass < inf);
-        const V4 ratio = real ? one : mass / real_mass;
+        // (What no lane keeps is not made: divisions are the dearest operations here.)
+        auto all = [](M4 m) { return (m[0] & m[1] & m[2] & m[3]) != 0; };
+        auto none = [](M4 m) { return (m[0] | m[1] | m[2] | m[3]) == 0; };
+        const V4 ratio = all(real) ? one : real ? one : mass / real_mass;
         V4 mb[3];
         for (int j = 0; j < 3; ++j) mb[j] = sum3(r[0][j] * mom[0], r[1][j] * mom[1], r[2][j] * mom[2]);
         // A brick in its own axes: the diagonal's inverse.
-        const M4 brick = (ib[0][1] == zero) & (ib[0][2] == zero) & (ib[1][2] == zero);
-        const V4 q0 = mb[0] / ib[0][0], q1 = mb[1] / ib[1][1], q2 = mb[2] / ib[2][2];
+        const M4 brick = (ib01 == zero) & (ib02 == zero) & (ib12 == zero);
+        V4 q0 = zero, q1 = zero, q2 = zero;
+        if (!none(brick)) {
+            q0 = mb[0] / ib00;
+            q1 = mb[1] / ib11;
+            q2 = mb[2] / ib22;
+        }
         // Else the adjugate of the tensor scaled to a trace of 1.
-        const V4 t = ib[0][0] + (ib[1][1] + ib[2][2]), u = one / t;
-        const V4 i00 = ib[0][0] * u, i11 = ib[1][1] * u, i22 = ib[2][2] * u;
-        const V4 i01 = ib[0][1] * u, i02 = ib[0][2] * u, i12 = ib[1][2] * u;
-        const V4 c00 = i11 * i22 - i12 * i12, c01 = i02 * i12 - i01 * i22, c02 = i01 * i12 - i02 * i11;
-        const V4 c11 = i00 * i22 - i02 * i02, c12 = i01 * i02 - i00 * i12, c22 = i00 * i11 - i01 * i01;
-        const V4 det = i00 * c00 + i01 * c01 + i02 * c02;
-        const V4 inv_det = one / det, inv_size = one / (ratio * t);
-        const V4 x0 = ((c00 * mb[0] + c01 * mb[1] + c02 * mb[2]) * inv_det) * inv_size;
-        const V4 x1 = ((c01 * mb[0] + c11 * mb[1] + c12 * mb[2]) * inv_det) * inv_size;
-        const V4 x2 = ((c02 * mb[0] + c12 * mb[1] + c22 * mb[2]) * inv_det) * inv_size;
+        V4 x0 = zero, x1 = zero, x2 = zero;
+        if (!all(brick)) {
+            const V4 t = ib00 + (ib11 + ib22), u = one / t;
+            const V4 i00 = ib00 * u, i11 = ib11 * u, i22 = ib22 * u;
+            const V4 i01 = ib01 * u, i02 = ib02 * u, i12 = ib12 * u;
+            const V4 c00 = i11 * i22 - i12 * i12, c01 = i02 * i12 - i01 * i22, c02 = i01 * i12 - i02 * i11;
+            const V4 c11 = i00 * i22 - i02 * i02, c12 = i01 * i02 - i00 * i12, c22 = i00 * i11 - i01 * i01;
+            const V4 det = i00 * c00 + i01 * c01 + i02 * c02;
+            const V4 inv_det = one / det, inv_size = one / (ratio * t);
+            x0 = ((c00 * mb[0] + c01 * mb[1] + c02 * mb[2]) * inv_det) * inv_size;
+            x1 = ((c01 * mb[0] + c11 * mb[1] + c12 * mb[2]) * inv_det) * inv_size;
+            x2 = ((c02 * mb[0] + c12 * mb[1] + c22 * mb[2]) * inv_det) * inv_size;
+        }
         V4 alpha[3], w[3], dth[3];
         for (int i = 0; i < 3; ++i) {
             const V4 turned = sum3(r[i][0] * q0, r[i][1] * q1, r[i][2] * q2);
@@ -147,31 +173,69 @@ int integrate_plain_blocks(BlockSet& s, const Mat3* rotation_of, const int* list
         for (int l = 0; l < 4; ++l) {
             if (t2[l] > 0) half_turn(t2[l], sin_h[l], cos_h[l]);
         }
-        // The turn's quaternion times the orientation (Eigen's product, w first).
+        // The turn's quaternion times the orientation (Eigen's product, w first; a quaternion's
+        // coefficients are kept x, y, z, w).
         const V4 hx = dth[0] * sin_h, hy = dth[1] * sin_h, hz = dth[2] * sin_h, hw = cos_h;
-        const V4 ox = gather([&](int x) { return s.orientation[x].x(); }), oy = gather([&](int x) { return s.orientation[x].y(); });
-        const V4 oz = gather([&](int x) { return s.orientation[x].z(); }), ow = gather([&](int x) { return s.orientation[x].w(); });
+        V4 ox, oy, oz, ow;
+        if (row) {
+            ox = simd::load4(s.orientation[b[0]].coeffs().data());
+            oy = simd::load4(s.orientation[b[1]].coeffs().data());
+            oz = simd::load4(s.orientation[b[2]].coeffs().data());
+            ow = simd::load4(s.orientation[b[3]].coeffs().data());
+            simd::transpose4(ox, oy, oz, ow);
+        } else {
+            ox = gather([&](int x) { return s.orientation[x].x(); });
+            oy = gather([&](int x) { return s.orientation[x].y(); });
+            oz = gather([&](int x) { return s.orientation[x].z(); });
+            ow = gather([&](int x) { return s.orientation[x].w(); });
+        }
         const V4 nw = hw * ow - hx * ox - hy * oy - hz * oz;
         const V4 nx = hw * ox + hx * ow + hy * oz - hz * oy;
         const V4 ny = hw * oy + hy * ow + hz * ox - hx * oz;
         const V4 nz = hw * oz + hz * ow + hx * oy - hy * ox;
         const V4 n2 = (nx * nx + ny * ny) + (nz * nz + nw * nw);
-        V4 root;
-        for (int l = 0; l < 4; ++l) root[l] = std::sqrt(n2[l]);
-        const V4 scale = abs4(n2 - one) < simd::splat(1e-8) ? simd::splat(1.5) - half * n2 : one / root;
+        const M4 near_unit = abs4(n2 - one) < simd::splat(1e-8);
+        V4 scale = simd::splat(1.5) - half * n2;
+        if (!all(near_unit)) {
+            V4 root;
+            for (int l = 0; l < 4; ++l) root[l] = std::sqrt(n2[l]);
+            scale = near_unit ? scale : one / root;
+        }
+        // Back: velocities, accelerations, positions (c + v dt), orientations where they turned.
+        put_vectors(s.vel, v);
+        put_vectors(s.accel, a);
+        put_vectors(s.ang_vel, w);
+        put_vectors(s.ang_accel, alpha);
+        V4 c[3], d[3];
+        vectors(s.centroid, c);
+        vectors(s.disp, d);
+        for (int i = 0; i < 3; ++i) {
+            const V4 dx = v[i] * vdt;
+            c[i] = c[i] + dx;
+            d[i] = d[i] + dx;
+        }
+        put_vectors(s.centroid, c);
+        put_vectors(s.disp, d);
+        V4 qx = nx * scale, qy = ny * scale, qz = nz * scale, qw = nw * scale;
+        const M4 turned = t2 > zero;
+        if (row && turned[0] && turned[1] && turned[2] && turned[3]) {
+            simd::transpose4(qx, qy, qz, qw);
+            simd::store4(s.orientation[b[0]].coeffs().data(), qx);
+            simd::store4(s.orientation[b[1]].coeffs().data(), qy);
+            simd::store4(s.orientation[b[2]].coeffs().data(), qz);
+            simd::store4(s.orientation[b[3]].coeffs().data(), qw);
+        } else {
+            for (int l = 0; l < 4 && g + l < count; ++l) {
+                if (turned[l]) s.orientation[b[l]] = Quat(qw[l], qx[l], qy[l], qz[l]);
+            }
+        }
+        // Not finite (NaN or infinite, which |x| < inf is not): the integration is unstable.
+        M4 finite = (abs4(c[0]) < inf) & (abs4(c[1]) < inf) & (abs4(c[2]) < inf);
+        for (int i = 0; i < 3; ++i) finite &= (abs4(v[i]) < inf) & (abs4(w[i]) < inf);
         for (int l = 0; l < 4 && g + l < count; ++l) {
             const int x = b[l];
-            const Vec3 vl(v[0][l], v[1][l], v[2][l]), wl(w[0][l], w[1][l], w[2][l]);
-            s.vel[x] = vl;
-            s.accel[x] = Vec3(a[0][l], a[1][l], a[2][l]);
-            const Vec3 dx = vl * dt;
-            s.centroid[x] += dx;
-            s.disp[x] += dx;
-            s.ang_vel[x] = wl;
-            s.ang_accel[x] = Vec3(alpha[0][l], alpha[1][l], alpha[2][l]);
-            if (t2[l] > 0) s.orientation[x] = Quat(nw[l] * scale[l], nx[l] * scale[l], ny[l] * scale[l], nz[l] * scale[l]);
             s.half_kick[x] = 0;
-            if (!(vl.allFinite() && wl.allFinite() && s.centroid[x].allFinite()) && (bad < 0 || x < bad)) bad = x;
+            if (!finite[l] && (bad < 0 || x < bad)) bad = x;
         }
     }
     return bad;
