@@ -1731,13 +1731,11 @@ void detect_contacts(Model& m) {
         // The two blocks that moved most, together.
         double most = 0, next_most = 0;
         for (int b = 0; b < n; ++b) {
+            // (Without branches, which random motions would mispredict: the same two, and a
+            // motion that is not a number is passed over as before.)
             const double v = motion[b];
-            if (v > most) {
-                next_most = most;
-                most = v;
-            } else if (v > next_most) {
-                next_most = v;
-            }
+            next_most = std::max(next_most, std::min(v, most));
+            most = std::max(most, v);
         }
         // An edge or corner that presses into a face touches over an area that grows with
         // the overlap: its contact is rebuilt once its blocks have moved a quarter of that
