@@ -176,12 +176,25 @@ using simd::V4;
             for (int i = 0; i < 4; ++i) mag[i] = std::sqrt(mag2[i]);
             scale = active ? scale + mag : scale;
         }
-        store4(&S.f[0][l], f0);
-        store4(&S.f[1][l], f1);
-        store4(&S.f[2][l], f2);
-        store4(&S.m[0][l], m0);
-        store4(&S.m[1][l], m1);
-        store4(&S.m[2][l], m2);
+        // Back on the world axes (ax^T f, as Eigen sums it), and b's moment about its centroid.
+        V4 ax[3][3];
+        for (int i = 0; i < 3; ++i) {
+            ax[0][i] = load4(&A.n[i][l]);
+            ax[1][i] = load4(&A.e1[i][l]);
+            ax[2][i] = load4(&A.e2[i][l]);
+        }
+        V4 fb[3], ma[3];
+        for (int i = 0; i < 3; ++i) {
+            fb[i] = ax[0][i] * f0 + (ax[1][i] * f1 + ax[2][i] * f2);
+            ma[i] = ax[0][i] * m0 + (ax[1][i] * m1 + ax[2][i] * m2);
+        }
+        const V4 c0 = load4(&A.cab[0][l]), c1 = load4(&A.cab[1][l]), c2 = load4(&A.cab[2][l]);
+        const V4 cross[3] = {c1 * fb[2] - c2 * fb[1], c2 * fb[0] - c0 * fb[2], c0 * fb[1] - c1 * fb[0]};
+        for (int i = 0; i < 3; ++i) {
+            store4(&S.fb[i][l], fb[i]);
+            store4(&S.ma[i][l], ma[i]);
+            store4(&S.mb[i][l], ma[i] - cross[i]);
+        }
         store4(&S.scale[l], scale);
         store4(&S.slow[l], slow ? one : zero);
     }

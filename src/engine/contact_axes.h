@@ -55,7 +55,9 @@ struct ContactSubBatch {
     // ---- out, per sub-contact ----
     double un_new[kMaxSubs][kSize], dus[kMaxSubs][2][kSize], ss_new[kMaxSubs][2][kSize];
     // ---- out, per contact ----
-    double f[3][kSize], m[3][kSize];            // the force on b and its moment about a's centroid, on the axes
+    // The sums on the world axes (put_on_blocks in joint_law.cpp): the force on b, its moment
+    // about a's centroid (a takes the opposite of both), and about b's own (that less cab x fb).
+    double fb[3][kSize], ma[3][kSize], mb[3][kSize];
     double scale[kSize];                        // the sum of the sub-contacts' force magnitudes
     double slow[kSize];                         // 1: some sub-contact opens or slips
 };

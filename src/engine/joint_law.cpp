@@ -702,8 +702,16 @@ void update_contacts(Model& m, double dt) {
                     cs.sub_ss[q] = Eigen::Vector2d(S.ss_new[j][0][l], S.ss_new[j][1][l]);
                     cs.set_sub_flags(q, static_cast<std::uint8_t>(cs.sub_flags(q) & ~(kSubSlip | kSubOpen)));
                 }
-                put_on_blocks(cs.block_a[c], cs.block_b[c], axes_of(B, l), Vec3(B.cab[0][l], B.cab[1][l], B.cab[2][l]),
-                              Vec3(S.f[0][l], S.f[1][l], S.f[2][l]), Vec3(S.m[0][l], S.m[1][l], S.m[2][l]), S.scale[l]);
+                // Its sums, on the world axes in the batch (put_on_blocks' numbers), into its blocks.
+                const int a = cs.block_a[c], b = cs.block_b[c];
+                const Vec3 fb(S.fb[0][l], S.fb[1][l], S.fb[2][l]);
+                const Vec3 ma(S.ma[0][l], S.ma[1][l], S.ma[2][l]);
+                s.force[a] -= fb;
+                s.moment[a] -= ma;
+                s.force[b] += fb;
+                s.moment[b] += Vec3(S.mb[0][l], S.mb[1][l], S.mb[2][l]);
+                s.force_scale[a] += S.scale[l];
+                s.force_scale[b] += S.scale[l];
             }
             n = 0;
         };
