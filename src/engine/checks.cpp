@@ -6,6 +6,7 @@
 #include "engine/clump.h"
 #include "engine/contact.h"
 #include "engine/cable.h"
+#include "engine/simd.h"
 #include "engine/stages.h"
 
 namespace odec {
@@ -31,6 +32,66 @@ double kinetic_energy(const BlockSet& s, int b) {
         spin = (real ? 1.0 : mass / s.mass[b]) * wb.dot(s.inertia_body[b] * wb);
     }
     return 0.5 * mass * v.squaredNorm() + 0.5 * spin;
+}
+
+bool plain_for_energy(const BlockSet& s, int b) {
+    for (int x = b; x < b + 4; ++x) {
+        if ((s.flags[x] & (kExcavated | kFixed | kDeformable)) || !s.loads[x].empty() || s.vel_bc[x] ||
+            !(s.mass[x] > 0) || s.inertial_moment[x] > 0 || !s.vel[x].allFinite() || !s.ang_vel[x].allFinite()) {
+            return false;
+        }
+    }
+    return true;
+}
+
+ODEC_SIMD_CLONES
+void plain_energies4(const BlockSet& s, int b, const Vec3& gravity, const Vec3* start, double e[4], double work[4]) {
+    using simd::M4;
+    using simd::V4;
+    auto lanes = [&](auto&& get) { return V4{get(b), get(b + 1), get(b + 2), get(b + 3)}; };
+    V4 v[3], w[3], c[3], c0[3];
+    simd::load_xyz4(s.vel[b].data(), v[0], v[1], v[2]);
+    simd::load_xyz4(s.ang_vel[b].data(), w[0], w[1], w[2]);
+    simd::load_xyz4(s.centroid[b].data(), c[0], c[1], c[2]);
+    simd::load_xyz4(start[b].data(), c0[0], c0[1], c0[2]);
+    V4 qx = simd::load4(s.orientation[b].coeffs().data()), qy = simd::load4(s.orientation[b + 1].coeffs().data());
+    V4 qz = simd::load4(s.orientation[b + 2].coeffs().data()), qw = simd::load4(s.orientation[b + 3].coeffs().data());
+    simd::transpose4(qx, qy, qz, qw);
+    const V4 mass = lanes([&](int x) { return s.inertial_mass[x]; });
+    const V4 real_mass = lanes([&](int x) { return s.mass[x]; });
+    const V4 zero = simd::splat(0.0), one = simd::splat(1.0), half = simd::splat(0.5);
+    const M4 real = (mass == real_mass) & (mass > zero) & (mass < simd::splat(std::numeric_limits<double>::infinity()));
+    // wb = q^-1 w (Eigen's rotation of a vector by the conjugate: v + w uv + vec x uv,
+    // uv = 2 vec x v, vec = -(x, y, z)).
+    const V4 ux = -qx, uy = -qy, uz = -qz;
+    V4 uv0 = uy * w[2] - uz * w[1], uv1 = uz * w[0] - ux * w[2], uv2 = ux * w[1] - uy * w[0];
+    uv0 = uv0 + uv0;
+    uv1 = uv1 + uv1;
+    uv2 = uv2 + uv2;
+    const V4 wb[3] = {(w[0] + qw * uv0) + (uy * uv2 - uz * uv1), (w[1] + qw * uv1) + (uz * uv0 - ux * uv2),
+                      (w[2] + qw * uv2) + (ux * uv1 - uy * uv0)};
+    // wb . (I wb), the sums as Eigen adds them.
+    V4 iw[3];
+    for (int i = 0; i < 3; ++i) {
+        const V4 r0 = lanes([&](int x) { return s.inertia_body[x](i, 0); });
+        const V4 r1 = lanes([&](int x) { return s.inertia_body[x](i, 1); });
+        const V4 r2 = lanes([&](int x) { return s.inertia_body[x](i, 2); });
+        iw[i] = r0 * wb[0] + (r1 * wb[1] + r2 * wb[2]);
+    }
+    const V4 dot = wb[0] * iw[0] + (wb[1] * iw[1] + wb[2] * iw[2]);
+    V4 ratio = one;
+    if (!(real[0] & real[1] & real[2] & real[3])) ratio = real ? one : mass / real_mass;
+    const V4 spin = ratio * dot;
+    const V4 sq = v[0] * v[0] + (v[1] * v[1] + v[2] * v[2]);
+    const V4 energy = half * mass * sq + half * spin;
+    // (m g) . (c - start).
+    const V4 g0 = real_mass * simd::splat(gravity[0]), g1 = real_mass * simd::splat(gravity[1]),
+             g2 = real_mass * simd::splat(gravity[2]);
+    const V4 wk = g0 * (c[0] - c0[0]) + (g1 * (c[1] - c0[1]) + g2 * (c[2] - c0[2]));
+    for (int l = 0; l < 4; ++l) {
+        e[l] = energy[l];
+        work[l] = wk[l];
+    }
 }
 
 // The likely cause of a run-away of block b, for the message.

@@ -140,3 +140,51 @@ TEST(BatchedBlocks, SteppingFourBlocksAtATimeGivesTheSameBits) {
         EXPECT_LT(x.blocks.centroid[2].z(), 0.6 + 0.2);
     }
 }
+
+// The energy watch takes four plain blocks' kinetic energies and weights' work at a time
+// (checks.cpp, plain_energies4): the bits of kinetic_energy and of (m g) . (c - start).
+TEST(BatchedBlocks, FourBlocksEnergiesAreTheBitsOfKineticEnergy) {
+    Model m;
+    set_material(m, 1, 2700);
+    std::mt19937_64 rng(37);
+    std::normal_distribution<double> g;
+    for (int i = 0; i < 16; ++i) {
+        std::vector<Vec3> points;
+        for (int j = 0; j < 8 + i; ++j) points.push_back(Vec3(g(rng), g(rng), g(rng)).normalized());
+        odec::Polyhedron p;
+        std::string error;
+        ASSERT_TRUE(odec::make_convex_hull(points, 1e-9, p, error)) << error;
+        p.translate(Vec3(3 * i, g(rng), g(rng)));
+        const int b = i % 5 == 0 ? odec::add_block(m, odec::make_brick(3 * i, 3 * i + 1, 0, 2, 0, 0.5), 0, -1, 1)
+                                 : odec::add_block(m, p, 0, -1, 1);
+        m.blocks.orientation[b] = Eigen::Quaterniond(g(rng), g(rng), g(rng), g(rng)).normalized();
+        m.blocks.vel[b] = Vec3(g(rng), g(rng), g(rng));
+        m.blocks.ang_vel[b] = Vec3(g(rng), g(rng), g(rng)) * 3;
+        if (i % 4 == 1) m.blocks.inertial_mass[b] *= 2.5; // scaled, not real
+    }
+    const Vec3 gravity(0.3, -1, -9.81);
+    std::vector<Vec3> start = m.blocks.centroid;
+    for (Vec3& c : start) c += Vec3(g(rng), g(rng), g(rng));
+    int compared = 0;
+    for (int b = 0; b + 4 <= m.blocks.size(); b += 4) {
+        ASSERT_TRUE(odec::plain_for_energy(m.blocks, b));
+        double e[4], work[4];
+        odec::plain_energies4(m.blocks, b, gravity, start.data(), e, work);
+        for (int l = 0; l < 4; ++l) {
+            const int x = b + l;
+            const double want_e = odec::kinetic_energy(m.blocks, x);
+            const double want_w = (m.blocks.mass[x] * gravity).dot(m.blocks.centroid[x] - start[x]);
+            EXPECT_EQ(std::memcmp(&e[l], &want_e, sizeof(double)), 0) << "block " << x << ": " << e[l] << " " << want_e;
+            EXPECT_EQ(std::memcmp(&work[l], &want_w, sizeof(double)), 0) << "block " << x;
+            EXPECT_GT(want_e, 0);
+            ++compared;
+        }
+    }
+    EXPECT_EQ(compared, 16);
+    // A block held, or not a number, is not plain.
+    m.blocks.vel[5][1] = std::numeric_limits<double>::quiet_NaN();
+    EXPECT_FALSE(odec::plain_for_energy(m.blocks, 4));
+    m.blocks.vel[5][1] = 0;
+    m.blocks.vel_bc[6] = 1;
+    EXPECT_FALSE(odec::plain_for_energy(m.blocks, 4));
+}
