@@ -1697,7 +1697,11 @@ void detect_contacts(Model& m) {
             // Bit 1: some block moved more than the limit; bit 2: more than 1e-3 ctol.
             bits = parallel_or(n, threads, n >= kParallelMinBlocks, [&](int b) {
                 if (s.flags[b] & kExcavated) return 0;
-                const bool same = geo_c[b] == cs.ref_centroid[b] && geo_q[b].coeffs() == cs.ref_orientation[b].coeffs();
+                // (Coefficient by coefficient, as Eigen's == compares them, without its reduction.)
+                const Vec3 &gc = geo_c[b], &rc = cs.ref_centroid[b];
+                const Quat &gq = geo_q[b], &rq = cs.ref_orientation[b];
+                const bool same = gc[0] == rc[0] && gc[1] == rc[1] && gc[2] == rc[2] && gq.x() == rq.x() &&
+                                  gq.y() == rq.y() && gq.z() == rq.z() && gq.w() == rq.w();
                 const double mv = same ? since_of[b] : movement(cs, s, b, geo_c, geo_q);
                 motion_of[b] = mv;
                 int out = 0;
