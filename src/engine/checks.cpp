@@ -34,6 +34,18 @@ double kinetic_energy(const BlockSet& s, int b) {
     return 0.5 * mass * v.squaredNorm() + 0.5 * spin;
 }
 
+ODEC_SIMD_CLONES
+bool any_beyond(const double* x, int n, double limit) {
+    using simd::M4;
+    const simd::V4 lim = simd::splat(limit);
+    M4 any = {0, 0, 0, 0};
+    int i = 0;
+    for (; i + 4 <= n; i += 4) any |= simd::load4(x + i) > lim;
+    bool beyond = (any[0] | any[1] | any[2] | any[3]) != 0;
+    for (; i < n; ++i) beyond = beyond || x[i] > limit;
+    return beyond;
+}
+
 bool plain_for_energy(const BlockSet& s, int b) {
     for (int x = b; x < b + 4; ++x) {
         if ((s.flags[x] & (kExcavated | kFixed | kDeformable)) || !s.loads[x].empty() || s.vel_bc[x] ||

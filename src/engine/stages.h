@@ -169,6 +169,8 @@ std::string runaway_cause(const Model& m, int b);
 // and rigid, without applied loads or held velocities, with their real inertia tensor, a mass,
 // and finite velocities (so that the work of no loads adds nothing).
 bool plain_for_energy(const BlockSet& s, int b);
+// Whether any of x[0, n) is beyond (greater than) limit (NaN is not), four at a time.
+bool any_beyond(const double* x, int n, double limit);
 // Their kinetic energies (kinetic_energy's bits) and the work of their weights since `start`
 // ((m g) . (c - start), as check() makes it), four at a time.
 void plain_energies4(const BlockSet& s, int b, const Vec3& gravity, const Vec3* start, double e[4], double work[4]);
@@ -261,7 +263,7 @@ struct EnergyWatch {
         // at almost every step), none is sunk.
         bool beyond = false;
         const double* un = cs.sub_un.data();
-        for (int k = 0, ns = cs.n_subs(); k < ns; ++k) beyond |= un[k] > least_half_size;
+        beyond = any_beyond(un, cs.n_subs(), least_half_size);
         if (!beyond) return -1;
         auto deep = [&](int c) {
             const double limit = 0.5 * std::min(size[cs.block_a[c]], size[cs.block_b[c]]);
