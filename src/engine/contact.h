@@ -230,6 +230,17 @@ struct ContactSet {
     int left_open = 0;                            // (not saved) contacts the last update left alone
     int batched = 0;                              // (not saved) contacts the last update stepped in
                                                   //          batches (step_plain_subs)
+    // (not saved) The contact update's memory of the open contacts it left alone (dynamic mode),
+    // for such a contact, the largest closure plus dilation of its sub-contacts (all open by
+    // reference), which it takes again at the next step instead of reading them, while nothing
+    // can have changed them: the same run of cycle(), refreshes (revision) and commands
+    // (Model::edits) as when it was made, at the next step. NaN: not known. (rest.margin)
+    struct RestMemory {
+        std::vector<double> margin;               // (n_contacts, or none: dynamic mode only)
+        long step = -1, revision = -1, edits = -1, run = -1; // when it was made
+        int used = 0;                             // contacts the last update left alone by it
+    } rest;
+    long cycle_runs = 0;                          // (not saved) calls of cycle() on this model
 
     // Derived each step by update_contacts in static mode (not saved): the joint stiffness each
     // block feels, for its mass (mass_scaling.h).

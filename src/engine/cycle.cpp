@@ -31,6 +31,8 @@ struct StageTimer {
 CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* interrupt,
                   const ProgressFn& progress, long progress_every) {
     CycleResult res;
+    // (What was done to the model between two runs is not known to the stages: ContactSet::rest_margin.)
+    ++m.contacts.cycle_runs;
     // The step counter stops at kMaxStep rather than overflow (a model restored at a step
     // near it could otherwise count past what a long holds).
     auto step_limit_reached = [&] {

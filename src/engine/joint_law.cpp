@@ -443,23 +443,49 @@ void update_contacts(Model& m, double dt) {
     // All of contact c's sub-contacts open by reference, each by more than reach: the same test as
     // open_by_reference with the contact's strength, asked of the joint only where some
     // sub-contact has not failed.
-    auto stays_open = [&](int c, int a, int b) {
+    auto strong_joint = [&](int c) {
+        const int jm = cs.jmat(c);
+        return jm > 0 && jm < n_jmat && strong_of[jm];
+    };
+    // (*largest: the largest closure plus dilation of its sub-contacts, made where it returns true.)
+    auto stays_open = [&](int c, double reach, double* largest) {
         if (cs.joined(c)) return false;
-        const double reach = reach_of(a, b);
         bool intact = false;
+        double most = -std::numeric_limits<double>::infinity();
         for (int q = cs.sub_offset[c], q1 = cs.sub_offset[c + 1]; q < q1; ++q) {
             const std::uint8_t f = cs.sub_flags(q);
-            if (!held_open(f) || !(cs.sub_un[q] + (udil ? udil[q] : 0.0) + reach < 0)) return false;
+            const double ud = cs.sub_un[q] + (udil ? udil[q] : 0.0);
+            if (!held_open(f) || !(ud + reach < 0)) return false;
+            most = std::max(most, ud);
             intact = intact || !(f & kSubFailed);
         }
-        if (!intact) return true;
-        const int jm = cs.jmat(c);
-        return !(jm > 0 && jm < n_jmat && strong_of[jm]);
+        *largest = most;
+        return !intact || !strong_joint(c);
     };
+    // The memory of the open contacts left alone at the last step (ContactSet::rest_margin): a
+    // contact whose sub-contacts have not changed since stays open while its largest closure plus
+    // dilation plus reach is below zero, which is stays_open's answer (ud + reach < 0 for every
+    // sub-contact just when it holds for the largest: adding reach keeps the order), and its
+    // joint has no strength now (else it is looked at in full).
+    const int nc_all = cs.size();
+    if (rest_open) {
+        auto& r = cs.rest;
+        const bool valid = static_cast<int>(r.margin.size()) == nc_all && r.step + 1 == m.step && r.revision == cs.revision &&
+                           r.edits == m.edits && r.run == cs.cycle_runs;
+        if (!valid) r.margin.assign(nc_all, std::numeric_limits<double>::quiet_NaN());
+        r.step = m.step;
+        r.revision = cs.revision;
+        r.edits = m.edits;
+        r.run = cs.cycle_runs;
+    } else if (!cs.rest.margin.empty()) {
+        cs.rest = ContactSet::RestMemory{};
+    }
+    double* margin = cs.rest.margin.data();
+    int by_margin = 0; // (ContactSet::RestMemory::used)
     int left = 0; // contacts left alone (ContactSet::left_open)
     // Whether contact c steps this step: not one without sub-contacts, of an excavated or a
     // deformable block, or open by more than its blocks can have closed it (counted in n_left).
-    auto steps = [&](int c, int& n_left) {
+    auto steps = [&](int c, int& n_left, int& n_by_margin) {
         // Most contacts between blocks apart carry no sub-contact: nothing to add.
         if (cs.sub_offset[c] == cs.sub_offset[c + 1]) return false;
         const int a = cs.block_a[c], b = cs.block_b[c];
@@ -468,9 +494,20 @@ void update_contacts(Model& m, double dt) {
             if (held != want) shift_open_closures(m, c, want);
             return false;
         }
-        if (rest_open && stays_open(c, a, b)) {
-            ++n_left;
-            return false;
+        if (rest_open) {
+            const double reach = reach_of(a, b);
+            if (margin[c] + reach < 0 && !strong_joint(c)) {
+                ++n_left;
+                ++n_by_margin;
+                return false;
+            }
+            double largest;
+            if (stays_open(c, reach, &largest)) {
+                margin[c] = largest;
+                ++n_left;
+                return false;
+            }
+            margin[c] = std::numeric_limits<double>::quiet_NaN();
         }
         return true;
     };
@@ -672,7 +709,7 @@ void update_contacts(Model& m, double dt) {
         S.n_subs[l] = ns;
     };
     int batched = 0; // (ContactSet::batched)
-    auto run = [&](int i0, int i1, int& n_left, int& n_batched) {
+    auto run = [&](int i0, int i1, int& n_left, int& n_batched, int& n_by_margin) {
         // (Each thread its own batch.)
         thread_local ContactAxesBatch batch;
         thread_local ContactSubBatch sub_batch;
@@ -717,7 +754,7 @@ void update_contacts(Model& m, double dt) {
         };
         for (int i = i0; i < i1; ++i) {
             const int c = order[i];
-            if (!steps(c, n_left)) continue;
+            if (!steps(c, n_left, n_by_margin)) continue;
             put_in_batch(B, n, c);
             listed[n++] = c;
             if (n == kBatch) flush();
@@ -726,24 +763,25 @@ void update_contacts(Model& m, double dt) {
     };
     const int n_colored = n_colors >= 0 ? offset[n_colors] : 0;
     if (threads > 1 && cs.size() >= kParallelMinItems) {
-#pragma omp parallel num_threads(threads) reduction(+ : left, batched)
+#pragma omp parallel num_threads(threads) reduction(+ : left, batched, by_margin)
         for (int col = 0; col < n_colors; ++col) {
             const int n_pieces = (offset[col + 1] - offset[col] + kBatch - 1) / kBatch;
 #pragma omp for schedule(static)
             for (int piece = 0; piece < n_pieces; ++piece) {
                 const int i0 = offset[col] + piece * kBatch;
-                run(i0, std::min(offset[col + 1], i0 + kBatch), left, batched);
+                run(i0, std::min(offset[col + 1], i0 + kBatch), left, batched, by_margin);
             }
         }
     } else {
         // The same order, without entering an OpenMP region (parallel.h).
-        run(0, n_colored, left, batched);
+        run(0, n_colored, left, batched, by_margin);
     }
     // Then, in contact order: the contacts no colour could take (a block with more contacts
     // than there are colours), and those of deformable blocks.
-    run(n_colored, static_cast<int>(cs.color_order.size()), left, batched);
+    run(n_colored, static_cast<int>(cs.color_order.size()), left, batched, by_margin);
     cs.left_open = left;
     cs.batched = batched;
+    cs.rest.used = by_margin;
     cs.open_by_reference = want;
     // Without gridpoints there are no deformable blocks.
     for (int c = 0; c < (g.size() > 0 ? cs.size() : 0); ++c) {

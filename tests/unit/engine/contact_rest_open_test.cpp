@@ -245,3 +245,51 @@ TEST(ContactBatched, SteppingPlainSubContactsInBatchesGivesTheSameBits) {
     for (int k = 0; k < x.contacts.n_subs(); ++k) failed += (x.contacts.sub_flags(k) & odec::kSubFailed) != 0;
     EXPECT_GT(failed, 4);
 }
+
+// The update's memory of the open contacts it left alone (ContactSet::RestMemory), used within one
+// run of the cycle: the same bits as looking at every sub-contact, through landing, a thrown cube
+// and joints given cohesion between runs (which the memory must not outlive).
+TEST(ContactRestOpen, TheMemoryOfOpenContactsGivesTheSameBits) {
+    Stack on, off;
+    build(on, 3, 2, 3);
+    build(off, 3, 2, 3);
+    for (Stack* st : {&on, &off}) {
+        RestOpen r(st == &on);
+        Model& m = st->m;
+        ASSERT_TRUE(odec::prepare_cycle(m).empty());
+        EXPECT_EQ(odec::test::run_steps(m, 1500).reason, odec::StopReason::Steps);
+        m.blocks.vel[st->thrown] = Vec3(1.0, 0, 0);
+        m.blocks.half_kick[st->thrown] = 1;
+        EXPECT_EQ(odec::test::run_steps(m, 2500).reason, odec::StopReason::Steps);
+    }
+    // Left alone by the memory at the last step: most of the stacks' side contacts.
+    EXPECT_GT(on.m.contacts.rest.used, 10);
+    EXPECT_EQ(off.m.contacts.rest.used, 0);
+    const Model& x = on.m;
+    const Model& y = off.m;
+    auto same = [&] {
+        EXPECT_TRUE(same_bits(x.blocks.centroid, y.blocks.centroid));
+        EXPECT_TRUE(same_bits(x.blocks.orientation, y.blocks.orientation));
+        EXPECT_TRUE(same_bits(x.blocks.vel, y.blocks.vel));
+        EXPECT_TRUE(same_bits(x.blocks.ang_vel, y.blocks.ang_vel));
+        EXPECT_TRUE(same_bits(x.contacts.sub_un, y.contacts.sub_un));
+        EXPECT_TRUE(same_bits(x.contacts.sub_us, y.contacts.sub_us));
+        EXPECT_TRUE(same_bits(x.contacts.sub_ss, y.contacts.sub_ss));
+        EXPECT_TRUE(same_bits(x.contacts.sub_point, y.contacts.sub_point));
+    };
+    same();
+    // Cohesion given between runs: the open sub-contacts that had not failed fail at their next
+    // step, whatever was remembered of them.
+    for (Stack* st : {&on, &off}) {
+        st->m.joint_materials[1].cohesion = 1e4;
+        RestOpen r(st == &on);
+        odec::test::run_steps(st->m, 500);
+    }
+    same();
+    int failed_open = 0;
+    for (int k = 0; k < x.contacts.n_subs(); ++k) {
+        const std::uint8_t f = x.contacts.sub_flags(k);
+        failed_open += (f & odec::kSubOpen) && (f & odec::kSubFailed);
+    }
+    EXPECT_GT(failed_open, 10);
+}

@@ -801,9 +801,10 @@ constexpr size_t count_fields() {
 TEST(SaveLayout, EveryFieldIsSaved) {
     using namespace odec;
     const char* fix = "a field was added: save and restore it in src/io/save.cpp, then update this count";
-    // Model: 27 saved fields and the report of the last choice of masses (mass_scaling, said
-    // by the commands once and chosen again before the next step).
-    EXPECT_EQ(count_fields<Model>(), 29u) << fix;
+    // Model: 27 saved fields, the report of the last choice of masses (mass_scaling, said
+    // by the commands once and chosen again before the next step) and edits (counts the commands
+    // of this session, for the contact update's memory of open contacts).
+    EXPECT_EQ(count_fields<Model>(), 30u) << fix;
     // FlowSet: 15 saved fields (settings, fluid, the nodes' positions, pressures, fixities and volumes
     // at the last step) and 22 derived ones (the nodes' sub-contacts, apertures, wetted shares,
     // volumes, links and flows, the nodes that follow others between zoned faces, and the pressure
@@ -831,15 +832,16 @@ TEST(SaveLayout, EveryFieldIsSaved) {
     // and glue, which the file has apart; the file also has
     // each sub-contact's contact, side and vertex, derived from the offsets and keys; format 18
     // dropped the normal stresses, derived from the closures; format 19 added free_motion and open_by_reference) and
-    // 20 derived ones (block_motion, motion_fresh: measured by each step's detection for that
+    // 22 derived ones (block_motion, motion_fresh: measured by each step's detection for that
     // step's contact update alone; left_open, batched: count what it left and what it stepped in
-    // batches; least_free_motion,
+    // batches; rest, cycle_runs: its memory of the open contacts it left alone, valid within one
+    // run of cycle(); least_free_motion,
     // any_touch_line, summary_revision: made again after each refresh; surface_*: rebuilt from the zones;
     // joint_k*: rebuilt every step; color_*, colored: rebuilt when the pairs in contact change;
     // revision, build_seconds, write_seconds: count the refreshes and their time in this
     // session; change_seen: a restored model's contacts are found again before they are used
     // while its geometry_changed is set).
-    EXPECT_EQ(count_fields<ContactSet>(), 47u) << fix;
+    EXPECT_EQ(count_fields<ContactSet>(), 49u) << fix;
     EXPECT_EQ(count_fields<Polyhedron>(), 4u) << fix;
     EXPECT_EQ(count_fields<Material>(), 8u) << fix;
     EXPECT_EQ(count_fields<JointMaterial>(), 12u) << fix;
