@@ -285,8 +285,7 @@ namespace {
 // out[i] = c + r body[i] for i < n, with Eigen's bits for that expression (c_k plus the row's
 // products summed as a0 + (a1 + a2)), four vertices at a time: their twelve coordinates in three
 // vectors, each output lane given its vertex's coordinates and its row of r by shuffles.
-ODEC_SIMD_CLONES
-void place_vertices(const Mat3& r, const Vec3& c, const Vec3* body, int n, Vec3* out) {
+[[gnu::always_inline]] inline void place_vertices(const Mat3& r, const Vec3& c, const Vec3* body, int n, Vec3* out) {
     using simd::I4;
     using simd::V4;
     static_assert(sizeof(Vec3) == 3 * sizeof(double), "vertices packed as x y z");
@@ -316,6 +315,40 @@ void place_vertices(const Mat3& r, const Vec3& c, const Vec3* body, int n, Vec3*
     for (; i < n; ++i) out[i] = c + r * body[i];
 }
 
+// Blocks [b0, b1): their rotation matrices (Eigen's toRotationMatrix, four at a time where
+// four blocks follow) and world vertices.
+ODEC_SIMD_CLONES
+void place_blocks(BlockSet& s, int b0, int b1) {
+    using simd::V4;
+    int b = b0;
+    for (; b + 4 <= b1; b += 4) {
+        V4 x = simd::load4(s.orientation[b].coeffs().data()), y = simd::load4(s.orientation[b + 1].coeffs().data());
+        V4 z = simd::load4(s.orientation[b + 2].coeffs().data()), w = simd::load4(s.orientation[b + 3].coeffs().data());
+        simd::transpose4(x, y, z, w);
+        const V4 two = simd::splat(2.0), one = simd::splat(1.0);
+        const V4 tx = two * x, ty = two * y, tz = two * z;
+        const V4 twx = tx * w, twy = ty * w, twz = tz * w;
+        const V4 txx = tx * x, txy = ty * x, txz = tz * x;
+        const V4 tyy = ty * y, tyz = tz * y, tzz = tz * z;
+        // Column-major, as Eigen keeps a matrix: (row, column) at row + 3 column.
+        const V4 r[9] = {one - (tyy + tzz), txy + twz, txz - twy, txy - twz, one - (txx + tzz),
+                         tyz + twx, txz + twy, tyz - twx, one - (txx + tyy)};
+        for (int l = 0; l < 4; ++l) {
+            Mat3& rot = s.rotation[b + l];
+            for (int i = 0; i < 9; ++i) rot.data()[i] = r[i][l];
+            const std::vector<Vec3>& body = s.shape[b + l].vertices;
+            place_vertices(rot, s.centroid[b + l], body.data(), static_cast<int>(body.size()),
+                           s.world_vertices.data() + s.vertex_offset[b + l]);
+        }
+    }
+    for (; b < b1; ++b) {
+        const Mat3 r = s.orientation[b].toRotationMatrix();
+        s.rotation[b] = r;
+        const std::vector<Vec3>& body = s.shape[b].vertices;
+        place_vertices(r, s.centroid[b], body.data(), static_cast<int>(body.size()), s.world_vertices.data() + s.vertex_offset[b]);
+    }
+}
+
 } // namespace
 
 void refresh_world_vertices(Model& m) {
@@ -331,13 +364,11 @@ void refresh_world_vertices(Model& m) {
     s.world_vertices.resize(total);
     s.rotation.resize(n);
     const int threads = thread_count();
-    parallel_for(n, threads, n >= kParallelMinBlocks, [&](int b) {
-        const Mat3 r = s.orientation[b].toRotationMatrix();
-        s.rotation[b] = r;
-        const std::vector<Vec3>& body = s.shape[b].vertices;
-        place_vertices(r, s.centroid[b], body.data(), static_cast<int>(body.size()),
-                       s.world_vertices.data() + s.vertex_offset[b]);
-    });
+    // In chunks of blocks, on the threads in a large model.
+    constexpr int kChunk = 256;
+    const int n_chunks = (n + kChunk - 1) / kChunk;
+    parallel_for(n_chunks, threads, n >= kParallelMinBlocks,
+                 [&](int ch) { place_blocks(s, ch * kChunk, std::min(n, (ch + 1) * kChunk)); });
     refresh_deformable_vertices(m);
 }
 

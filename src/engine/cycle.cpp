@@ -31,7 +31,7 @@ struct StageTimer {
 CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* interrupt,
                   const ProgressFn& progress, long progress_every) {
     CycleResult res;
-    // (What was done to the model between two runs is not known to the stages: ContactSet::rest_margin.)
+    // (What was done to the model between two runs is not known to the stages: ContactSet::rest.)
     ++m.contacts.cycle_runs;
     // The step counter stops at kMaxStep rather than overflow (a model restored at a step
     // near it could otherwise count past what a long holds).

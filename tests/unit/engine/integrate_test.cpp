@@ -51,7 +51,7 @@ TEST(WorldVertices, TheRefreshGivesTheBitsOfCentroidPlusRotatedVertex) {
     std::normal_distribution<double> g;
     std::uniform_real_distribution<double> u(-1, 1);
     int blocks = 0, vertices = 0;
-    for (int i = 0; i < 60; ++i) {
+    for (int i = 0; i < 61; ++i) {
         std::vector<Vec3> points;
         const int k = 4 + i % 27;
         for (int j = 0; j < k; ++j) points.push_back(Vec3(g(rng), g(rng), g(rng)).normalized() * (1 + 0.1 * u(rng)));
@@ -65,6 +65,9 @@ TEST(WorldVertices, TheRefreshGivesTheBitsOfCentroidPlusRotatedVertex) {
     }
     odec::refresh_world_vertices(m);
     for (int b = 0; b < m.blocks.size(); ++b) {
+        // The rotation matrix too, the bits of Eigen's toRotationMatrix.
+        const odec::Mat3 r = m.blocks.orientation[b].toRotationMatrix();
+        ASSERT_EQ(std::memcmp(r.data(), m.blocks.rotation[b].data(), sizeof(double) * 9), 0) << "block " << b;
         const odec::Polyhedron w = odec::world_shape(m, b);
         ASSERT_EQ(static_cast<int>(w.vertices.size()), m.blocks.vertex_offset[b + 1] - m.blocks.vertex_offset[b]);
         for (size_t v = 0; v < w.vertices.size(); ++v) {
@@ -74,7 +77,7 @@ TEST(WorldVertices, TheRefreshGivesTheBitsOfCentroidPlusRotatedVertex) {
             ++vertices;
         }
     }
-    EXPECT_EQ(blocks, 60);
+    EXPECT_EQ(blocks, 61); // (fifteen groups of four and one more)
     EXPECT_GT(vertices, 600);
 }
 
