@@ -5,6 +5,7 @@
 
 #include "engine/normal_code.h"
 #include "engine/simd.h"
+#include "engine/stages.h"
 
 namespace odec {
 
@@ -209,5 +210,65 @@ void make_contact_axes(ContactAxesBatch& batch, int count) { axes_lanes<ContactA
 
 ODEC_SIMD_CLONES
 void step_plain_subs(const ContactAxesBatch& axes, ContactSubBatch& subs, int count) { plain_lanes(axes, subs, count); }
+
+namespace {
+
+// One block's turn, as update_contacts made it block by block.
+[[gnu::always_inline]] inline void block_turn(const Eigen::Vector3d& w_now, bool still, double dt, bool dynamic,
+                                              Eigen::Vector3d& axis, double& sin, double& cos1) {
+    const Eigen::Vector3d w = still ? Eigen::Vector3d(Eigen::Vector3d::Zero()) : w_now;
+    const double angle = w.norm() * dt;
+    axis = angle > 0 ? Eigen::Vector3d(w / w.norm()) : Eigen::Vector3d(Eigen::Vector3d::Zero());
+    double sin_h = 0, cos_h = 1;
+    if (angle > 0) {
+        half_turn(angle * angle, sin_h, cos_h);
+        sin_h *= angle;
+    }
+    sin = dynamic ? 2.0 * sin_h * cos_h : angle;
+    cos1 = dynamic ? 2.0 * sin_h * sin_h : 0.0;
+}
+
+} // namespace
+
+ODEC_SIMD_CLONES
+void make_block_turns(const Eigen::Vector3d* ang_vel, const std::uint8_t* still, int b0, int b1, double dt, bool dynamic,
+                      Eigen::Vector3d* axis, double* sin, double* cos1) {
+    const V4 zero = splat(0.0), one = splat(1.0), two = splat(2.0);
+    int b = b0;
+    for (; b + 4 <= b1; b += 4) {
+        V4 w[3];
+        simd::load_xyz4(ang_vel[b].data(), w[0], w[1], w[2]);
+        const M4 moving = V4{double(still[b]), double(still[b + 1]), double(still[b + 2]), double(still[b + 3])} == zero;
+        for (int i = 0; i < 3; ++i) w[i] = moving ? w[i] : zero;
+        const V4 sq = w[0] * w[0] + (w[1] * w[1] + w[2] * w[2]);
+        V4 norm;
+        for (int l = 0; l < 4; ++l) norm[l] = std::sqrt(sq[l]);
+        const V4 angle = norm * splat(dt);
+        const M4 turns = angle > zero;
+        V4 ax[3];
+        for (int i = 0; i < 3; ++i) ax[i] = turns ? w[i] / norm : zero;
+        simd::store_xyz4(axis[b].data(), ax[0], ax[1], ax[2]);
+        // half_turn's series below h2 = 1e-6, its library functions above (lane by lane).
+        const V4 h2 = splat(0.25) * (angle * angle);
+        const V4 sixth = splat(1.0 / 6), twelfth = splat(1.0 / 12), twentieth = splat(1.0 / 20), half = splat(0.5);
+        V4 sin_h = half * (one - h2 * sixth * (one - h2 * twentieth));
+        V4 cos_h = one - h2 * half * (one - h2 * twelfth);
+        const M4 series = h2 < splat(1e-6);
+        for (int l = 0; l < 4; ++l) {
+            if (!turns[l]) {
+                sin_h[l] = 0;
+                cos_h[l] = 1;
+            } else if (!series[l]) {
+                half_turn(angle[l] * angle[l], sin_h[l], cos_h[l]);
+            }
+        }
+        sin_h = turns ? sin_h * angle : sin_h;
+        const V4 s = dynamic ? two * sin_h * cos_h : angle;
+        const V4 c1 = dynamic ? two * sin_h * sin_h : zero;
+        simd::store4(sin + b, s);
+        simd::store4(cos1 + b, c1);
+    }
+    for (; b < b1; ++b) block_turn(ang_vel[b], still[b] != 0, dt, dynamic, axis[b], sin[b], cos1[b]);
+}
 
 } // namespace odec

@@ -11,6 +11,8 @@
 
 #include <cstdint>
 
+#include <Eigen/Core>
+
 namespace odec {
 
 struct ContactAxesBatch {
@@ -64,5 +66,13 @@ struct ContactSubBatch {
 
 // Steps the plain sub-contacts of the first `count` contacts of `subs`, on the axes of `axes`.
 void step_plain_subs(const ContactAxesBatch& axes, ContactSubBatch& subs, int count);
+
+// Each block's turn over the last step (update_contacts), for blocks [b0, b1), four at a time:
+// w its angular velocity (zero for a block that has not moved: still[b] != 0), the axis
+// w / |w| (zero where |w| dt is not above zero), and with the angle t = |w| dt, dynamic: the
+// sine and 1 - cosine of t from the half-angle's (half_turn), 2 sin(t/2) cos(t/2) and
+// 2 sin(t/2)^2; static: t and 0.
+void make_block_turns(const Eigen::Vector3d* ang_vel, const std::uint8_t* still, int b0, int b1, double dt, bool dynamic,
+                      Eigen::Vector3d* axis, double* sin, double* cos1);
 
 } // namespace odec

@@ -4,12 +4,14 @@
 // whatever a contact's place in its batch.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <random>
 
 #include "engine/contact.h"
 #include "engine/contact_axes.h"
 #include "engine/normal_code.h"
+#include "engine/stages.h"
 
 namespace {
 
@@ -126,3 +128,54 @@ TEST(ContactAxes, EveryLaneGivesTheBitsOfTheEigenExpressions) {
 }
 
 } // namespace
+
+namespace {
+
+// A block's turn as the contact update made it block by block (joint_law.cpp).
+void reference_turn(const Vec3& w_now, bool still, double dt, bool dynamic, Vec3& axis, double& sin, double& cos1) {
+    const Vec3 w = still ? Vec3(Vec3::Zero()) : w_now;
+    const double angle = w.norm() * dt;
+    axis = angle > 0 ? Vec3(w / w.norm()) : Vec3(Vec3::Zero());
+    double sin_h = 0, cos_h = 1;
+    if (angle > 0) {
+        odec::half_turn(angle * angle, sin_h, cos_h);
+        sin_h *= angle;
+    }
+    sin = dynamic ? 2.0 * sin_h * cos_h : angle;
+    cos1 = dynamic ? 2.0 * sin_h * sin_h : 0.0;
+}
+
+} // namespace
+
+TEST(ContactAxes, BlockTurnsFourAtATimeAreTheBitsOfTheBlockByBlockOnes) {
+    std::mt19937_64 rng(41);
+    std::normal_distribution<double> g;
+    const int n = 403; // (groups of four and the rest)
+    std::vector<Vec3> w(n);
+    std::vector<std::uint8_t> still(n);
+    int library = 0, series = 0;
+    for (int b = 0; b < n; ++b) {
+        const double scale = b % 4 == 0 ? 1e3 : b % 4 == 1 ? 1e-3 : 1; // angles past the series' range too
+        w[b] = Vec3(g(rng), g(rng), g(rng)) * scale;
+        if (b % 9 == 0) w[b].setZero();
+        still[b] = b % 7 == 3;
+    }
+    const double dt = 1e-4;
+    for (const bool dynamic : {true, false}) {
+        std::vector<Vec3> axis(n);
+        std::vector<double> sn(n), c1(n);
+        odec::make_block_turns(w.data(), still.data(), 0, n, dt, dynamic, axis.data(), sn.data(), c1.data());
+        for (int b = 0; b < n; ++b) {
+            Vec3 ax;
+            double s, c;
+            reference_turn(w[b], still[b] != 0, dt, dynamic, ax, s, c);
+            ASSERT_EQ(std::memcmp(ax.data(), axis[b].data(), sizeof(double) * 3), 0) << "block " << b;
+            ASSERT_TRUE(same_bits(s, sn[b])) << "block " << b << ": " << s << " " << sn[b];
+            ASSERT_TRUE(same_bits(c, c1[b])) << "block " << b;
+            const double h2 = 0.25 * std::pow(w[b].norm() * dt, 2);
+            if (!still[b] && h2 > 0) (h2 < 1e-6 ? series : library) += 1;
+        }
+    }
+    EXPECT_GT(series, 100);
+    EXPECT_GT(library, 50);
+}
