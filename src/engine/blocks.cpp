@@ -301,12 +301,12 @@ namespace {
         for (; i + 4 <= n; i += 4) {
             const V4 p0 = simd::load4(in + 3 * i), p1 = simd::load4(in + 3 * i + 4), p2 = simd::load4(in + 3 * i + 8);
             // p0 = x0 y0 z0 x1, p1 = y1 z1 x2 y2, p2 = z2 x3 y3 z3.
-            const V4 x0 = __builtin_shuffle(p0, I4{0, 0, 0, 3}), y0 = __builtin_shuffle(p0, p1, I4{1, 1, 1, 4}),
-                     z0 = __builtin_shuffle(p0, p1, I4{2, 2, 2, 5});
-            const V4 x1 = __builtin_shuffle(p0, p1, I4{3, 3, 6, 6}), y1 = __builtin_shuffle(p1, I4{0, 0, 3, 3}),
-                     z1 = __builtin_shuffle(p1, p2, I4{1, 1, 4, 4});
-            const V4 x2 = __builtin_shuffle(p1, p2, I4{2, 5, 5, 5}), y2 = __builtin_shuffle(p1, p2, I4{3, 6, 6, 6}),
-                     z2 = __builtin_shuffle(p2, I4{0, 3, 3, 3});
+            const V4 x0 = simd::shuffle<0, 0, 0, 3>(p0, p0), y0 = simd::shuffle<1, 1, 1, 4>(p0, p1),
+                     z0 = simd::shuffle<2, 2, 2, 5>(p0, p1);
+            const V4 x1 = simd::shuffle<3, 3, 6, 6>(p0, p1), y1 = simd::shuffle<0, 0, 3, 3>(p1, p1),
+                     z1 = simd::shuffle<1, 1, 4, 4>(p1, p2);
+            const V4 x2 = simd::shuffle<2, 5, 5, 5>(p1, p2), y2 = simd::shuffle<3, 6, 6, 6>(p1, p2),
+                     z2 = simd::shuffle<0, 3, 3, 3>(p2, p2);
             simd::store4(to + 3 * i, c0 + (ra0 * x0 + (rb0 * y0 + rc0 * z0)));
             simd::store4(to + 3 * i + 4, c1 + (ra1 * x1 + (rb1 * y1 + rc1 * z1)));
             simd::store4(to + 3 * i + 8, c2 + (ra2 * x2 + (rb2 * y2 + rc2 * z2)));

@@ -259,7 +259,10 @@ void make_block_turns(const Eigen::Vector3d* ang_vel, const std::uint8_t* still,
                 sin_h[l] = 0;
                 cos_h[l] = 1;
             } else if (!series[l]) {
-                half_turn(angle[l] * angle[l], sin_h[l], cos_h[l]);
+                double sl, cl; // (a vector's lane is no reference's)
+                half_turn(angle[l] * angle[l], sl, cl);
+                sin_h[l] = sl;
+                cos_h[l] = cl;
             }
         }
         sin_h = turns ? sin_h * angle : sin_h;

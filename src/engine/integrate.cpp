@@ -171,7 +171,12 @@ int integrate_plain_blocks(BlockSet& s, const Mat3* rotation_of, const int* list
         const V4 t2 = sum3(dth[0] * dth[0], dth[1] * dth[1], dth[2] * dth[2]);
         V4 sin_h = zero, cos_h = one;
         for (int l = 0; l < 4; ++l) {
-            if (t2[l] > 0) half_turn(t2[l], sin_h[l], cos_h[l]);
+            if (t2[l] > 0) {
+                double sl, cl; // (a vector's lane is no reference's)
+                half_turn(t2[l], sl, cl);
+                sin_h[l] = sl;
+                cos_h[l] = cl;
+            }
         }
         // The turn's quaternion times the orientation (Eigen's product, w first; a quaternion's
         // coefficients are kept x, y, z, w).

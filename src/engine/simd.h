@@ -23,27 +23,38 @@ typedef long long I4 __attribute__((vector_size(32))); // shuffle indices
 [[gnu::always_inline]] inline void store4(double* p, V4 v) { std::memcpy(p, &v, sizeof v); }
 [[gnu::always_inline]] inline V4 splat(double x) { return V4{x, x, x, x}; }
 
+// The lanes i0 .. i3 of a and b side by side (0 .. 3: a's, 4 .. 7: b's), in GCC's and clang's
+// spellings.
+template <int i0, int i1, int i2, int i3>
+[[gnu::always_inline]] inline V4 shuffle(V4 a, V4 b) {
+#if defined(__clang__)
+    return __builtin_shufflevector(a, b, i0, i1, i2, i3);
+#else
+    return __builtin_shuffle(a, b, I4{i0, i1, i2, i3});
+#endif
+}
+
 // Four packed 3-vectors (x0 y0 z0 x1 | y1 z1 x2 y2 | z2 x3 y3 z3 from p) as their x, y and z
 // lanes, and back.
 [[gnu::always_inline]] inline void load_xyz4(const double* p, V4& x, V4& y, V4& z) {
     const V4 p0 = load4(p), p1 = load4(p + 4), p2 = load4(p + 8);
-    x = __builtin_shuffle(__builtin_shuffle(p0, p1, I4{0, 3, 6, 6}), p2, I4{0, 1, 2, 5});
-    y = __builtin_shuffle(__builtin_shuffle(p0, p1, I4{1, 4, 7, 7}), p2, I4{0, 1, 2, 6});
-    z = __builtin_shuffle(__builtin_shuffle(p0, p1, I4{2, 5, 5, 5}), p2, I4{0, 1, 4, 7});
+    x = shuffle<0, 1, 2, 5>(shuffle<0, 3, 6, 6>(p0, p1), p2);
+    y = shuffle<0, 1, 2, 6>(shuffle<1, 4, 7, 7>(p0, p1), p2);
+    z = shuffle<0, 1, 4, 7>(shuffle<2, 5, 5, 5>(p0, p1), p2);
 }
 [[gnu::always_inline]] inline void store_xyz4(double* p, V4 x, V4 y, V4 z) {
-    store4(p, __builtin_shuffle(__builtin_shuffle(x, y, I4{0, 4, 0, 1}), z, I4{0, 1, 4, 3}));
-    store4(p + 4, __builtin_shuffle(__builtin_shuffle(y, z, I4{1, 5, 2, 2}), x, I4{0, 1, 6, 2}));
-    store4(p + 8, __builtin_shuffle(__builtin_shuffle(z, x, I4{2, 7, 3, 3}), y, I4{0, 1, 7, 2}));
+    store4(p, shuffle<0, 1, 4, 3>(shuffle<0, 4, 0, 1>(x, y), z));
+    store4(p + 4, shuffle<0, 1, 6, 2>(shuffle<1, 5, 2, 2>(y, z), x));
+    store4(p + 8, shuffle<0, 1, 7, 2>(shuffle<2, 7, 3, 3>(z, x), y));
 }
 // The 4 x 4 transpose of rows a, b, c, d (in place).
 [[gnu::always_inline]] inline void transpose4(V4& a, V4& b, V4& c, V4& d) {
-    const V4 t0 = __builtin_shuffle(a, b, I4{0, 4, 1, 5}), t1 = __builtin_shuffle(c, d, I4{0, 4, 1, 5});
-    const V4 t2 = __builtin_shuffle(a, b, I4{2, 6, 3, 7}), t3 = __builtin_shuffle(c, d, I4{2, 6, 3, 7});
-    a = __builtin_shuffle(t0, t1, I4{0, 1, 4, 5});
-    b = __builtin_shuffle(t0, t1, I4{2, 3, 6, 7});
-    c = __builtin_shuffle(t2, t3, I4{0, 1, 4, 5});
-    d = __builtin_shuffle(t2, t3, I4{2, 3, 6, 7});
+    const V4 t0 = shuffle<0, 4, 1, 5>(a, b), t1 = shuffle<0, 4, 1, 5>(c, d);
+    const V4 t2 = shuffle<2, 6, 3, 7>(a, b), t3 = shuffle<2, 6, 3, 7>(c, d);
+    a = shuffle<0, 1, 4, 5>(t0, t1);
+    b = shuffle<2, 3, 6, 7>(t0, t1);
+    c = shuffle<0, 1, 4, 5>(t2, t3);
+    d = shuffle<2, 3, 6, 7>(t2, t3);
 }
 
 } // namespace simd
