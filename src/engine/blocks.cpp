@@ -294,7 +294,7 @@ namespace {
     int i = 0;
     if (n >= 4) {
         // Lane p of output vector q is coordinate (4q + p) % 3 of vertex (4q + p) / 3.
-        auto row = [&](int k0, int k1, int k2, int k3, int col) { return V4{r(k0, col), r(k1, col), r(k2, col), r(k3, col)}; };
+        auto row = [&](int k0, int k1, int k2, int k3, int col) ODEC_INLINE { return V4{r(k0, col), r(k1, col), r(k2, col), r(k3, col)}; };
         const V4 ra0 = row(0, 1, 2, 0, 0), rb0 = row(0, 1, 2, 0, 1), rc0 = row(0, 1, 2, 0, 2), c0 = V4{c[0], c[1], c[2], c[0]};
         const V4 ra1 = row(1, 2, 0, 1, 0), rb1 = row(1, 2, 0, 1, 1), rc1 = row(1, 2, 0, 1, 2), c1 = V4{c[1], c[2], c[0], c[1]};
         const V4 ra2 = row(2, 0, 1, 2, 0), rb2 = row(2, 0, 1, 2, 1), rc2 = row(2, 0, 1, 2, 2), c2 = V4{c[2], c[0], c[1], c[2]};

@@ -60,7 +60,7 @@ ODEC_SIMD_CLONES
 void plain_energies4(const BlockSet& s, int b, const Vec3& gravity, const Vec3* start, double e[4], double work[4]) {
     using simd::M4;
     using simd::V4;
-    auto lanes = [&](auto&& get) { return V4{get(b), get(b + 1), get(b + 2), get(b + 3)}; };
+    auto lanes = [&](auto&& get) ODEC_INLINE { return V4{get(b), get(b + 1), get(b + 2), get(b + 3)}; };
     V4 v[3], w[3], c[3], c0[3];
     simd::load_xyz4(s.vel[b].data(), v[0], v[1], v[2]);
     simd::load_xyz4(s.ang_vel[b].data(), w[0], w[1], w[2]);

@@ -94,15 +94,15 @@ int integrate_plain_blocks(BlockSet& s, const Mat3* rotation_of, const int* list
         for (int l = 0; l < 4; ++l) b[l] = list[std::min(g + l, count - 1)]; // (the last repeated: written twice, the same)
         // Four blocks in a row (as most are): their vectors' coordinates by whole-vector loads.
         const bool row = g + 4 <= count && b[3] == b[0] + 3;
-        auto gather = [&](auto&& get) { return V4{get(b[0]), get(b[1]), get(b[2]), get(b[3])}; };
-        auto vectors = [&](const std::vector<Vec3>& arr, V4 out[3]) {
+        auto gather = [&](auto&& get) ODEC_INLINE { return V4{get(b[0]), get(b[1]), get(b[2]), get(b[3])}; };
+        auto vectors = [&](const std::vector<Vec3>& arr, V4 out[3]) ODEC_INLINE {
             if (row) {
                 simd::load_xyz4(arr[b[0]].data(), out[0], out[1], out[2]);
             } else {
                 for (int i = 0; i < 3; ++i) out[i] = gather([&](int x) { return arr[x][i]; });
             }
         };
-        auto put_vectors = [&](std::vector<Vec3>& arr, const V4 in[3]) {
+        auto put_vectors = [&](std::vector<Vec3>& arr, const V4 in[3]) ODEC_INLINE {
             if (row) {
                 simd::store_xyz4(arr[b[0]].data(), in[0], in[1], in[2]);
             } else {
@@ -128,13 +128,13 @@ int integrate_plain_blocks(BlockSet& s, const Mat3* rotation_of, const int* list
             for (int j = 0; j < 3; ++j) r[i][j] = gather([&](int x) { return rotation_of[x](i, j); });
             mom[i] = damped4(off, local, mo[i], w0[i]);
         }
-        auto inertia = [&](int i, int j) { return gather([&](int x) { return s.inertia_body[x](i, j); }); };
+        auto inertia = [&](int i, int j) ODEC_INLINE { return gather([&](int x) { return s.inertia_body[x](i, j); }); };
         const V4 ib00 = inertia(0, 0), ib11 = inertia(1, 1), ib22 = inertia(2, 2);
         const V4 ib01 = inertia(0, 1), ib02 = inertia(0, 2), ib12 = inertia(1, 2);
         const M4 real = (mass == real_mass) & (mass > zero) & (mass < inf);
         // (What no lane keeps is not made: divisions are the dearest operations here.)
-        auto all = [](M4 m) { return (m[0] & m[1] & m[2] & m[3]) != 0; };
-        auto none = [](M4 m) { return (m[0] | m[1] | m[2] | m[3]) == 0; };
+        auto all = [](M4 m) ODEC_INLINE { return (m[0] & m[1] & m[2] & m[3]) != 0; };
+        auto none = [](M4 m) ODEC_INLINE { return (m[0] | m[1] | m[2] | m[3]) == 0; };
         const V4 ratio = all(real) ? one : real ? one : mass / real_mass;
         V4 mb[3];
         for (int j = 0; j < 3; ++j) mb[j] = sum3(r[0][j] * mom[0], r[1][j] * mom[1], r[2][j] * mom[2]);

@@ -494,6 +494,8 @@ void update_contacts(Model& m, double dt) {
         }
         if (rest_open) {
             const double reach = reach_of(a, b);
+            // (Its sub-contacts' flags and the contact's glue are not read again: only a refresh or
+            // a command changes them between two steps, and either makes the memory forgotten.)
             if (margin[c] + reach < 0 && !strong_joint(c)) {
                 ++n_left;
                 ++n_by_margin;

@@ -9,8 +9,12 @@
 namespace odec {
 namespace simd {
 
-// (Passed only between inline functions and lambdas of a file that includes this: no call
-// between files sees their ABI, so GCC's note on it is off: CMakeLists.txt, -Wno-psabi.)
+// (Passed only between always-inline functions and lambdas of one file: no call at all sees their
+// ABI, so the compilers' note on it is off: CMakeLists.txt, -Wno-psabi. A helper that takes or
+// gives one must be inlined whatever the optimization: one built apart for the default target,
+// called from a function's AVX2 version, would take and give it differently. Lambdas say so with
+// ODEC_INLINE.)
+#define ODEC_INLINE __attribute__((always_inline))
 typedef double V4 __attribute__((vector_size(32)));
 typedef long long M4 __attribute__((vector_size(32))); // what comparisons give: all ones or zero
 typedef long long I4 __attribute__((vector_size(32))); // shuffle indices
