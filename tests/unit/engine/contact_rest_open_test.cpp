@@ -58,6 +58,20 @@ bool same_bits(const T& x, const T& y) {
     return x.size() == 0 || std::memcmp(x.data(), y.data(), sizeof(x[0]) * x.size()) == 0;
 }
 
+// The blocks' motion and the sub-contacts' state (with their flags, kept with their points) of x
+// and y are the same bits.
+void expect_same_state(const Model& x, const Model& y) {
+    EXPECT_TRUE(same_bits(x.blocks.centroid, y.blocks.centroid));
+    EXPECT_TRUE(same_bits(x.blocks.orientation, y.blocks.orientation));
+    EXPECT_TRUE(same_bits(x.blocks.vel, y.blocks.vel));
+    EXPECT_TRUE(same_bits(x.blocks.ang_vel, y.blocks.ang_vel));
+    EXPECT_TRUE(same_bits(x.blocks.force_scale, y.blocks.force_scale));
+    EXPECT_TRUE(same_bits(x.contacts.sub_un, y.contacts.sub_un));
+    EXPECT_TRUE(same_bits(x.contacts.sub_us, y.contacts.sub_us));
+    EXPECT_TRUE(same_bits(x.contacts.sub_ss, y.contacts.sub_ss));
+    EXPECT_TRUE(same_bits(x.contacts.sub_point, y.contacts.sub_point));
+}
+
 // Throws the top cube of column (0, 0) at its neighbour and steps; returns how many contacts the
 // updates left alone, summed over the steps, and in *pressed the largest normal stress between the
 // two cubes.
@@ -218,17 +232,7 @@ TEST(ContactBatched, SteppingPlainSubContactsInBatchesGivesTheSameBits) {
     EXPECT_EQ(pressed_on, pressed_off);
     const Model& x = on.m;
     const Model& y = off.m;
-    auto same = [&] {
-        EXPECT_TRUE(same_bits(x.blocks.centroid, y.blocks.centroid));
-        EXPECT_TRUE(same_bits(x.blocks.orientation, y.blocks.orientation));
-        EXPECT_TRUE(same_bits(x.blocks.vel, y.blocks.vel));
-        EXPECT_TRUE(same_bits(x.blocks.ang_vel, y.blocks.ang_vel));
-        EXPECT_TRUE(same_bits(x.blocks.force_scale, y.blocks.force_scale));
-        EXPECT_TRUE(same_bits(x.contacts.sub_un, y.contacts.sub_un));
-        EXPECT_TRUE(same_bits(x.contacts.sub_us, y.contacts.sub_us));
-        EXPECT_TRUE(same_bits(x.contacts.sub_ss, y.contacts.sub_ss));
-        EXPECT_TRUE(same_bits(x.contacts.sub_point, y.contacts.sub_point)); // (and the flags)
-    };
+    auto same = [&] { expect_same_state(x, y); };
     same();
     // Cohesion and tension that the slipping and opening sub-contacts break, and a steeper slope
     // of friction: some fail, in the batch's contacts too.
@@ -267,16 +271,7 @@ TEST(ContactRestOpen, TheMemoryOfOpenContactsGivesTheSameBits) {
     EXPECT_EQ(off.m.contacts.rest.used, 0);
     const Model& x = on.m;
     const Model& y = off.m;
-    auto same = [&] {
-        EXPECT_TRUE(same_bits(x.blocks.centroid, y.blocks.centroid));
-        EXPECT_TRUE(same_bits(x.blocks.orientation, y.blocks.orientation));
-        EXPECT_TRUE(same_bits(x.blocks.vel, y.blocks.vel));
-        EXPECT_TRUE(same_bits(x.blocks.ang_vel, y.blocks.ang_vel));
-        EXPECT_TRUE(same_bits(x.contacts.sub_un, y.contacts.sub_un));
-        EXPECT_TRUE(same_bits(x.contacts.sub_us, y.contacts.sub_us));
-        EXPECT_TRUE(same_bits(x.contacts.sub_ss, y.contacts.sub_ss));
-        EXPECT_TRUE(same_bits(x.contacts.sub_point, y.contacts.sub_point));
-    };
+    auto same = [&] { expect_same_state(x, y); };
     same();
     // Cohesion given between runs: the open sub-contacts that had not failed fail at their next
     // step, whatever was remembered of them.
