@@ -44,6 +44,7 @@
 namespace odec {
 
 struct Model;
+struct BlockSet;
 struct JointMaterial;
 struct Range;
 struct Polyhedron;
@@ -478,6 +479,10 @@ void set_sub_closure(Model& m, int c, int k, double un);
 // The open sub-contacts of contact c given their closures now in sub_un (to_reference false),
 // or back by reference (true): before and after the blocks' geometry references move.
 void shift_open_closures(Model& m, int c, bool to_reference);
+// For tests: how far blocks b .. b + 3 can have moved since the references ref_c, ref_q (the
+// detection's bound), made four at a time and one by one.
+void block_movements_for_test(const ContactSet& cs, const BlockSet& s, int b, const std::vector<Eigen::Vector3d>& ref_c,
+                              const std::vector<Eigen::Quaterniond>& ref_q, double four[4], double one_by_one[4]);
 // For tests and benchmarks: whether the contact update leaves alone the contacts that stay open
 // whatever their blocks did (on unless told; the results are the same bits either way).
 void set_rest_open_contacts(bool on);

@@ -191,3 +191,41 @@ TEST(BatchedBlocks, FourBlocksEnergiesAreTheBitsOfKineticEnergy) {
     m.blocks.vel_bc[6] = 1;
     EXPECT_FALSE(odec::plain_for_energy(m.blocks, 4));
 }
+
+// Detection's bound on how far a block can have moved since its references, four blocks at a
+// time (contact_detect.cpp): the bits of the one-by-one bound, for turns from none to half a turn
+// (the series and the arcsine) and moves from none to metres.
+TEST(BatchedBlocks, FourBlocksMovementsAreTheBitsOfTheOneByOne) {
+    Model m;
+    set_material(m, 1, 2700);
+    std::mt19937_64 rng(43);
+    std::normal_distribution<double> g;
+    const int n = 64;
+    for (int i = 0; i < n; ++i) odec::add_block(m, odec::make_brick(2 * i, 2 * i + 1, 0, 1, 0, 1 + 0.1 * (i % 5)), 0, -1, 1);
+    odec::ContactSet cs;
+    cs.radius.assign(n, 0);
+    std::vector<Vec3> ref_c(n);
+    std::vector<odec::Quat> ref_q(n);
+    int series = 0, arcsine = 0;
+    for (int b = 0; b < n; ++b) {
+        cs.radius[b] = 0.5 + 0.01 * b;
+        const double scale = b % 3 == 0 ? 1e-9 : b % 3 == 1 ? 1e-4 : 1.0;
+        ref_c[b] = m.blocks.centroid[b] + Vec3(g(rng), g(rng), g(rng)) * scale;
+        m.blocks.orientation[b] = Eigen::Quaterniond(g(rng), g(rng), g(rng), g(rng)).normalized();
+        const Vec3 turn = Vec3(g(rng), g(rng), g(rng)) * (b % 4 == 0 ? 0.0 : scale);
+        ref_q[b] = (Eigen::Quaterniond(Eigen::AngleAxisd(turn.norm(), turn.norm() > 0 ? Vec3(turn.normalized()) : Vec3::UnitX())) *
+                    m.blocks.orientation[b])
+                       .normalized();
+        const double sin_half = (m.blocks.orientation[b] * ref_q[b].conjugate()).vec().norm();
+        (sin_half < 1e-3 ? series : arcsine) += 1;
+    }
+    for (int b = 0; b + 4 <= n; b += 4) {
+        double four[4], one[4];
+        odec::block_movements_for_test(cs, m.blocks, b, ref_c, ref_q, four, one);
+        for (int l = 0; l < 4; ++l) {
+            EXPECT_EQ(std::memcmp(&four[l], &one[l], sizeof(double)), 0) << "block " << b + l << ": " << four[l] << " " << one[l];
+        }
+    }
+    EXPECT_GT(series, 20);
+    EXPECT_GT(arcsine, 10);
+}
