@@ -49,7 +49,7 @@ bool any_beyond(const double* x, int n, double limit) {
 bool plain_for_energy(const BlockSet& s, int b) {
     for (int x = b; x < b + 4; ++x) {
         if ((s.flags[x] & (kExcavated | kFixed | kDeformable)) || !s.loads[x].empty() || s.vel_bc[x] ||
-            !(s.mass[x] > 0) || s.inertial_moment[x] > 0 || !s.vel[x].allFinite() || !s.ang_vel[x].allFinite()) {
+            !(s.mass[x] > 0) || s.inertial_moment[x] > 0) {
             return false;
         }
     }
@@ -57,13 +57,18 @@ bool plain_for_energy(const BlockSet& s, int b) {
 }
 
 ODEC_SIMD_CLONES
-void plain_energies4(const BlockSet& s, int b, const Vec3& gravity, const Vec3* start, double e[4], double work[4]) {
+bool plain_energies4(const BlockSet& s, int b, const Vec3& gravity, const Vec3* start, double e[4], double work[4]) {
     using simd::M4;
     using simd::V4;
     auto lanes = [&](auto&& get) ODEC_INLINE { return V4{get(b), get(b + 1), get(b + 2), get(b + 3)}; };
     V4 v[3], w[3], c[3], c0[3];
     simd::load_xyz4(s.vel[b].data(), v[0], v[1], v[2]);
     simd::load_xyz4(s.ang_vel[b].data(), w[0], w[1], w[2]);
+    // Finite velocities only (else the work of no loads is not nothing: the block-by-block path).
+    const V4 inf = simd::splat(std::numeric_limits<double>::infinity());
+    M4 finite = (v[0] < inf) & (v[0] > -inf);
+    for (int i = 0; i < 3; ++i) finite &= (v[i] < inf) & (v[i] > -inf) & (w[i] < inf) & (w[i] > -inf);
+    if (!(finite[0] & finite[1] & finite[2] & finite[3])) return false;
     simd::load_xyz4(s.centroid[b].data(), c[0], c[1], c[2]);
     simd::load_xyz4(start[b].data(), c0[0], c0[1], c0[2]);
     V4 qx = simd::load4(s.orientation[b].coeffs().data()), qy = simd::load4(s.orientation[b + 1].coeffs().data());
@@ -104,6 +109,7 @@ void plain_energies4(const BlockSet& s, int b, const Vec3& gravity, const Vec3* 
         e[l] = energy[l];
         work[l] = wk[l];
     }
+    return true;
 }
 
 // The likely cause of a run-away of block b, for the message.

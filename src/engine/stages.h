@@ -166,14 +166,14 @@ std::string runaway_cause(const Model& m, int b);
 // generous margin still stops it within a few steps of its start, long before numbers
 // overflow.
 // Whether blocks b .. b + 3 are all plain for the energy watch (EnergyWatch::check): active, free
-// and rigid, without applied loads or held velocities, with their real inertia tensor, a mass,
-// and finite velocities (so that the work of no loads adds nothing).
+// and rigid, without applied loads or held velocities, with their real inertia tensor and a mass.
 bool plain_for_energy(const BlockSet& s, int b);
 // Whether any of x[0, n) is beyond (greater than) limit (NaN is not), four at a time.
 bool any_beyond(const double* x, int n, double limit);
 // Their kinetic energies (kinetic_energy's bits) and the work of their weights since `start`
-// ((m g) . (c - start), as check() makes it), four at a time.
-void plain_energies4(const BlockSet& s, int b, const Vec3& gravity, const Vec3* start, double e[4], double work[4]);
+// ((m g) . (c - start), as check() makes it), four at a time; false (and nothing made) where a
+// velocity is not finite (then the work of no loads is not nothing: the block-by-block path).
+bool plain_energies4(const BlockSet& s, int b, const Vec3& gravity, const Vec3* start, double e[4], double work[4]);
 
 struct EnergyWatch {
     std::vector<Vec3> start;   // (n_blocks) centroid when the cycling began
@@ -303,9 +303,8 @@ struct EnergyWatch {
                 // Four plain blocks in a row (free, without loads or held velocities, with their
                 // real inertia tensor and finite velocities; no flow): their kinetic energies and
                 // the work of their weights made four at a time, then taken in order.
-                if (!m.flow.on && b + 4 <= b1 && plain_for_energy(s, b)) {
-                    double e4[4], work4[4];
-                    plain_energies4(s, b, m.gravity, start.data(), e4, work4);
+                double e4[4], work4[4];
+                if (!m.flow.on && b + 4 <= b1 && plain_for_energy(s, b) && plain_energies4(s, b, m.gravity, start.data(), e4, work4)) {
                     for (int l = 0; l < 4; ++l) {
                         const int x = b + l;
                         if (p.jumper < 0 && neighbours) {

@@ -172,7 +172,7 @@ TEST(BatchedBlocks, FourBlocksEnergiesAreTheBitsOfKineticEnergy) {
     for (int b = 0; b + 4 <= m.blocks.size(); b += 4) {
         ASSERT_TRUE(odec::plain_for_energy(m.blocks, b));
         double e[4], work[4];
-        odec::plain_energies4(m.blocks, b, gravity, start.data(), e, work);
+        ASSERT_TRUE(odec::plain_energies4(m.blocks, b, gravity, start.data(), e, work));
         for (int l = 0; l < 4; ++l) {
             const int x = b + l;
             const double want_e = odec::kinetic_energy(m.blocks, x);
@@ -184,10 +184,15 @@ TEST(BatchedBlocks, FourBlocksEnergiesAreTheBitsOfKineticEnergy) {
         }
     }
     EXPECT_EQ(compared, 16);
-    // A block held, or not a number, is not plain.
+    // A block held, or moving at a speed that is not a number, is not taken four at a time.
     m.blocks.vel[5][1] = std::numeric_limits<double>::quiet_NaN();
-    EXPECT_FALSE(odec::plain_for_energy(m.blocks, 4));
+    double e[4], work[4];
+    EXPECT_FALSE(odec::plain_energies4(m.blocks, 4, gravity, start.data(), e, work));
     m.blocks.vel[5][1] = 0;
+    m.blocks.ang_vel[6][2] = std::numeric_limits<double>::infinity();
+    EXPECT_FALSE(odec::plain_energies4(m.blocks, 4, gravity, start.data(), e, work));
+    m.blocks.ang_vel[6][2] = 0;
+    EXPECT_TRUE(odec::plain_energies4(m.blocks, 4, gravity, start.data(), e, work));
     m.blocks.vel_bc[6] = 1;
     EXPECT_FALSE(odec::plain_for_energy(m.blocks, 4));
 }
