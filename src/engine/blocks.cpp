@@ -286,7 +286,6 @@ namespace {
 // products summed as a0 + (a1 + a2)), four vertices at a time: their twelve coordinates in three
 // vectors, each output lane given its vertex's coordinates and its row of r by shuffles.
 [[gnu::always_inline]] inline void place_vertices(const Mat3& r, const Vec3& c, const Vec3* body, int n, Vec3* out) {
-    using simd::I4;
     using simd::V4;
     static_assert(sizeof(Vec3) == 3 * sizeof(double), "vertices packed as x y z");
     const double* in = body->data();
@@ -307,9 +306,9 @@ namespace {
                      z1 = simd::shuffle<1, 1, 4, 4>(p1, p2);
             const V4 x2 = simd::shuffle<2, 5, 5, 5>(p1, p2), y2 = simd::shuffle<3, 6, 6, 6>(p1, p2),
                      z2 = simd::shuffle<0, 3, 3, 3>(p2, p2);
-            simd::store4(to + 3 * i, c0 + (ra0 * x0 + (rb0 * y0 + rc0 * z0)));
-            simd::store4(to + 3 * i + 4, c1 + (ra1 * x1 + (rb1 * y1 + rc1 * z1)));
-            simd::store4(to + 3 * i + 8, c2 + (ra2 * x2 + (rb2 * y2 + rc2 * z2)));
+            simd::store4(to + 3 * i, c0 + simd::sum3(ra0 * x0, rb0 * y0, rc0 * z0));
+            simd::store4(to + 3 * i + 4, c1 + simd::sum3(ra1 * x1, rb1 * y1, rc1 * z1));
+            simd::store4(to + 3 * i + 8, c2 + simd::sum3(ra2 * x2, rb2 * y2, rc2 * z2));
         }
     }
     for (; i < n; ++i) out[i] = c + r * body[i];
@@ -317,14 +316,16 @@ namespace {
 
 // Blocks [b0, b1): their rotation matrices (Eigen's toRotationMatrix, four at a time where
 // four blocks follow) and world vertices.
+// (The vector kernels read four blocks' orientations as sixteen doubles in a row.)
+static_assert(sizeof(Quat) == 4 * sizeof(double), "quaternions packed as x y z w");
+
 ODEC_SIMD_CLONES
 void place_blocks(BlockSet& s, int b0, int b1) {
     using simd::V4;
     int b = b0;
     for (; b + 4 <= b1; b += 4) {
-        V4 x = simd::load4(s.orientation[b].coeffs().data()), y = simd::load4(s.orientation[b + 1].coeffs().data());
-        V4 z = simd::load4(s.orientation[b + 2].coeffs().data()), w = simd::load4(s.orientation[b + 3].coeffs().data());
-        simd::transpose4(x, y, z, w);
+        const simd::Quat4 q = simd::load_quats4(s.orientation[b].coeffs().data());
+        const V4 x = q.x, y = q.y, z = q.z, w = q.w;
         const V4 two = simd::splat(2.0), one = simd::splat(1.0);
         const V4 tx = two * x, ty = two * y, tz = two * z;
         const V4 twx = tx * w, twy = ty * w, twz = tz * w;

@@ -27,9 +27,7 @@ double kinetic_energy(const BlockSet& s, int b) {
     } else {
         // In the body frame: w . (R I R^T w) = (R^T w) . I (R^T w).
         const Vec3 wb = s.orientation[b].conjugate() * w;
-        // (Real masses: a ratio of 1 exactly, as mass / mass is for every finite mass but 0.)
-        const bool real = mass == s.mass[b] && mass > 0 && mass < std::numeric_limits<double>::infinity();
-        spin = (real ? 1.0 : mass / s.mass[b]) * wb.dot(s.inertia_body[b] * wb);
+        spin = (real_inertia(mass, s.mass[b]) ? 1.0 : mass / s.mass[b]) * wb.dot(s.inertia_body[b] * wb);
     }
     return 0.5 * mass * v.squaredNorm() + 0.5 * spin;
 }
@@ -65,15 +63,13 @@ bool plain_energies4(const BlockSet& s, int b, const Vec3& gravity, const Vec3* 
     simd::load_xyz4(s.vel[b].data(), v[0], v[1], v[2]);
     simd::load_xyz4(s.ang_vel[b].data(), w[0], w[1], w[2]);
     // Finite velocities only (else the work of no loads is not nothing: the block-by-block path).
-    const V4 inf = simd::splat(std::numeric_limits<double>::infinity());
-    M4 finite = (v[0] < inf) & (v[0] > -inf);
-    for (int i = 0; i < 3; ++i) finite &= (v[i] < inf) & (v[i] > -inf) & (w[i] < inf) & (w[i] > -inf);
+    M4 finite = simd::finite4(v[0]);
+    for (int i = 0; i < 3; ++i) finite &= simd::finite4(v[i]) & simd::finite4(w[i]);
     if (!(finite[0] & finite[1] & finite[2] & finite[3])) return false;
     simd::load_xyz4(s.centroid[b].data(), c[0], c[1], c[2]);
     simd::load_xyz4(start[b].data(), c0[0], c0[1], c0[2]);
-    V4 qx = simd::load4(s.orientation[b].coeffs().data()), qy = simd::load4(s.orientation[b + 1].coeffs().data());
-    V4 qz = simd::load4(s.orientation[b + 2].coeffs().data()), qw = simd::load4(s.orientation[b + 3].coeffs().data());
-    simd::transpose4(qx, qy, qz, qw);
+    const simd::Quat4 q = simd::load_quats4(s.orientation[b].coeffs().data());
+    const V4 qx = q.x, qy = q.y, qz = q.z, qw = q.w;
     const V4 mass = lanes([&](int x) { return s.inertial_mass[x]; });
     const V4 real_mass = lanes([&](int x) { return s.mass[x]; });
     const V4 zero = simd::splat(0.0), one = simd::splat(1.0), half = simd::splat(0.5);
@@ -93,18 +89,18 @@ bool plain_energies4(const BlockSet& s, int b, const Vec3& gravity, const Vec3* 
         const V4 r0 = lanes([&](int x) { return s.inertia_body[x](i, 0); });
         const V4 r1 = lanes([&](int x) { return s.inertia_body[x](i, 1); });
         const V4 r2 = lanes([&](int x) { return s.inertia_body[x](i, 2); });
-        iw[i] = r0 * wb[0] + (r1 * wb[1] + r2 * wb[2]);
+        iw[i] = simd::sum3(r0 * wb[0], r1 * wb[1], r2 * wb[2]);
     }
-    const V4 dot = wb[0] * iw[0] + (wb[1] * iw[1] + wb[2] * iw[2]);
+    const V4 dot = simd::sum3(wb[0] * iw[0], wb[1] * iw[1], wb[2] * iw[2]);
     V4 ratio = one;
     if (!(real[0] & real[1] & real[2] & real[3])) ratio = real ? one : mass / real_mass;
     const V4 spin = ratio * dot;
-    const V4 sq = v[0] * v[0] + (v[1] * v[1] + v[2] * v[2]);
+    const V4 sq = simd::sum3(v[0] * v[0], v[1] * v[1], v[2] * v[2]);
     const V4 energy = half * mass * sq + half * spin;
     // (m g) . (c - start).
     const V4 g0 = real_mass * simd::splat(gravity[0]), g1 = real_mass * simd::splat(gravity[1]),
              g2 = real_mass * simd::splat(gravity[2]);
-    const V4 wk = g0 * (c[0] - c0[0]) + (g1 * (c[1] - c0[1]) + g2 * (c[2] - c0[2]));
+    const V4 wk = simd::sum3(g0 * (c[0] - c0[0]), g1 * (c[1] - c0[1]), g2 * (c[2] - c0[2]));
     for (int l = 0; l < 4; ++l) {
         e[l] = energy[l];
         work[l] = wk[l];

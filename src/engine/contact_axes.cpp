@@ -186,8 +186,8 @@ using simd::V4;
         }
         V4 fb[3], ma[3];
         for (int i = 0; i < 3; ++i) {
-            fb[i] = ax[0][i] * f0 + (ax[1][i] * f1 + ax[2][i] * f2);
-            ma[i] = ax[0][i] * m0 + (ax[1][i] * m1 + ax[2][i] * m2);
+            fb[i] = simd::sum3(ax[0][i] * f0, ax[1][i] * f1, ax[2][i] * f2);
+            ma[i] = simd::sum3(ax[0][i] * m0, ax[1][i] * m1, ax[2][i] * m2);
         }
         const V4 c0 = load4(&A.cab[0][l]), c1 = load4(&A.cab[1][l]), c2 = load4(&A.cab[2][l]);
         const V4 cross[3] = {c1 * fb[2] - c2 * fb[1], c2 * fb[0] - c0 * fb[2], c0 * fb[1] - c1 * fb[0]};

@@ -54,20 +54,16 @@ void adjust_auto_damping(Damping& d, const AutoDampingSums& s, double dt) {
     d.auto_dt = dt;
 }
 
-
 namespace {
 
 std::atomic<bool> g_batched_blocks{true};
 
-using simd::I4;
+using simd::abs4;
+using simd::finite4;
 using simd::M4;
+using simd::sum3;
 using simd::V4;
 
-// |x| lane by lane (std::abs: the sign bit cleared).
-[[gnu::always_inline]] inline V4 abs4(V4 x) {
-    const long long m = 0x7fffffffffffffffLL;
-    return (V4)((M4)x & M4{m, m, m, m}); // (vector casts: the same bits)
-}
 // sign(x) (stages.h) lane by lane: 1, -1, or 0 (for 0 and NaN).
 [[gnu::always_inline]] inline V4 sign4(V4 x) {
     const V4 zero = simd::splat(0.0), one = simd::splat(1.0);
@@ -77,9 +73,6 @@ using simd::V4;
 [[gnu::always_inline]] inline V4 damped4(bool off, double local, V4 f, V4 v) {
     return off ? f : f - simd::splat(local) * abs4(f) * sign4(v);
 }
-// Three-term sums as Eigen adds them.
-[[gnu::always_inline]] inline V4 sum3(V4 a0, V4 a1, V4 a2) { return a0 + (a1 + a2); }
-
 // Steps the plain blocks list[0, count) (integrate_plain_blocks), four at a time: each lane does
 // what the scalar loop of integrate() does for such a block, operation for operation. Returns
 // the least of them whose motion is no longer finite, or -1.
@@ -135,7 +128,8 @@ int integrate_plain_blocks(BlockSet& s, const Mat3* rotation_of, const int* list
         // (What no lane keeps is not made: divisions are the dearest operations here.)
         auto all = [](M4 m) ODEC_INLINE { return (m[0] & m[1] & m[2] & m[3]) != 0; };
         auto none = [](M4 m) ODEC_INLINE { return (m[0] | m[1] | m[2] | m[3]) == 0; };
-        const V4 ratio = all(real) ? one : real ? one : mass / real_mass;
+        V4 ratio = one;
+        if (!all(real)) ratio = real ? one : mass / real_mass;
         V4 mb[3];
         for (int j = 0; j < 3; ++j) mb[j] = sum3(r[0][j] * mom[0], r[1][j] * mom[1], r[2][j] * mom[2]);
         // A brick in its own axes: the diagonal's inverse.
@@ -180,24 +174,18 @@ int integrate_plain_blocks(BlockSet& s, const Mat3* rotation_of, const int* list
         }
         // The turn's quaternion times the orientation (Eigen's product, w first; a quaternion's
         // coefficients are kept x, y, z, w).
-        const V4 hx = dth[0] * sin_h, hy = dth[1] * sin_h, hz = dth[2] * sin_h, hw = cos_h;
-        V4 ox, oy, oz, ow;
+        const simd::Quat4 h{dth[0] * sin_h, dth[1] * sin_h, dth[2] * sin_h, cos_h};
+        simd::Quat4 o;
         if (row) {
-            ox = simd::load4(s.orientation[b[0]].coeffs().data());
-            oy = simd::load4(s.orientation[b[1]].coeffs().data());
-            oz = simd::load4(s.orientation[b[2]].coeffs().data());
-            ow = simd::load4(s.orientation[b[3]].coeffs().data());
-            simd::transpose4(ox, oy, oz, ow);
+            o = simd::load_quats4(s.orientation[b[0]].coeffs().data());
         } else {
-            ox = gather([&](int x) { return s.orientation[x].x(); });
-            oy = gather([&](int x) { return s.orientation[x].y(); });
-            oz = gather([&](int x) { return s.orientation[x].z(); });
-            ow = gather([&](int x) { return s.orientation[x].w(); });
+            o.x = gather([&](int x) { return s.orientation[x].x(); });
+            o.y = gather([&](int x) { return s.orientation[x].y(); });
+            o.z = gather([&](int x) { return s.orientation[x].z(); });
+            o.w = gather([&](int x) { return s.orientation[x].w(); });
         }
-        const V4 nw = hw * ow - hx * ox - hy * oy - hz * oz;
-        const V4 nx = hw * ox + hx * ow + hy * oz - hz * oy;
-        const V4 ny = hw * oy + hy * ow + hz * ox - hx * oz;
-        const V4 nz = hw * oz + hz * ow + hx * oy - hy * ox;
+        const simd::Quat4 q = simd::quat_product4(h, o);
+        const V4 nx = q.x, ny = q.y, nz = q.z, nw = q.w;
         const V4 n2 = (nx * nx + ny * ny) + (nz * nz + nw * nw);
         const M4 near_unit = abs4(n2 - one) < simd::splat(1e-8);
         V4 scale = simd::splat(1.5) - half * n2;
@@ -234,9 +222,9 @@ int integrate_plain_blocks(BlockSet& s, const Mat3* rotation_of, const int* list
                 if (turned[l]) s.orientation[b[l]] = Quat(qw[l], qx[l], qy[l], qz[l]);
             }
         }
-        // Not finite (NaN or infinite, which |x| < inf is not): the integration is unstable.
-        M4 finite = (abs4(c[0]) < inf) & (abs4(c[1]) < inf) & (abs4(c[2]) < inf);
-        for (int i = 0; i < 3; ++i) finite &= (abs4(v[i]) < inf) & (abs4(w[i]) < inf);
+        // Not finite (NaN or infinite): the integration is unstable.
+        M4 finite = finite4(c[0]) & finite4(c[1]) & finite4(c[2]);
+        for (int i = 0; i < 3; ++i) finite &= finite4(v[i]) & finite4(w[i]);
         for (int l = 0; l < 4 && g + l < count; ++l) {
             const int x = b[l];
             s.half_kick[x] = 0;
@@ -394,9 +382,7 @@ int integrate(Model& m, double dt, AutoDampingSums* sums) {
                 // orientation, which nothing has changed since: the contacts stepped with it.)
                 const Mat3 r = rotation_of ? rotation_of[b] : Mat3(s.orientation[b].toRotationMatrix());
                 const Mat3& ib = s.inertia_body[b];
-                // (Real masses, as in dynamic mode: a ratio of 1 exactly, which nothing need divide
-                // by; x / x is 1 for every finite x other than 0.)
-                const bool real = mass == s.mass[b] && mass > 0 && mass < std::numeric_limits<double>::infinity();
+                const bool real = real_inertia(mass, s.mass[b]);
                 const double ratio = real ? 1.0 : mass / s.mass[b];
                 // The world tensor's diagonal, R I R^T at (i, i): what the damping and the
                 // adaptive damping's sums take as the inertia about each world axis.

@@ -460,7 +460,7 @@ void update_contacts(Model& m, double dt) {
         *largest = most;
         return !intact || !strong_joint(c);
     };
-    // The memory of the open contacts left alone at the last step (ContactSet::rest_margin): a
+    // The memory of the open contacts left alone at the last step (ContactSet::rest): a
     // contact whose sub-contacts have not changed since stays open while its largest closure plus
     // dilation plus reach is below zero, which is stays_open's answer (ud + reach < 0 for every
     // sub-contact just when it holds for the largest: adding reach keeps the order), and its
@@ -532,15 +532,14 @@ void update_contacts(Model& m, double dt) {
             B.cos1[side][l] = cos1_of[x];
         }
     };
-    // The sums over a contact's sub-contacts on its axes (ax, the rows), back on the world axes
-    // and into its blocks: f the force on b and mo its moment about a's centroid; b's moment about
-    // its own is that less cab x fb. scale: the sum of the sub-contacts' force magnitudes.
-    auto put_on_blocks = [&s](int a, int b, const Mat3& ax, const Vec3& cab, const Vec3& f, const Vec3& mo, double scale) {
-        const Vec3 fb = ax.transpose() * f, ma = ax.transpose() * mo;
+    // A contact's sums into its blocks (world axes): fb the force on b, ma its moment about a's
+    // centroid (a takes the opposite of both), mb about b's own (ma - cab x fb), and scale the sum
+    // of the sub-contacts' force magnitudes.
+    auto put_on_blocks = [&s](int a, int b, const Vec3& fb, const Vec3& ma, const Vec3& mb, double scale) {
         s.force[a] -= fb;
         s.moment[a] -= ma;
         s.force[b] += fb;
-        s.moment[b] += ma - cab.cross(fb);
+        s.moment[b] += mb;
         s.force_scale[a] += scale;
         s.force_scale[b] += scale;
     };
@@ -661,7 +660,9 @@ void update_contacts(Model& m, double dt) {
             mag2[n_mag++] = f2n;
         }
         for (int i = 0; i < n_mag; ++i) scale += std::sqrt(mag2[i]);
-        put_on_blocks(a, b, ax, cab, Vec3(f0, f1, f2), Vec3(m0, m1, m2), scale);
+        // Back on the world axes (the sums above are on the contact's).
+        const Vec3 fb = ax.transpose() * Vec3(f0, f1, f2), ma = ax.transpose() * Vec3(m0, m1, m2);
+        put_on_blocks(a, b, fb, ma, Vec3(ma - cab.cross(fb)), scale);
         if (stiffness) {
             cs.joint_kt[a] += kt;
             cs.joint_kr[a] += kra;
@@ -739,16 +740,10 @@ void update_contacts(Model& m, double dt) {
                     cs.sub_ss[q] = Eigen::Vector2d(S.ss_new[j][0][l], S.ss_new[j][1][l]);
                     cs.set_sub_flags(q, static_cast<std::uint8_t>(cs.sub_flags(q) & ~(kSubSlip | kSubOpen)));
                 }
-                // Its sums, on the world axes in the batch (put_on_blocks' numbers), into its blocks.
-                const int a = cs.block_a[c], b = cs.block_b[c];
-                const Vec3 fb(S.fb[0][l], S.fb[1][l], S.fb[2][l]);
-                const Vec3 ma(S.ma[0][l], S.ma[1][l], S.ma[2][l]);
-                s.force[a] -= fb;
-                s.moment[a] -= ma;
-                s.force[b] += fb;
-                s.moment[b] += Vec3(S.mb[0][l], S.mb[1][l], S.mb[2][l]);
-                s.force_scale[a] += S.scale[l];
-                s.force_scale[b] += S.scale[l];
+                // Its sums, put on the world axes in the batch, into its blocks.
+                put_on_blocks(cs.block_a[c], cs.block_b[c], Vec3(S.fb[0][l], S.fb[1][l], S.fb[2][l]),
+                              Vec3(S.ma[0][l], S.ma[1][l], S.ma[2][l]), Vec3(S.mb[0][l], S.mb[1][l], S.mb[2][l]),
+                              S.scale[l]);
             }
             n = 0;
         };

@@ -286,7 +286,7 @@ struct Model {
     long step = 0;                // steps taken since `new`
     long edits = 0;               // (not saved) commands carried out on this model (what a command
                                   // may have changed, the contact update's memory of open
-                                  // contacts does not trust: ContactSet::rest_margin)
+                                  // contacts does not trust: ContactSet::rest)
     double time = 0;              // s
     double dt = 0;                // s, timestep in use
     int next_block_id = 1;

@@ -26,6 +26,15 @@ typedef long long I4 __attribute__((vector_size(32))); // shuffle indices
 }
 [[gnu::always_inline]] inline void store4(double* p, V4 v) { std::memcpy(p, &v, sizeof v); }
 [[gnu::always_inline]] inline V4 splat(double x) { return V4{x, x, x, x}; }
+// |x| lane by lane (std::abs: the sign bit cleared).
+[[gnu::always_inline]] inline V4 abs4(V4 x) {
+    const long long m = 0x7fffffffffffffffLL;
+    return (V4)((M4)x & M4{m, m, m, m}); // (vector casts: the same bits)
+}
+// Lanes that are numbers and not infinite (|x| < inf, which NaN is not).
+[[gnu::always_inline]] inline M4 finite4(V4 x) { return abs4(x) < splat(__builtin_inf()); }
+// A three-term sum as Eigen's fixed-size products and dot products add it.
+[[gnu::always_inline]] inline V4 sum3(V4 a0, V4 a1, V4 a2) { return a0 + (a1 + a2); }
 
 // The lanes i0 .. i3 of a and b side by side (0 .. 3: a's, 4 .. 7: b's), in GCC's and clang's
 // spellings.
@@ -59,6 +68,22 @@ template <int i0, int i1, int i2, int i3>
     b = shuffle<2, 3, 6, 7>(t0, t1);
     c = shuffle<0, 1, 4, 5>(t2, t3);
     d = shuffle<2, 3, 6, 7>(t2, t3);
+}
+
+// Four quaternions side by side, a vector per coefficient.
+struct Quat4 {
+    V4 x, y, z, w;
+};
+// The four quaternions kept one after another from p (as Eigen keeps one: x, y, z, w).
+[[gnu::always_inline]] inline Quat4 load_quats4(const double* p) {
+    Quat4 q{load4(p), load4(p + 4), load4(p + 8), load4(p + 12)};
+    transpose4(q.x, q.y, q.z, q.w);
+    return q;
+}
+// The product a b, lane by lane, with the operations of Eigen's quaternion product.
+[[gnu::always_inline]] inline Quat4 quat_product4(const Quat4& a, const Quat4& b) {
+    return Quat4{a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y, a.w * b.y + a.y * b.w + a.z * b.x - a.x * b.z,
+                 a.w * b.z + a.z * b.w + a.x * b.y - a.y * b.x, a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z};
 }
 
 } // namespace simd

@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -69,6 +70,12 @@ inline void half_turn(double t2, double& sin_h_over_angle, double& cos_h) {
 }
 
 inline bool is_active(const BlockSet& s, int b) { return !(s.flags[b] & kExcavated); }
+
+// Whether a block's inertial mass is its real mass (as in dynamic mode): then their ratio is 1
+// exactly, which nothing need divide by (x / x is 1 for every finite x but 0).
+inline bool real_inertia(double inertial_mass, double mass) {
+    return inertial_mass == mass && mass > 0 && mass < std::numeric_limits<double>::infinity();
+}
 // A rigid block that moves as a whole (not excavated, not divided into zones).
 inline bool is_rigid_active(const BlockSet& s, int b) { return !(s.flags[b] & (kExcavated | kDeformable)); }
 
@@ -296,6 +303,25 @@ struct EnergyWatch {
         const int n = s.size();
         const int nch = (n + kChunk - 1) / kChunk;
         parts.assign(nch, Part{});
+        // What a free block adds to its chunk's part: whether it jumps, its kinetic energy e and
+        // the work w of its weight.
+        auto take = [&](Part& p, int b, double e, double w) {
+            // Moving more than half its size in one step, a block jumps past the blocks in
+            // its way: contact detection cannot see them.
+            // (Its largest component first, which neither overflows nor underflows; then the
+            // squared length, cheaper than a scaled norm. NaN compares as not larger.)
+            if (p.jumper < 0 && neighbours) {
+                const Vec3 d = s.vel[b] * m.dt;
+                const double half = 0.5 * size[b];
+                if (d.cwiseAbs().maxCoeff() > half || d.squaredNorm() > half * half) p.jumper = b;
+            }
+            p.ke += e;
+            if (!(e <= p.ke_max)) {
+                p.ke_max = e;
+                p.worst = b;
+            }
+            p.work += w;
+        };
         parallel_for(nch, thread_count(), n >= kParallelMinBlocks, [&](int ch) {
             Part& p = parts[ch];
             const int b1 = std::min(n, (ch + 1) * kChunk);
@@ -305,20 +331,7 @@ struct EnergyWatch {
                 // the work of their weights made four at a time, then taken in order.
                 double e4[4], work4[4];
                 if (!m.flow.on && b + 4 <= b1 && plain_for_energy(s, b) && plain_energies4(s, b, m.gravity, start.data(), e4, work4)) {
-                    for (int l = 0; l < 4; ++l) {
-                        const int x = b + l;
-                        if (p.jumper < 0 && neighbours) {
-                            const Vec3 d = s.vel[x] * m.dt;
-                            const double half = 0.5 * size[x];
-                            if (d.cwiseAbs().maxCoeff() > half || d.squaredNorm() > half * half) p.jumper = x;
-                        }
-                        p.ke += e4[l];
-                        if (!(e4[l] <= p.ke_max)) {
-                            p.ke_max = e4[l];
-                            p.worst = x;
-                        }
-                        p.work += work4[l];
-                    }
+                    for (int l = 0; l < 4; ++l) take(p, b + l, e4[l], work4[l]);
                     b += 3;
                     continue;
                 }
@@ -336,22 +349,7 @@ struct EnergyWatch {
                 if (m.flow.on && static_cast<int>(m.flow.block_force.size()) == s.size()) {
                     p.applied += m.dt * (m.flow.block_force[b].dot(s.vel[b]) + m.flow.block_moment[b].dot(s.ang_vel[b]));
                 }
-                // Moving more than half its size in one step, a block jumps past the blocks in
-                // its way: contact detection cannot see them.
-                // (Its largest component first, which neither overflows nor underflows; then the
-                // squared length, cheaper than a scaled norm. NaN compares as not larger.)
-                if (p.jumper < 0 && neighbours) {
-                    const Vec3 d = s.vel[b] * m.dt;
-                    const double half = 0.5 * size[b];
-                    if (d.cwiseAbs().maxCoeff() > half || d.squaredNorm() > half * half) p.jumper = b;
-                }
-                const double e = kinetic_energy(s, b);
-                p.ke += e;
-                if (!(e <= p.ke_max)) {
-                    p.ke_max = e;
-                    p.worst = b;
-                }
-                p.work += (s.mass[b] * m.gravity).dot(s.centroid[b] - start[b]);
+                take(p, b, kinetic_energy(s, b), (s.mass[b] * m.gravity).dot(s.centroid[b] - start[b]));
             }
         });
         double work = 0, ke = 0, ke_max = -1;

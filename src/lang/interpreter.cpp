@@ -183,7 +183,7 @@ void Interpreter::close_log() {
 }
 
 bool Interpreter::execute(const LexedCommand& cmd, bool echo_command) {
-    ++model.edits; // (ContactSet::rest_margin: whatever a command changes is not trusted to be as it was)
+    ++model.edits; // (ContactSet::rest: whatever a command changes is not trusted to be as it was)
     if (echo_command && echo && !quiet) {
         const auto& file = cmd.tokens.front().loc.file;
         for (int l = cmd.first_line; l <= cmd.last_line; ++l) {
