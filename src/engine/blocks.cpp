@@ -319,8 +319,9 @@ namespace {
 // (The vector kernels read four blocks' orientations as sixteen doubles in a row.)
 static_assert(sizeof(Quat) == 4 * sizeof(double), "quaternions packed as x y z w");
 
+// (vertices false: the matrices alone.)
 ODEC_SIMD_CLONES
-void place_blocks(BlockSet& s, int b0, int b1) {
+void place_blocks(BlockSet& s, int b0, int b1, bool vertices) {
     using simd::V4;
     int b = b0;
     for (; b + 4 <= b1; b += 4) {
@@ -337,6 +338,7 @@ void place_blocks(BlockSet& s, int b0, int b1) {
         for (int l = 0; l < 4; ++l) {
             Mat3& rot = s.rotation[b + l];
             for (int i = 0; i < 9; ++i) rot.data()[i] = r[i][l];
+            if (!vertices) continue;
             const std::vector<Vec3>& body = s.shape[b + l].vertices;
             place_vertices(rot, s.centroid[b + l], body.data(), static_cast<int>(body.size()),
                            s.world_vertices.data() + s.vertex_offset[b + l]);
@@ -345,14 +347,29 @@ void place_blocks(BlockSet& s, int b0, int b1) {
     for (; b < b1; ++b) {
         const Mat3 r = s.orientation[b].toRotationMatrix();
         s.rotation[b] = r;
+        if (!vertices) continue;
         const std::vector<Vec3>& body = s.shape[b].vertices;
         place_vertices(r, s.centroid[b], body.data(), static_cast<int>(body.size()), s.world_vertices.data() + s.vertex_offset[b]);
     }
 }
 
+// The world vertices of blocks [b0, b1) by their rotation matrices (the same bits place_blocks
+// gives them); a deformable block's are its gridpoints' (refresh_deformable_vertices).
+ODEC_SIMD_CLONES
+void place_rigid_vertices(BlockSet& s, int b0, int b1) {
+    for (int b = b0; b < b1; ++b) {
+        if (s.flags[b] & kDeformable) continue;
+        const std::vector<Vec3>& body = s.shape[b].vertices;
+        place_vertices(s.rotation[b], s.centroid[b], body.data(), static_cast<int>(body.size()),
+                       s.world_vertices.data() + s.vertex_offset[b]);
+    }
+}
+
 } // namespace
 
-void refresh_world_vertices(Model& m) {
+namespace {
+
+void place_all(Model& m, bool vertices) {
     BlockSet& s = m.blocks;
     const int n = s.size();
     s.vertex_offset.resize(n + 1);
@@ -369,8 +386,31 @@ void refresh_world_vertices(Model& m) {
     constexpr int kChunk = 256;
     const int n_chunks = (n + kChunk - 1) / kChunk;
     parallel_for(n_chunks, threads, n >= kParallelMinBlocks,
-                 [&](int ch) { place_blocks(s, ch * kChunk, std::min(n, (ch + 1) * kChunk)); });
+                 [&](int ch) { place_blocks(s, ch * kChunk, std::min(n, (ch + 1) * kChunk), vertices); });
     refresh_deformable_vertices(m);
+    s.vertices_behind = !vertices;
+}
+
+} // namespace
+
+void refresh_world_vertices(Model& m) { place_all(m, true); }
+
+void refresh_block_rotations(Model& m) { place_all(m, false); }
+
+void catch_up_world_vertices(Model& m) {
+    BlockSet& s = m.blocks;
+    if (!s.vertices_behind) return;
+    const int n = s.size();
+    if (static_cast<int>(s.vertex_offset.size()) != n + 1 || static_cast<int>(s.rotation.size()) != n ||
+        s.vertex_offset[n] != static_cast<int>(s.world_vertices.size())) {
+        refresh_world_vertices(m); // (the blocks changed since: all of it again)
+        return;
+    }
+    s.vertices_behind = false;
+    constexpr int kChunk = 256;
+    const int n_chunks = (n + kChunk - 1) / kChunk;
+    parallel_for(n_chunks, thread_count(), n >= kParallelMinBlocks,
+                 [&](int ch) { place_rigid_vertices(s, ch * kChunk, std::min(n, (ch + 1) * kChunk)); });
 }
 
 Polyhedron world_shape(const Model& m, int b) {

@@ -33,8 +33,15 @@ void remove_blocks(Model& m, std::vector<int> block_indices);
 // Recompute mass and inertia of every block from its material's density.
 void update_masses(Model& m);
 
-// World positions of all block vertices into blocks.world_vertices.
+// World positions of all block vertices into blocks.world_vertices (and the rotation matrices).
 void refresh_world_vertices(Model& m);
+
+// The cycle's form of it: the rotation matrices and the deformable blocks' corners now, the
+// rigid blocks' world vertices only when something reads them (BlockSet::vertices_behind):
+// catch_up_world_vertices places them, and the cycle catches up before anything outside its
+// stages sees the model, so that between commands they are always in step.
+void refresh_block_rotations(Model& m);
+void catch_up_world_vertices(Model& m);
 
 // World shape of one block.
 Polyhedron world_shape(const Model& m, int block_index);

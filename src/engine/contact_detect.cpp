@@ -69,6 +69,7 @@
 #include <limits>
 #include <type_traits>
 
+#include "engine/blocks.h"
 #include "engine/common_plane.h"
 #include "engine/contact.h"
 #include "engine/simd.h"
@@ -1678,6 +1679,8 @@ void detect_contacts(Model& m) {
         full = far != 0;
     }
     const double old_ctol = cs.ctol;
+    // What follows the broad check reads the blocks' world vertices: in step from here on.
+    if (full) catch_up_world_vertices(m);
     if (full) {
         cs.ctol = contact_tolerance(m);
         cs.radius.resize(n);
@@ -1851,6 +1854,7 @@ void detect_contacts(Model& m) {
         // would end at its free motion below).
         const bool none_reached = most + next_most < cs.least_free_motion;
         const std::uint16_t* free_motion = cs.free_motion.data();
+        if (!none_reached && nc > 0) catch_up_world_vertices(m); // (the look below reads them)
         // The threads reach these thread_local arrays through pointers (named in the loop, a
         // thread_local would be each worker's own).
         char* close_mark = closing.data();
@@ -1941,6 +1945,7 @@ void detect_contacts(Model& m) {
             cs.motion_fresh = true;
             return;
         }
+        catch_up_world_vertices(m); // (the rebuild reads them)
         for (int c = 0; c < nc; ++c) {
             const int a = cs.block_a[c], b = cs.block_b[c];
             if (moved[a] || moved[b] || closing[c]) {

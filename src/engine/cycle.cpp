@@ -74,6 +74,12 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
         Model& m;
         ~LeaveEnergy() { mark_energy(m); }
     } leave_energy{m};
+    // Nothing outside the stages sees world vertices behind the blocks (refresh_block_rotations):
+    // the commands after the cycle, the functions and histories within it.
+    struct LeaveVertices {
+        Model& m;
+        ~LeaveVertices() { catch_up_world_vertices(m); }
+    } leave_vertices{m};
     for (;;) {
         if (lim.max_steps > 0 && res.steps >= lim.max_steps) {
             res.reason = StopReason::Steps;
@@ -94,6 +100,7 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
                           "with a step of " + num_text(m.dt) + " s: the model cannot cycle further";
             break;
         }
+        if (lim.each_step) catch_up_world_vertices(m);
         if (lim.each_step) {
             // What the functions give the blocks ('ini xvel', 'b_xvel(b) = ...') is energy the
             // run-away check must allow for, as it allows for what the loads give.
@@ -113,6 +120,7 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
         // block): contacts, masses and timestep follow, and the run-away checks start afresh
         // from the new blocks.
         if (m.geometry_changed || watch.stale(m)) {
+            catch_up_world_vertices(m);
             const std::string p = prepare_cycle_once(m);
             if (!p.empty()) {
                 res.reason = StopReason::Error;
@@ -166,7 +174,8 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
         {
             StageTimer t{prof, Stage::Integrate};
             bad = integrate(m, m.dt, sums);
-            refresh_world_vertices(m);
+            // (The rigid blocks' world vertices wait for what reads them: catch_up_world_vertices.)
+            refresh_block_rotations(m);
         }
         int bad_node = -1;
         if (m.cables.size() > 0) {
@@ -204,6 +213,19 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
         {
             StageTimer t{prof, Stage::Record};
             if (m.histories.ncyc > 0 && m.step % m.histories.ncyc == 0) {
+                // A contact's history reads its point, and a function anything.
+                for (const History& h : m.histories.items) {
+                    switch (h.kind) {
+                    case HistoryKind::Fish:
+                    case HistoryKind::NForce:
+                    case HistoryKind::SForce:
+                    case HistoryKind::NStress:
+                    case HistoryKind::SStress:
+                    case HistoryKind::NDis:
+                    case HistoryKind::SDis: catch_up_world_vertices(m); break;
+                    default: break;
+                    }
+                }
                 // A FISH history may give the blocks energy too.
                 bool fish = false;
                 for (const History& h : m.histories.items) fish = fish || h.kind == HistoryKind::Fish;
@@ -227,7 +249,10 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
         if (m.geometry_changed || watch.stale(m)) {
             // A FISH history changed the blocks: the checks below wait for the next step, which
             // prepares the model again first.
-            if (progress && progress_every > 0 && res.steps % progress_every == 0) progress(m);
+            if (progress && progress_every > 0 && res.steps % progress_every == 0) {
+                catch_up_world_vertices(m);
+                progress(m);
+            }
             continue;
         }
         {
@@ -238,7 +263,10 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
             res.reason = StopReason::BlowUp;
             break;
         }
-        if (progress && progress_every > 0 && res.steps % progress_every == 0) progress(m);
+        if (progress && progress_every > 0 && res.steps % progress_every == 0) {
+            catch_up_world_vertices(m);
+            progress(m);
+        }
         bool balanced = false;
         if (lim.ratio > 0) {
             StageTimer t{prof, Stage::Checks};

@@ -147,6 +147,9 @@ struct BlockSet {
     std::vector<Mat3> rotation;           // (n_blocks) each block's orientation as a matrix, made with the
                                           //            world vertices (the contact update turns its
                                           //            sub-contacts' points by it)
+    bool vertices_behind = false;         // the rigid blocks' world vertices are those of an earlier
+                                          //            step (refresh_block_rotations): only within a
+                                          //            cycle, until catch_up_world_vertices
 
     int size() const { return static_cast<int>(id.size()); }
 };

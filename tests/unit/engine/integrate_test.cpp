@@ -81,6 +81,71 @@ TEST(WorldVertices, TheRefreshGivesTheBitsOfCentroidPlusRotatedVertex) {
     EXPECT_GT(vertices, 600);
 }
 
+// Within a cycle the rigid blocks' world vertices wait for what reads them (blocks.h,
+// refresh_block_rotations): the catch-up gives the bits of the full refresh, and nothing outside
+// the stages sees them behind: a function called at every step, a contact's history, the
+// commands after the cycle.
+TEST(WorldVertices, BehindOnlyWithinTheStages) {
+    auto in_step = [](const Model& m) {
+        if (m.blocks.vertices_behind) return false;
+        for (int b = 0; b < m.blocks.size(); ++b) {
+            const odec::Polyhedron w = odec::world_shape(m, b);
+            for (size_t v = 0; v < w.vertices.size(); ++v) {
+                const Vec3& x = m.blocks.world_vertices[m.blocks.vertex_offset[b] + v];
+                if (std::memcmp(x.data(), w.vertices[v].data(), sizeof(double) * 3) != 0) return false;
+            }
+        }
+        return true;
+    };
+    Model m;
+    set_material(m, 1, 2700);
+    set_joint(m, 1, 1e9, 1e9, 30);
+    m.gravity = Vec3(0, 0, -10);
+    m.damping.mode = odec::DampingMode::Off;
+    m.settings.dyn_configured = true;
+    m.settings.dynamic = true;
+    m.settings.dt_fixed = 2e-5;
+    add_fixed(m, odec::make_brick(-1, 6, -1, 2, -1, 0));
+    for (int i = 0; i < 5; ++i) {
+        const int b = odec::add_block(m, odec::make_brick(i * 1.1, i * 1.1 + 1, 0, 1, 0.001, 1.001), 0, -1, 1);
+        m.blocks.ang_vel[b] = Vec3(0.3 * i, -0.2, 0.1);
+    }
+    ASSERT_TRUE(odec::prepare_cycle(m).empty());
+    // The catch-up's bits are the refresh's.
+    {
+        Model y = m;
+        odec::refresh_block_rotations(y);
+        EXPECT_TRUE(y.blocks.vertices_behind);
+        y.blocks.orientation[3] = Eigen::Quaterniond(0.9, 0.1, -0.3, 0.2).normalized();
+        y.blocks.centroid[3] += Vec3(0.01, 0, 0);
+        odec::refresh_block_rotations(y);
+        EXPECT_FALSE(in_step(y));
+        odec::catch_up_world_vertices(y);
+        EXPECT_TRUE(in_step(y));
+    }
+    // A function at every step sees them in step.
+    odec::CycleLimits lim;
+    lim.max_steps = 400;
+    int calls = 0, behind = 0;
+    lim.each_step = [&](Model& x) {
+        ++calls;
+        if (!in_step(x)) ++behind;
+        return std::string();
+    };
+    const odec::CycleResult r = odec::cycle(m, lim);
+    EXPECT_EQ(r.reason, odec::StopReason::Steps) << r.message;
+    EXPECT_EQ(calls, 400);
+    EXPECT_EQ(behind, 0);
+    // So do the commands after it, without a function too.
+    EXPECT_TRUE(in_step(m));
+    EXPECT_EQ(run_steps(m, 300).reason, odec::StopReason::Steps);
+    EXPECT_TRUE(in_step(m));
+    // They moved, so the test could fail.
+    double turned = 0;
+    for (int b = 1; b < m.blocks.size(); ++b) turned = std::max(turned, m.blocks.orientation[b].vec().norm());
+    EXPECT_GT(turned, 1e-4);
+}
+
 // Integration steps the plain blocks four at a time (integrate.cpp, integrate_plain_blocks): the
 // bits of the block-by-block loop, for bricks (a diagonal tensor) and hulls of any shape (the
 // adjugate), at rest, landing, tumbling, under local damping and none.
