@@ -16,7 +16,7 @@
 namespace odec {
 
 struct ContactAxesBatch {
-    static constexpr int kSize = 32; // contacts per batch
+    static constexpr int kSize = 16; // contacts per batch
     // ---- in, per contact ----
     std::int32_t nu[kSize], nv[kSize];   // its normal's code (NormalCode)
     // Block a's, then block b's: the axis of its turn over the last step, the sine and 1 - cosine
