@@ -240,6 +240,13 @@ struct ContactSet {
         std::vector<double> margin;               // (n_contacts, or none: dynamic mode only)
         long step = -1, revision = -1, edits = -1, run = -1; // when it was made
         int used = 0;                             // contacts the last update left alone by it
+        // Of those, the quiet ones: a bit per entry of color_order, set where its contact is
+        // left alone without a look while the contacts' largest reach stays below `slack` (the
+        // least of their margins' distances below zero); none: no contact is.
+        std::vector<std::uint64_t> quiet;
+        int n_quiet = 0;
+        double slack = 0;
+        int used_quiet = 0;                       // quiet contacts the last update left without a look
     } rest;
     long cycle_runs = 0;                          // (not saved) calls of cycle() on this model
 

@@ -383,7 +383,10 @@ void update_contacts(Model& m, double dt) {
     // colour share a block, so each adds its forces straight into its blocks, and every block
     // takes its contacts' forces in colour order, whatever the threads (each sub-contact belongs
     // to one contact, so the joint law's state is never shared either).
-    if (!cs.colored) color_contacts(cs, n);
+    if (!cs.colored) {
+        color_contacts(cs, n);
+        cs.rest.quiet.clear(); // (its bits are by entry of the colouring)
+    }
     // The energy account: what each contact dissipates, summed in contact order afterwards.
     thread_local std::vector<double> contact_dissipation;
     const bool account = m.energy.on;
@@ -419,9 +422,21 @@ void update_contacts(Model& m, double dt) {
     // their references (asked only where rest_open: each block's share made once for all its
     // contacts).
     thread_local std::vector<double> reach_share;
+    // The largest reach of any contact: reach_of for the block of largest share taken twice (no
+    // pair's is above it, each sum's rounding being monotonic), or NaN where some share is not a
+    // number (then every contact is looked at).
+    double reach_bound = std::numeric_limits<double>::quiet_NaN();
     if (rest_open) {
         reach_share.resize(n);
-        for (int b = 0; b < n; ++b) reach_share[b] = motion_of[b] * (1 + ctol / std::max(cs.radius[b], 1e-300));
+        double most = 0;
+        bool unknown = false;
+        for (int b = 0; b < n; ++b) {
+            const double v = motion_of[b] * (1 + ctol / std::max(cs.radius[b], 1e-300));
+            reach_share[b] = v;
+            unknown = unknown || v != v;
+            most = std::max(most, v);
+        }
+        if (!unknown) reach_bound = (most + most) + 1e-9 * ctol;
     }
     const double* share_of = reach_share.data();
     auto reach_of = [=](int a, int b) { return share_of[a] + share_of[b] + 1e-9 * ctol; };
@@ -470,7 +485,10 @@ void update_contacts(Model& m, double dt) {
         auto& r = cs.rest;
         const bool valid = static_cast<int>(r.margin.size()) == nc_all && r.step + 1 == m.step && r.revision == cs.revision &&
                            r.edits == m.edits && r.run == cs.cycle_runs;
-        if (!valid) r.margin.assign(nc_all, std::numeric_limits<double>::quiet_NaN());
+        if (!valid) {
+            r.margin.assign(nc_all, std::numeric_limits<double>::quiet_NaN());
+            r.quiet.clear();
+        }
         r.step = m.step;
         r.revision = cs.revision;
         r.edits = m.edits;
@@ -478,6 +496,12 @@ void update_contacts(Model& m, double dt) {
     } else if (!cs.rest.margin.empty()) {
         cs.rest = ContactSet::RestMemory{};
     }
+    // The quiet contacts (ContactSet::RestMemory::quiet): left alone without a look while no
+    // contact's reach can have brought any of them to close, which is when every margin plus
+    // the reach bound stays below zero (the test of `steps` below for each of them).
+    const bool quiet = rest_open && !cs.rest.quiet.empty() && cs.rest.quiet.size() == (cs.color_order.size() + 63) / 64 &&
+                       reach_bound < cs.rest.slack;
+    const std::uint64_t* quiet_bits = quiet ? cs.rest.quiet.data() : nullptr;
     double* margin = cs.rest.margin.data();
     int by_margin = 0; // (ContactSet::RestMemory::used)
     int left = 0; // contacts left alone (ContactSet::left_open)
@@ -747,12 +771,27 @@ void update_contacts(Model& m, double dt) {
             }
             n = 0;
         };
-        for (int i = i0; i < i1; ++i) {
-            const int c = order[i];
-            if (!steps(c, n_left, n_by_margin)) continue;
+        auto take = [&](int c) {
+            if (!steps(c, n_left, n_by_margin)) return;
             put_in_batch(B, n, c);
             listed[n++] = c;
             if (n == kBatch) flush();
+        };
+        if (!quiet_bits) {
+            for (int i = i0; i < i1; ++i) take(order[i]);
+        } else if (i0 < i1) {
+            // The entries whose quiet bit is clear, in order.
+            for (int w = i0 >> 6; w <= (i1 - 1) >> 6; ++w) {
+                const int lo = w * 64;
+                std::uint64_t live = ~quiet_bits[w];
+                if (lo < i0) live &= ~std::uint64_t{0} << (i0 - lo);
+                if (i1 - lo < 64) live &= (std::uint64_t{1} << (i1 - lo)) - 1;
+                while (live) {
+                    const int j = __builtin_ctzll(live);
+                    live &= live - 1;
+                    take(order[lo + j]);
+                }
+            }
         }
         if (n > 0) flush();
     };
@@ -774,6 +813,32 @@ void update_contacts(Model& m, double dt) {
     // Then, in contact order: the contacts no colour could take (a block with more contacts
     // than there are colours), and those of deformable blocks.
     run(n_colored, static_cast<int>(cs.color_order.size()), left, batched, by_margin);
+    cs.rest.used_quiet = quiet ? cs.rest.n_quiet : 0;
+    if (quiet) {
+        left += cs.rest.n_quiet;
+        by_margin += cs.rest.n_quiet;
+    } else if (rest_open) {
+        // The quiet contacts for the next steps: those left alone by their margin whose margin is
+        // below zero by more than twice this step's reach bound (the others are looked at each
+        // step), so that the list holds until the bound has doubled.
+        auto& r = cs.rest;
+        const int n_listed = static_cast<int>(cs.color_order.size());
+        r.quiet.assign((n_listed + 63) / 64, 0);
+        r.n_quiet = 0;
+        r.slack = std::numeric_limits<double>::infinity();
+        const double enough = reach_bound + reach_bound;
+        if (enough == enough) {
+            for (int i = 0; i < n_listed; ++i) {
+                const int c = order[i];
+                const double gap = -margin[c];
+                if (!(gap > enough) || strong_joint(c)) continue;
+                r.quiet[i >> 6] |= std::uint64_t{1} << (i & 63);
+                ++r.n_quiet;
+                r.slack = std::min(r.slack, gap);
+            }
+        }
+        if (r.n_quiet == 0) r.quiet.clear();
+    }
     cs.left_open = left;
     cs.batched = batched;
     cs.rest.used = by_margin;
