@@ -22,12 +22,18 @@
 // the same height as odec's but keep rocking (spins of about 0.01 rad/s, kinetic energy about
 // 0.5 J after 0.2 s and no less 0.4 s later), at 5e-5 s the 100 come to rest but the 500 still
 // rock (1.1 J, 0.006 rad/s after 0.2 s). odec's automatic step for these cubes is 3.3e-4 s.
+// odec's run, a fraction of a second, is made `repeat` times (5 unless told) from the start, and
+// its row is the median run's: one short run takes whatever the machine does in its moment (a
+// shared machine's speed drifts by tens of percent from one second to the next), while YADE's
+// run, minutes long, averages over it. Each run's figure is printed, and the runs must end in
+// the same state, bit for bit.
 // A run of both stacks takes YADE about 10 CPU minutes.
 // YADE's law is volumetric (normal force kn times the overlap volume, shear force ks times the
 // shear displacement); bench_stack_yade.py chooses its moduli so that a full face contact
 // between two cubes has the normal and shear stiffness of odec's joint.
 //
-// Usage: bench_stack [cubes ...] [--steps s] [--dt t] [--no-yade]   (cubes: 100 or 500; default both)
+// Usage: bench_stack [cubes ...] [--steps s] [--dt t] [--repeat k] [--no-yade]
+//        (cubes: 100 or 500; default both)
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -75,7 +81,8 @@ struct Figures {
     long steps = 0;
 };
 
-Figures run_odec(const Stack& st, long steps, double dt) {
+// (verbose: prints the timestep, the stages' shares and the contact counts.)
+Figures run_odec(const Stack& st, long steps, double dt, bool verbose) {
     Figures f;
     Model m;
     m.materials.resize(2);
@@ -104,7 +111,7 @@ Figures run_odec(const Stack& st, long steps, double dt) {
                 cubes.push_back(add_block(
                     m, make_brick(i * kPitch, i * kPitch + 1, jj * kPitch, jj * kPitch + 1, z0, z0 + 1), 0, -1, 1));
             }
-    std::printf("  odec's automatic timestep with real masses: %.3g s\n", real_mass_timestep(m));
+    if (verbose) std::printf("  odec's automatic timestep with real masses: %.3g s\n", real_mass_timestep(m));
     const double c0 = process_cpu_seconds();
     const auto w0 = std::chrono::steady_clock::now();
     const std::string err = prepare_cycle(m);
@@ -140,6 +147,7 @@ Figures run_odec(const Stack& st, long steps, double dt) {
         f.speed = std::max(f.speed, s.vel[b].norm());
         f.spin = std::max(f.spin, s.ang_vel[b].norm());
     }
+    if (!verbose) return f;
     double total = 0;
     for (double x : m.profile.seconds) total += x;
     std::printf("  odec stages:");
@@ -210,8 +218,10 @@ int main(int argc, char** argv) {
     long steps = 8000;
     double dt = 2.5e-5;
     bool with_yade = true;
+    int repeat = 5;
     for (int i = 1; i < argc; ++i) {
         if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) steps = std::atol(argv[++i]);
+        else if (!std::strcmp(argv[i], "--repeat") && i + 1 < argc) repeat = std::max(1, std::atoi(argv[++i]));
         else if (!std::strcmp(argv[i], "--dt") && i + 1 < argc) dt = std::atof(argv[++i]);
         else if (!std::strcmp(argv[i], "--no-yade")) with_yade = false;
         else sizes.push_back(std::atoi(argv[i]));
@@ -233,8 +243,26 @@ int main(int argc, char** argv) {
         std::printf("stack of %d cubes: %d x %d columns of %d; settled mean height %.1f m\n", cubes, st.n, st.n, st.h,
                     0.5 * st.h);
         std::fflush(stdout);
-        const Figures o = run_odec(st, steps, dt);
-        if (o.ok) print_row("odec", o);
+        std::vector<Figures> runs;
+        for (int r = 0; r < repeat; ++r) {
+            runs.push_back(run_odec(st, steps, dt, r == 0));
+            if (!runs.back().ok) break;
+        }
+        Figures o = runs.back();
+        if (o.ok) {
+            std::printf("  odec runs, steps per cpu s:");
+            bool same = true;
+            for (const Figures& f : runs) {
+                std::printf(" %.0f", f.steps / f.cpu);
+                same = same && f.mean_z == o.mean_z && f.kinetic == o.kinetic && f.speed == o.speed && f.spin == o.spin;
+            }
+            std::printf("\n");
+            if (!same) std::printf("  odec's runs did not end in the same state: not deterministic\n");
+            std::sort(runs.begin(), runs.end(), [](const Figures& a, const Figures& b) { return a.steps / a.cpu < b.steps / b.cpu; });
+            o = runs[runs.size() / 2];
+            std::printf("  odec's row: the median of %zu runs\n", runs.size());
+            print_row("odec", o);
+        }
         std::fflush(stdout);
         if (yade.empty()) continue;
         double yade_process = 0;
