@@ -22,11 +22,12 @@
 // the same height as odec's but keep rocking (spins of about 0.01 rad/s, kinetic energy about
 // 0.5 J after 0.2 s and no less 0.4 s later), at 5e-5 s the 100 come to rest but the 500 still
 // rock (1.1 J, 0.006 rad/s after 0.2 s). odec's automatic step for these cubes is 3.3e-4 s.
-// odec's run, a fraction of a second, is made `repeat` times (5 unless told) from the start, and
-// its row is the median run's: one short run takes whatever the machine does in its moment (a
-// shared machine's speed drifts by tens of percent from one second to the next), while YADE's
-// run, minutes long, averages over it. Each run's figure is printed, and the runs must end in
-// the same state, bit for bit.
+// odec's run, a fraction of a second, is made again and again from the start while YADE runs on
+// the other core (`repeat` times at least, 5 unless told), and its row is the median run's: one
+// short run takes whatever a shared machine does in its moment (its speed drifts by tens of
+// percent from one minute to the next), while YADE's run, minutes long, averages over it; run
+// side by side, both meet the same machine. The spread of odec's runs is printed, and they must
+// end in the same state, bit for bit.
 // A run of both stacks takes YADE about 10 CPU minutes.
 // YADE's law is volumetric (normal force kn times the overlap volume, shear force ks times the
 // shear displacement); bench_stack_yade.py chooses its moduli so that a full face contact
@@ -35,11 +36,13 @@
 // Usage: bench_stack [cubes ...] [--steps s] [--dt t] [--repeat k] [--no-yade]
 //        (cubes: 100 or 500; default both)
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -158,8 +161,8 @@ Figures run_odec(const Stack& st, long steps, double dt, bool verbose) {
     return f;
 }
 
-Figures run_yade(const std::string& yade, const Stack& st, long steps, double dt, double* process_cpu) {
-    Figures f;
+// YADE's command for the stack.
+std::vector<std::string> yade_argv(const std::string& yade, const Stack& st, long steps, double dt) {
     char num[64];
     std::vector<std::string> argv = {yade, "-n", "-j1", "-x", std::string(ODEC_SOURCE_DIR) + "/tests/bench/bench_stack_yade.py"};
     for (double x : {double(st.n), double(st.n), double(st.h), kPitch, kGap, double(steps), dt, kDensity, kStiffness,
@@ -167,7 +170,12 @@ Figures run_yade(const std::string& yade, const Stack& st, long steps, double dt
         std::snprintf(num, sizeof num, "%.17g", x);
         argv.push_back(num);
     }
-    const odec_bench::ChildRun r = odec_bench::run_program(argv, "", {"OMP_NUM_THREADS=1"});
+    return argv;
+}
+
+// YADE's figures from its run's output.
+Figures yade_figures(const odec_bench::ChildRun& r, double* process_cpu) {
+    Figures f;
     *process_cpu = r.cpu;
     const size_t at = r.output.find("RESULT ");
     if (r.status != 0 || at == std::string::npos ||
@@ -243,30 +251,46 @@ int main(int argc, char** argv) {
         std::printf("stack of %d cubes: %d x %d columns of %d; settled mean height %.1f m\n", cubes, st.n, st.n, st.h,
                     0.5 * st.h);
         std::fflush(stdout);
+        // YADE started first (from this one thread), then odec's runs on the other core until it
+        // has finished, `repeat` of them at least.
+        odec_bench::Spawned child;
+        std::atomic<bool> yade_done{yade.empty()};
+        odec_bench::ChildRun yade_run;
+        std::thread collector;
+        if (!yade.empty()) {
+            child = odec_bench::spawn_program(yade_argv(yade, st, steps, dt), "", {"OMP_NUM_THREADS=1"});
+            collector = std::thread([&] {
+                yade_run = odec_bench::collect_program(child);
+                yade_done = true;
+            });
+        }
         std::vector<Figures> runs;
-        for (int r = 0; r < repeat; ++r) {
-            runs.push_back(run_odec(st, steps, dt, r == 0));
+        constexpr size_t kMostRuns = 100000;
+        while (runs.size() < kMostRuns && (runs.size() < static_cast<size_t>(repeat) || !yade_done)) {
+            runs.push_back(run_odec(st, steps, dt, runs.empty()));
             if (!runs.back().ok) break;
         }
+        if (collector.joinable()) collector.join();
         Figures o = runs.back();
         if (o.ok) {
-            std::printf("  odec runs, steps per cpu s:");
             bool same = true;
             for (const Figures& f : runs) {
-                std::printf(" %.0f", f.steps / f.cpu);
                 same = same && f.mean_z == o.mean_z && f.kinetic == o.kinetic && f.speed == o.speed && f.spin == o.spin;
             }
-            std::printf("\n");
             if (!same) std::printf("  odec's runs did not end in the same state: not deterministic\n");
             std::sort(runs.begin(), runs.end(), [](const Figures& a, const Figures& b) { return a.steps / a.cpu < b.steps / b.cpu; });
             o = runs[runs.size() / 2];
-            std::printf("  odec's row: the median of %zu runs\n", runs.size());
+            auto rate = [](const Figures& f) { return f.steps / f.cpu; };
+            std::printf("  odec's row: the median of %zu runs%s (steps per cpu s: least %.0f, quartiles %.0f and %.0f, "
+                        "most %.0f)\n",
+                        runs.size(), yade.empty() ? "" : ", made while yade ran on the other core", rate(runs.front()),
+                        rate(runs[runs.size() / 4]), rate(runs[(3 * runs.size()) / 4]), rate(runs.back()));
             print_row("odec", o);
         }
         std::fflush(stdout);
         if (yade.empty()) continue;
         double yade_process = 0;
-        const Figures y = run_yade(yade, st, steps, dt, &yade_process);
+        const Figures y = yade_figures(yade_run, &yade_process);
         if (!y.ok) continue;
         print_row("yade", y);
         std::printf("  yade process in all (start-up and model building too): cpu %.2f s\n", yade_process);

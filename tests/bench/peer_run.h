@@ -41,18 +41,27 @@ struct ChildRun {
     double wall = 0;       // s
 };
 
-// Run `argv` (argv[0] a path) in directory `dir` with the extra environment `env` ("NAME=value").
-inline ChildRun run_program(const std::vector<std::string>& argv, const std::string& dir,
-                            const std::vector<std::string>& env = {}) {
-    ChildRun r;
+// A program started and not yet waited for (spawn_program).
+struct Spawned {
+    pid_t pid = -1;
+    int fd = -1; // its standard output and error
+    std::chrono::steady_clock::time_point w0;
+};
+
+// Starts `argv` (argv[0] a path) in directory `dir` with the extra environment `env`
+// ("NAME=value"). (Call it while this process has one thread: the child allocates before it
+// runs the program.)
+inline Spawned spawn_program(const std::vector<std::string>& argv, const std::string& dir,
+                             const std::vector<std::string>& env = {}) {
+    Spawned sp;
     int fd[2];
-    if (pipe(fd) != 0) return r;
-    const auto w0 = std::chrono::steady_clock::now();
+    if (pipe(fd) != 0) return sp;
+    sp.w0 = std::chrono::steady_clock::now();
     const pid_t pid = fork();
     if (pid < 0) {
         close(fd[0]);
         close(fd[1]);
-        return r;
+        return sp;
     }
     if (pid == 0) {
         close(fd[0]);
@@ -68,19 +77,34 @@ inline ChildRun run_program(const std::vector<std::string>& argv, const std::str
         _exit(127);
     }
     close(fd[1]);
+    sp.pid = pid;
+    sp.fd = fd[0];
+    return sp;
+}
+
+// Reads a started program's output until it ends, and waits for it.
+inline ChildRun collect_program(const Spawned& sp) {
+    ChildRun r;
+    if (sp.pid < 0) return r;
     char buf[65536];
     ssize_t n;
-    while ((n = read(fd[0], buf, sizeof buf)) > 0) r.output.append(buf, static_cast<size_t>(n));
-    close(fd[0]);
+    while ((n = read(sp.fd, buf, sizeof buf)) > 0) r.output.append(buf, static_cast<size_t>(n));
+    close(sp.fd);
     int status = 0;
     rusage ru{};
-    wait4(pid, &status, 0, &ru);
-    r.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
+    wait4(sp.pid, &status, 0, &ru);
+    r.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - sp.w0).count();
     r.started = true;
     r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     r.cpu = static_cast<double>(ru.ru_utime.tv_sec + ru.ru_stime.tv_sec) +
             1e-6 * static_cast<double>(ru.ru_utime.tv_usec + ru.ru_stime.tv_usec);
     return r;
+}
+
+// Runs `argv` (argv[0] a path) in directory `dir` with the extra environment `env` ("NAME=value").
+inline ChildRun run_program(const std::vector<std::string>& argv, const std::string& dir,
+                            const std::vector<std::string>& env = {}) {
+    return collect_program(spawn_program(argv, dir, env));
 }
 
 // User + system CPU seconds of this process so far (all its threads).
