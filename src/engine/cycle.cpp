@@ -17,12 +17,18 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// Times a stage from `lap`, the end of the stage before it (or the start of the step's stages),
+// to its own end, which becomes the next stage's start: one reading of the clock per stage. (What
+// runs between two stages is a test or two, counted in the next; what is not a stage, the
+// functions called at every step and the progress report, is left out by restarting `lap`.)
 struct StageTimer {
     Profile& p;
     Stage s;
-    Clock::time_point t0 = Clock::now();
+    Clock::time_point& lap;
     ~StageTimer() {
-        p.seconds[static_cast<int>(s)] += std::chrono::duration<double>(Clock::now() - t0).count();
+        const Clock::time_point t = Clock::now();
+        p.seconds[static_cast<int>(s)] += std::chrono::duration<double>(t - lap).count();
+        lap = t;
     }
 };
 
@@ -130,31 +136,32 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
             watch.begin(m);
             take_energy(m);
         }
+        Clock::time_point lap = Clock::now();
         {
-            StageTimer t{prof, Stage::ApplyLoads};
+            StageTimer t{prof, Stage::ApplyLoads, lap};
             apply_loads(m);
         }
         {
-            StageTimer t{prof, Stage::DetectContacts};
+            StageTimer t{prof, Stage::DetectContacts, lap};
             detect_contacts(m);
         }
         if (m.zones.size() > 0) {
             // Zone forces first: they start the gridpoints' forces, which contacts add to.
-            StageTimer t{prof, Stage::Zones};
+            StageTimer t{prof, Stage::Zones, lap};
             zone_forces(m, m.dt);
         }
         {
-            StageTimer t{prof, Stage::UpdateContacts};
+            StageTimer t{prof, Stage::UpdateContacts, lap};
             update_contacts(m, m.dt);
         }
         if (m.cables.size() > 0) {
             // Cable forces after the joints': they add into the same blocks and gridpoints.
-            StageTimer t{prof, Stage::Cables};
+            StageTimer t{prof, Stage::Cables, lap};
             cable_forces(m, m.dt);
         }
         if (m.flow.on) {
             // The pore pressures advance and push on both faces of each joint (flow.h).
-            StageTimer t{prof, Stage::Flow};
+            StageTimer t{prof, Stage::Flow, lap};
             const std::string why = flow_step(m, m.dt);
             if (!why.empty()) {
                 res.reason = StopReason::Error;
@@ -164,7 +171,7 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
         }
         if (m.liners.size() > 0) {
             // Liner forces after the cables': they add into the same gridpoints.
-            StageTimer t{prof, Stage::Liners};
+            StageTimer t{prof, Stage::Liners, lap};
             liner_forces(m, m.dt);
         }
         int bad;
@@ -172,7 +179,7 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
         AutoDampingSums auto_sums;
         AutoDampingSums* sums = m.damping.mode == DampingMode::Auto ? &auto_sums : nullptr;
         {
-            StageTimer t{prof, Stage::Integrate};
+            StageTimer t{prof, Stage::Integrate, lap};
             bad = integrate(m, m.dt, sums);
             // (The rigid blocks' world vertices wait for what reads them: catch_up_world_vertices.)
             refresh_block_rotations(m);
@@ -180,11 +187,11 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
         int bad_node = -1;
         if (m.cables.size() > 0) {
             // The nodes follow the rock across their axis: after the blocks and gridpoints moved.
-            StageTimer t{prof, Stage::Cables};
+            StageTimer t{prof, Stage::Cables, lap};
             bad_node = integrate_cables(m, m.dt, sums);
         }
         if (m.liners.size() > 0 && bad_node < 0) {
-            StageTimer t{prof, Stage::Liners};
+            StageTimer t{prof, Stage::Liners, lap};
             const int i = integrate_liners(m, m.dt, sums);
             if (i >= 0) bad_node = -2 - i;
         }
@@ -211,7 +218,7 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
             bad = -2;
         }
         {
-            StageTimer t{prof, Stage::Record};
+            StageTimer t{prof, Stage::Record, lap};
             if (m.histories.ncyc > 0 && m.step % m.histories.ncyc == 0) {
                 // A contact's history reads its point, and a function anything.
                 for (const History& h : m.histories.items) {
@@ -252,11 +259,12 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
             if (progress && progress_every > 0 && res.steps % progress_every == 0) {
                 catch_up_world_vertices(m);
                 progress(m);
+                lap = Clock::now();
             }
             continue;
         }
         {
-            StageTimer t{prof, Stage::Checks};
+            StageTimer t{prof, Stage::Checks, lap};
             res.message = runaway_after_step(watch, m);
         }
         if (!res.message.empty()) {
@@ -266,10 +274,11 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
         if (progress && progress_every > 0 && res.steps % progress_every == 0) {
             catch_up_world_vertices(m);
             progress(m);
+            lap = Clock::now();
         }
         bool balanced = false;
         if (lim.ratio > 0) {
-            StageTimer t{prof, Stage::Checks};
+            StageTimer t{prof, Stage::Checks, lap};
             balanced = unbalanced_ratio(m) < lim.ratio;
             // With water in the joints, the flow must have settled too (flow.h).
             if (balanced && m.flow.on) balanced = flow_unbalance(m) < lim.ratio;

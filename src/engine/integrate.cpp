@@ -163,15 +163,24 @@ int integrate_plain_blocks(BlockSet& s, const Mat3* rotation_of, const int* list
             dth[i] = w[i] * vdt;
         }
         const V4 t2 = sum3(dth[0] * dth[0], dth[1] * dth[1], dth[2] * dth[2]);
-        V4 sin_h = zero, cos_h = one;
-        for (int l = 0; l < 4; ++l) {
-            if (t2[l] > 0) {
-                double sl, cl; // (a vector's lane is no reference's)
-                half_turn(t2[l], sl, cl);
-                sin_h[l] = sl;
-                cos_h[l] = cl;
+        // half_turn's series in every lane (below h2 = 1e-6, as almost every step has it), its
+        // library functions lane by lane above; no turn: 0 and 1.
+        const V4 h2 = simd::splat(0.25) * t2;
+        V4 sin_h = half * (one - h2 * simd::splat(1.0 / 6) * (one - h2 * simd::splat(1.0 / 20)));
+        V4 cos_h = one - h2 * half * (one - h2 * simd::splat(1.0 / 12));
+        const M4 turns = t2 > zero, series = h2 < simd::splat(1e-6);
+        if (!all(series | ~turns)) {
+            for (int l = 0; l < 4; ++l) {
+                if (turns[l] && !series[l]) {
+                    double sl, cl; // (a vector's lane is no reference's)
+                    half_turn(t2[l], sl, cl);
+                    sin_h[l] = sl;
+                    cos_h[l] = cl;
+                }
             }
         }
+        sin_h = turns ? sin_h : zero;
+        cos_h = turns ? cos_h : one;
         // The turn's quaternion times the orientation (Eigen's product, w first; a quaternion's
         // coefficients are kept x, y, z, w).
         const simd::Quat4 h{dth[0] * sin_h, dth[1] * sin_h, dth[2] * sin_h, cos_h};
