@@ -315,13 +315,12 @@ namespace {
 }
 
 // Blocks [b0, b1): their rotation matrices (Eigen's toRotationMatrix, four at a time where
-// four blocks follow) and world vertices.
+// four blocks follow).
 // (The vector kernels read four blocks' orientations as sixteen doubles in a row.)
 static_assert(sizeof(Quat) == 4 * sizeof(double), "quaternions packed as x y z w");
 
-// (vertices false: the matrices alone.)
 ODEC_SIMD_CLONES
-void place_blocks(BlockSet& s, int b0, int b1, bool vertices) {
+void place_rotations(BlockSet& s, int b0, int b1) {
     using simd::V4;
     int b = b0;
     for (; b + 4 <= b1; b += 4) {
@@ -336,25 +335,14 @@ void place_blocks(BlockSet& s, int b0, int b1, bool vertices) {
         const V4 r[9] = {one - (tyy + tzz), txy + twz, txz - twy, txy - twz, one - (txx + tzz),
                          tyz + twx, txz + twy, tyz - twx, one - (txx + tyy)};
         for (int l = 0; l < 4; ++l) {
-            Mat3& rot = s.rotation[b + l];
-            for (int i = 0; i < 9; ++i) rot.data()[i] = r[i][l];
-            if (!vertices) continue;
-            const std::vector<Vec3>& body = s.shape[b + l].vertices;
-            place_vertices(rot, s.centroid[b + l], body.data(), static_cast<int>(body.size()),
-                           s.world_vertices.data() + s.vertex_offset[b + l]);
+            for (int i = 0; i < 9; ++i) s.rotation[b + l].data()[i] = r[i][l];
         }
     }
-    for (; b < b1; ++b) {
-        const Mat3 r = s.orientation[b].toRotationMatrix();
-        s.rotation[b] = r;
-        if (!vertices) continue;
-        const std::vector<Vec3>& body = s.shape[b].vertices;
-        place_vertices(r, s.centroid[b], body.data(), static_cast<int>(body.size()), s.world_vertices.data() + s.vertex_offset[b]);
-    }
+    for (; b < b1; ++b) s.rotation[b] = s.orientation[b].toRotationMatrix();
 }
 
-// The world vertices of blocks [b0, b1) by their rotation matrices (the same bits place_blocks
-// gives them); a deformable block's are its gridpoints' (refresh_deformable_vertices).
+// The world vertices of blocks [b0, b1) by their rotation matrices; a deformable block's are its
+// gridpoints' (refresh_deformable_vertices).
 ODEC_SIMD_CLONES
 void place_rigid_vertices(BlockSet& s, int b0, int b1) {
     for (int b = b0; b < b1; ++b) {
@@ -365,10 +353,17 @@ void place_rigid_vertices(BlockSet& s, int b0, int b1) {
     }
 }
 
-} // namespace
+// f(b0, b1) for the blocks in chunks of fixed size, on the threads in a large model.
+template <class F>
+void each_chunk(int n, F&& f) {
+    constexpr int kChunk = 256;
+    const int n_chunks = (n + kChunk - 1) / kChunk;
+    parallel_for(n_chunks, thread_count(), n >= kParallelMinBlocks,
+                 [&](int ch) { f(ch * kChunk, std::min(n, (ch + 1) * kChunk)); });
+}
 
-namespace {
-
+// The blocks' offsets, rotation matrices and deformable corners, and with `vertices` the rigid
+// blocks' world vertices.
 void place_all(Model& m, bool vertices) {
     BlockSet& s = m.blocks;
     const int n = s.size();
@@ -381,12 +376,10 @@ void place_all(Model& m, bool vertices) {
     s.vertex_offset[n] = total;
     s.world_vertices.resize(total);
     s.rotation.resize(n);
-    const int threads = thread_count();
-    // In chunks of blocks, on the threads in a large model.
-    constexpr int kChunk = 256;
-    const int n_chunks = (n + kChunk - 1) / kChunk;
-    parallel_for(n_chunks, threads, n >= kParallelMinBlocks,
-                 [&](int ch) { place_blocks(s, ch * kChunk, std::min(n, (ch + 1) * kChunk), vertices); });
+    each_chunk(n, [&](int b0, int b1) {
+        place_rotations(s, b0, b1);
+        if (vertices) place_rigid_vertices(s, b0, b1);
+    });
     refresh_deformable_vertices(m);
     s.vertices_behind = !vertices;
 }
@@ -407,10 +400,7 @@ void catch_up_world_vertices(Model& m) {
         return;
     }
     s.vertices_behind = false;
-    constexpr int kChunk = 256;
-    const int n_chunks = (n + kChunk - 1) / kChunk;
-    parallel_for(n_chunks, thread_count(), n >= kParallelMinBlocks,
-                 [&](int ch) { place_rigid_vertices(s, ch * kChunk, std::min(n, (ch + 1) * kChunk)); });
+    each_chunk(n, [&](int b0, int b1) { place_rigid_vertices(s, b0, b1); });
 }
 
 Polyhedron world_shape(const Model& m, int b) {

@@ -1679,9 +1679,9 @@ void detect_contacts(Model& m) {
         full = far != 0;
     }
     const double old_ctol = cs.ctol;
-    // What follows the broad check reads the blocks' world vertices: in step from here on.
-    if (full) catch_up_world_vertices(m);
     if (full) {
+        // What follows the broad check reads the blocks' world vertices: in step from here on.
+        catch_up_world_vertices(m);
         cs.ctol = contact_tolerance(m);
         cs.radius.resize(n);
         for (int b = 0; b < n; ++b) {

@@ -106,8 +106,8 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
                           "with a step of " + num_text(m.dt) + " s: the model cannot cycle further";
             break;
         }
-        if (lim.each_step) catch_up_world_vertices(m);
         if (lim.each_step) {
+            catch_up_world_vertices(m);
             // What the functions give the blocks ('ini xvel', 'b_xvel(b) = ...') is energy the
             // run-away check must allow for, as it allows for what the loads give.
             const double ke_before = watch.kinetic(m);
@@ -221,17 +221,19 @@ CycleResult cycle(Model& m, const CycleLimits& lim, const std::atomic<bool>* int
             StageTimer t{prof, Stage::Record, lap};
             if (m.histories.ncyc > 0 && m.step % m.histories.ncyc == 0) {
                 // A contact's history reads its point, and a function anything.
-                for (const History& h : m.histories.items) {
-                    switch (h.kind) {
-                    case HistoryKind::Fish:
-                    case HistoryKind::NForce:
-                    case HistoryKind::SForce:
-                    case HistoryKind::NStress:
-                    case HistoryKind::SStress:
-                    case HistoryKind::NDis:
-                    case HistoryKind::SDis: catch_up_world_vertices(m); break;
-                    default: break;
-                    }
+                if (std::any_of(m.histories.items.begin(), m.histories.items.end(), [](const History& h) {
+                        switch (h.kind) {
+                        case HistoryKind::Fish:
+                        case HistoryKind::NForce:
+                        case HistoryKind::SForce:
+                        case HistoryKind::NStress:
+                        case HistoryKind::SStress:
+                        case HistoryKind::NDis:
+                        case HistoryKind::SDis: return true;
+                        default: return false;
+                        }
+                    })) {
+                    catch_up_world_vertices(m);
                 }
                 // A FISH history may give the blocks energy too.
                 bool fish = false;

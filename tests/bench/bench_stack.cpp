@@ -278,9 +278,9 @@ int main(int argc, char** argv) {
                 same = same && f.mean_z == o.mean_z && f.kinetic == o.kinetic && f.speed == o.speed && f.spin == o.spin;
             }
             if (!same) std::printf("  odec's runs did not end in the same state: not deterministic\n");
-            std::sort(runs.begin(), runs.end(), [](const Figures& a, const Figures& b) { return a.steps / a.cpu < b.steps / b.cpu; });
-            o = runs[runs.size() / 2];
             auto rate = [](const Figures& f) { return f.steps / f.cpu; };
+            std::sort(runs.begin(), runs.end(), [&](const Figures& a, const Figures& b) { return rate(a) < rate(b); });
+            o = runs[runs.size() / 2];
             std::printf("  odec's row: the median of %zu runs%s (steps per cpu s: least %.0f, quartiles %.0f and %.0f, "
                         "most %.0f)\n",
                         runs.size(), yade.empty() ? "" : ", made while yade ran on the other core", rate(runs.front()),
