@@ -247,6 +247,8 @@ struct ContactSet {
         int n_quiet = 0;
         double slack = 0;
         int used_quiet = 0;                       // quiet contacts the last update left without a look
+        int used_close = 0;                       // contacts the last update left alone by the closer
+                                                  //   bound on their blocks' reach alone
     } rest;
     long cycle_runs = 0;                          // (not saved) calls of cycle() on this model
 

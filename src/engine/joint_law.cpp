@@ -440,6 +440,26 @@ void update_contacts(Model& m, double dt) {
     }
     const double* share_of = reach_share.data();
     auto reach_of = [=](int a, int b) { return share_of[a] + share_of[b] + 1e-9 * ctol; };
+    // A closer bound on the same, for a contact whose blocks moved far but together (the side
+    // faces of two columns that settle side by side): the blocks' points move towards each other
+    // by at most the difference of their centroids' displacements since the references, plus
+    // each block's turn t times (radius + ctol) (as in reach_of). The turn's share of a block's
+    // movement is what its displacement leaves (movement: dx + t radius). Asked only where
+    // reach_of does not leave the contact alone; the slack covers the roundings of both this and
+    // the joint law's own closure by reference (shift_at), as in reach_of. NaN without references.
+    const bool have_refs = rest_open && n_refs >= static_cast<size_t>(n);
+    auto close_reach_of = [&, have_refs, ctol](int a, int b) {
+        if (!have_refs) return std::numeric_limits<double>::quiet_NaN();
+        const Vec3 &ca = s.centroid[a], &cb = s.centroid[b];
+        const Vec3 da = ca - cs.geo_centroid[a], db = cb - cs.geo_centroid[b];
+        auto turn_share = [&](int x, const Vec3& d) {
+            const double t = std::max(0.0, motion_of[x] - d.norm()) + 1e-12 * motion_of[x];
+            return t * (1 + ctol / std::max(cs.radius[x], 1e-300));
+        };
+        const double apart = (db - da).norm();
+        const double size = ca.cwiseAbs().maxCoeff() + cb.cwiseAbs().maxCoeff();
+        return (apart + turn_share(a, da) + turn_share(b, db)) * (1 + 1e-12) + 1e-14 * size + 1e-9 * ctol;
+    };
     // Whether sub-contact q (of a contact not glued) is open by reference, to stay open this step
     // if its blocks cannot have closed it (one of a joint with strength that has not failed would
     // fail on its step, and one with tension could hold on: looked at).
@@ -461,19 +481,24 @@ void update_contacts(Model& m, double dt) {
         return jm > 0 && jm < n_jmat && strong_of[jm];
     };
     // (*largest: the largest closure plus dilation of its sub-contacts, made where it returns true.)
-    auto stays_open = [&](int c, double reach, double* largest) {
+    // Where the reach is not enough, by the closer bound (close_reach_of; counted in *by_close).
+    auto stays_open = [&](int c, double reach, double* largest, int* by_close) {
         if (cs.joined(c)) return false;
         bool intact = false;
         double most = -std::numeric_limits<double>::infinity();
         for (int q = cs.sub_offset[c], q1 = cs.sub_offset[c + 1]; q < q1; ++q) {
             const std::uint8_t f = cs.sub_flags(q);
             const double ud = cs.sub_un[q] + (udil ? udil[q] : 0.0);
-            if (!held_open(f) || !(ud + reach < 0)) return false;
+            if (!held_open(f)) return false;
             most = std::max(most, ud);
             intact = intact || !(f & kSubFailed);
         }
+        if (intact && strong_joint(c)) return false;
         *largest = most;
-        return !intact || !strong_joint(c);
+        if (most + reach < 0) return true;
+        if (!(most + close_reach_of(cs.block_a[c], cs.block_b[c]) < 0)) return false;
+        ++*by_close;
+        return true;
     };
     // The memory of the open contacts left alone at the last step (ContactSet::rest): a
     // contact whose sub-contacts have not changed since stays open while its largest closure plus
@@ -504,10 +529,11 @@ void update_contacts(Model& m, double dt) {
     const std::uint64_t* quiet_bits = quiet ? cs.rest.quiet.data() : nullptr;
     double* margin = cs.rest.margin.data();
     int by_margin = 0; // (ContactSet::RestMemory::used)
+    int by_close = 0;  // (ContactSet::RestMemory::used_close)
     int left = 0; // contacts left alone (ContactSet::left_open)
     // Whether contact c steps this step: not one without sub-contacts, of an excavated or a
     // deformable block, or open by more than its blocks can have closed it (counted in n_left).
-    auto steps = [&](int c, int& n_left, int& n_by_margin) {
+    auto steps = [&](int c, int& n_left, int& n_by_margin, int& n_by_close) {
         // Most contacts between blocks apart carry no sub-contact: nothing to add.
         if (cs.sub_offset[c] == cs.sub_offset[c + 1]) return false;
         const int a = cs.block_a[c], b = cs.block_b[c];
@@ -525,8 +551,15 @@ void update_contacts(Model& m, double dt) {
                 ++n_by_margin;
                 return false;
             }
+            // (One that the closer bound left open at the last step, by it again.)
+            if (margin[c] == margin[c] && !strong_joint(c) && margin[c] + close_reach_of(a, b) < 0) {
+                ++n_left;
+                ++n_by_margin;
+                ++n_by_close;
+                return false;
+            }
             double largest;
-            if (stays_open(c, reach, &largest)) {
+            if (stays_open(c, reach, &largest, &n_by_close)) {
                 margin[c] = largest;
                 ++n_left;
                 return false;
@@ -734,7 +767,7 @@ void update_contacts(Model& m, double dt) {
         S.n_subs[l] = ns;
     };
     int batched = 0; // (ContactSet::batched)
-    auto run = [&](int i0, int i1, int& n_left, int& n_batched, int& n_by_margin) {
+    auto run = [&](int i0, int i1, int& n_left, int& n_batched, int& n_by_margin, int& n_by_close) {
         // (Each thread its own batch.)
         thread_local ContactAxesBatch batch;
         thread_local ContactSubBatch sub_batch;
@@ -772,7 +805,7 @@ void update_contacts(Model& m, double dt) {
             n = 0;
         };
         auto take = [&](int c) {
-            if (!steps(c, n_left, n_by_margin)) return;
+            if (!steps(c, n_left, n_by_margin, n_by_close)) return;
             put_in_batch(B, n, c);
             listed[n++] = c;
             if (n == kBatch) flush();
@@ -797,22 +830,22 @@ void update_contacts(Model& m, double dt) {
     };
     const int n_colored = n_colors >= 0 ? offset[n_colors] : 0;
     if (threads > 1 && cs.size() >= kParallelMinItems) {
-#pragma omp parallel num_threads(threads) reduction(+ : left, batched, by_margin)
+#pragma omp parallel num_threads(threads) reduction(+ : left, batched, by_margin, by_close)
         for (int col = 0; col < n_colors; ++col) {
             const int n_pieces = (offset[col + 1] - offset[col] + kBatch - 1) / kBatch;
 #pragma omp for schedule(static)
             for (int piece = 0; piece < n_pieces; ++piece) {
                 const int i0 = offset[col] + piece * kBatch;
-                run(i0, std::min(offset[col + 1], i0 + kBatch), left, batched, by_margin);
+                run(i0, std::min(offset[col + 1], i0 + kBatch), left, batched, by_margin, by_close);
             }
         }
     } else {
         // The same order, without entering an OpenMP region (parallel.h).
-        run(0, n_colored, left, batched, by_margin);
+        run(0, n_colored, left, batched, by_margin, by_close);
     }
     // Then, in contact order: the contacts no colour could take (a block with more contacts
     // than there are colours), and those of deformable blocks.
-    run(n_colored, static_cast<int>(cs.color_order.size()), left, batched, by_margin);
+    run(n_colored, static_cast<int>(cs.color_order.size()), left, batched, by_margin, by_close);
     cs.rest.used_quiet = quiet ? cs.rest.n_quiet : 0;
     if (quiet) {
         left += cs.rest.n_quiet;
@@ -842,6 +875,7 @@ void update_contacts(Model& m, double dt) {
     cs.left_open = left;
     cs.batched = batched;
     cs.rest.used = by_margin;
+    cs.rest.used_close = by_close;
     cs.open_by_reference = want;
     // Without gridpoints there are no deformable blocks.
     for (int c = 0; c < (g.size() > 0 ? cs.size() : 0); ++c) {

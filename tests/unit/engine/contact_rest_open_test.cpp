@@ -27,6 +27,7 @@ struct Stack {
     int thrown = -1;    // the top cube of column (0, 0)
     int neighbour = -1; // the top cube of column (1, 0)
     int quiet_steps = 0;
+    int close_steps = 0;
 };
 
 void build(Stack& st, int nx, int ny, int nz) {
@@ -268,6 +269,7 @@ TEST(ContactRestOpen, TheMemoryOfOpenContactsGivesTheSameBits) {
             EXPECT_EQ(odec::test::run_steps(m, 100).reason, odec::StopReason::Steps);
             // (How many steps left the quiet contacts without a look: the last of each hundred.)
             st->quiet_steps += m.contacts.rest.used_quiet > 0;
+            st->close_steps += m.contacts.rest.used_close > 0;
         }
     }
     // Left alone by the memory at the last step: most of the stacks' side contacts; and without a
@@ -277,6 +279,10 @@ TEST(ContactRestOpen, TheMemoryOfOpenContactsGivesTheSameBits) {
     EXPECT_EQ(off.m.contacts.rest.used, 0);
     EXPECT_GT(on.quiet_steps, 5);
     EXPECT_EQ(off.quiet_steps, 0);
+    // Some by the closer bound alone (the blocks' motion since their references less what they
+    // shared: close_reach_of), which must give the same bits too.
+    EXPECT_GT(on.close_steps, 3);
+    EXPECT_EQ(off.close_steps, 0);
     const Model& x = on.m;
     const Model& y = off.m;
     expect_same_state(x, y);
