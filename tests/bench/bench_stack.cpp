@@ -23,11 +23,13 @@
 // 0.5 J after 0.2 s and no less 0.4 s later), at 5e-5 s the 100 come to rest but the 500 still
 // rock (1.1 J, 0.006 rad/s after 0.2 s). odec's automatic step for these cubes is 3.3e-4 s.
 // odec's run, a fraction of a second, is made again and again from the start while YADE runs on
-// the other core (`repeat` times at least, 5 unless told), and its row is the median run's: one
-// short run takes whatever a shared machine does in its moment (its speed drifts by tens of
-// percent from one minute to the next), while YADE's run, minutes long, averages over it; run
-// side by side, both meet the same machine. The spread of odec's runs is printed, and they must
-// end in the same state, bit for bit.
+// the other core (`repeat` times at least, 5 unless told): one short run takes whatever a shared
+// machine does in its moment (its speed drifts by tens of percent from one minute to the next),
+// while YADE's run, minutes long, averages over it; run side by side, both meet the same machine.
+// odec's row is then measured as YADE's is: all its runs' steps over all their CPU seconds (its
+// times are the mean run's). The median run and the spread are printed beside it (a machine that
+// switches between a fast and a slow state puts the median in one of them, where the sum, like
+// YADE's, takes both), and the runs must end in the same state, bit for bit.
 // A run of both stacks takes YADE about 10 CPU minutes.
 // YADE's law is volumetric (normal force kn times the overlap volume, shear force ks times the
 // shear displacement); bench_stack_yade.py chooses its moduli so that a full face contact
@@ -279,12 +281,19 @@ int main(int argc, char** argv) {
             }
             if (!same) std::printf("  odec's runs did not end in the same state: not deterministic\n");
             auto rate = [](const Figures& f) { return f.steps / f.cpu; };
+            double cpu = 0, wall = 0;
+            for (const Figures& f : runs) {
+                cpu += f.cpu;
+                wall += f.wall;
+            }
+            o.cpu = cpu / runs.size();
+            o.wall = wall / runs.size();
             std::sort(runs.begin(), runs.end(), [&](const Figures& a, const Figures& b) { return rate(a) < rate(b); });
-            o = runs[runs.size() / 2];
-            std::printf("  odec's row: the median of %zu runs%s (steps per cpu s: least %.0f, quartiles %.0f and %.0f, "
-                        "most %.0f)\n",
+            std::printf("  odec's row: %zu runs%s, their steps over their cpu seconds (steps per cpu s of one run: least "
+                        "%.0f, quartiles %.0f, median %.0f, %.0f, most %.0f)\n",
                         runs.size(), yade.empty() ? "" : ", made while yade ran on the other core", rate(runs.front()),
-                        rate(runs[runs.size() / 4]), rate(runs[(3 * runs.size()) / 4]), rate(runs.back()));
+                        rate(runs[runs.size() / 4]), rate(runs[runs.size() / 2]), rate(runs[(3 * runs.size()) / 4]),
+                        rate(runs.back()));
             print_row("odec", o);
         }
         std::fflush(stdout);
