@@ -480,9 +480,16 @@ void update_contacts(Model& m, double dt) {
         const int jm = cs.jmat(c);
         return jm > 0 && jm < n_jmat && strong_of[jm];
     };
+    // Whether contact c, whose sub-contacts' largest closure plus dilation is ud, stays open: by
+    // its blocks' reach, else by the closer bound (close_reach_of; counted in n_by_close).
+    auto beyond_reach = [&](int c, double ud, double reach, int& n_by_close) {
+        if (ud + reach < 0) return true;
+        if (!(ud + close_reach_of(cs.block_a[c], cs.block_b[c]) < 0)) return false;
+        ++n_by_close;
+        return true;
+    };
     // (*largest: the largest closure plus dilation of its sub-contacts, made where it returns true.)
-    // Where the reach is not enough, by the closer bound (close_reach_of; counted in *by_close).
-    auto stays_open = [&](int c, double reach, double* largest, int* by_close) {
+    auto stays_open = [&](int c, double reach, double* largest, int& n_by_close) {
         if (cs.joined(c)) return false;
         bool intact = false;
         double most = -std::numeric_limits<double>::infinity();
@@ -495,10 +502,7 @@ void update_contacts(Model& m, double dt) {
         }
         if (intact && strong_joint(c)) return false;
         *largest = most;
-        if (most + reach < 0) return true;
-        if (!(most + close_reach_of(cs.block_a[c], cs.block_b[c]) < 0)) return false;
-        ++*by_close;
-        return true;
+        return beyond_reach(c, most, reach, n_by_close);
     };
     // The memory of the open contacts left alone at the last step (ContactSet::rest): a
     // contact whose sub-contacts have not changed since stays open while its largest closure plus
@@ -545,21 +549,15 @@ void update_contacts(Model& m, double dt) {
         if (rest_open) {
             const double reach = reach_of(a, b);
             // (Its sub-contacts' flags and the contact's glue are not read again: only a refresh or
-            // a command changes them between two steps, and either makes the memory forgotten.)
-            if (margin[c] + reach < 0 && !strong_joint(c)) {
+            // a command changes them between two steps, and either makes the memory forgotten. A
+            // margin not known, NaN, is not looked at further.)
+            if (margin[c] == margin[c] && !strong_joint(c) && beyond_reach(c, margin[c], reach, n_by_close)) {
                 ++n_left;
                 ++n_by_margin;
-                return false;
-            }
-            // (One that the closer bound left open at the last step, by it again.)
-            if (margin[c] == margin[c] && !strong_joint(c) && margin[c] + close_reach_of(a, b) < 0) {
-                ++n_left;
-                ++n_by_margin;
-                ++n_by_close;
                 return false;
             }
             double largest;
-            if (stays_open(c, reach, &largest, &n_by_close)) {
+            if (stays_open(c, reach, &largest, n_by_close)) {
                 margin[c] = largest;
                 ++n_left;
                 return false;
